@@ -1,0 +1,246 @@
+/*
+ * taper.h -- pulse propagation in tapered granular chains.
+ *
+ * The one public header of libtaper.  It models the rescaled equations of
+ * motion of Harbola, Rosas, Esposito and Lindenberg, "Pulse propagation in
+ * tapered granular chains: an analytic study" (eq. motion_rescaled):
+ *
+ *     m_k x_k'' = r_{k-1} (x_{k-1} - x_k)^{n-1} theta(x_{k-1} - x_k)
+ *               - r_k     (x_k - x_{k+1})^{n-1} theta(x_k - x_{k+1}),
+ *
+ * with R_1 = 1, m_k = R_k^3, r_k = (2 R_k R_{k+1} / (R_k + R_{k+1}))^{1/2},
+ * v_1(0) = 1 and every other granule at rest, just touching.
+ *
+ * Pipeline:  chain (geometry)  ->  sim (full dynamics, CVODE, exact pulse
+ * events)  ->  theory (binary collision approximation)  ->  fits.
+ *
+ * Conventions
+ *  - Granules are numbered k = 1..N as in the paper; arrays returned or
+ *    filled by the library hold granule k at index k-1 and have length N.
+ *    Quantities that belong to the pair (k, k+1) (r_k, mu_k, T_k, t_pass(k))
+ *    sit at index k-1; the last entry of such an array is NaN.
+ *  - Values that do not exist (not reached, not defined) are NaN.
+ *  - Every function that can fail returns a taper_status and, when given a
+ *    non-NULL taper_error, writes a message the caller can show.  The library
+ *    never prints, never calls exit() or abort(), and has no global mutable
+ *    state: distinct objects may be used from distinct threads at once.
+ *  - Objects are created by *_alloc and released by *_free (NULL is a no-op).
+ */
+#ifndef TAPER_H
+#define TAPER_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(TAPER_BUILDING_LIBRARY) && (defined(__GNUC__) || defined(__clang__))
+#define TAPER_API __attribute__((visibility("default")))
+#else
+#define TAPER_API
+#endif
+
+/* ------------------------------------------------------------------ */
+/* Version                                                            */
+/* ------------------------------------------------------------------ */
+#define TAPER_VERSION_MAJOR 0
+#define TAPER_VERSION_MINOR 1
+#define TAPER_VERSION_PATCH 0
+#define TAPER_VERSION_STRING "0.1.0"
+
+/* The version of the library actually loaded (may differ from the macros
+ * the caller was compiled with). */
+TAPER_API const char *taper_version(void);
+
+/* ------------------------------------------------------------------ */
+/* Errors                                                             */
+/* ------------------------------------------------------------------ */
+typedef enum taper_status {
+    TAPER_OK = 0,
+    TAPER_EINVAL = 1,        /* invalid argument or parameter             */
+    TAPER_ENOMEM = 2,        /* allocation failed                          */
+    TAPER_ERANGE = 3,        /* a value overflows double precision         */
+    TAPER_ESOLVER = 4,       /* the integrator failed; partial results kept */
+    TAPER_EINTERRUPTED = 5,  /* the monitor asked to stop; partial results kept */
+    TAPER_ELIMIT = 6,        /* t_max or max_steps reached; partial results kept */
+    TAPER_EIO = 7            /* file input/output (driver level)           */
+} taper_status;
+
+#define TAPER_MESSAGE_SIZE 512
+
+/* Filled by failing calls.  status repeats the return value. */
+typedef struct taper_error {
+    int status;
+    char message[TAPER_MESSAGE_SIZE];
+} taper_error;
+
+/* A short constant description of a status code ("invalid argument", ...). */
+TAPER_API const char *taper_strerror(int status);
+
+/* ------------------------------------------------------------------ */
+/* Chain geometry                                                      */
+/* ------------------------------------------------------------------ */
+typedef enum taper_profile {
+    TAPER_MONODISPERSE = 0,          /* R_k = 1                                  */
+    TAPER_BACKWARD_LINEAR = 1,       /* R_k = 1 + S (k-1),  S > 0                */
+    TAPER_FORWARD_LINEAR = 2,        /* R_k = 1 - S (k-1),  S > 0, N < 1 + 1/S   */
+    TAPER_BACKWARD_EXPONENTIAL = 3,  /* R_k = (1-q)^(1-k),  0 < q < 1            */
+    TAPER_FORWARD_EXPONENTIAL = 4,   /* R_k = (1+q)^(1-k),  q > 0                */
+    TAPER_CUSTOM = 5                 /* R_k given; R_1 should be 1 (the unit)    */
+} taper_profile;
+
+/* "monodisperse", "backward_linear", ... ; NULL for an unknown value. */
+TAPER_API const char *taper_profile_name(int profile);
+/* Case-insensitive inverse of taper_profile_name.  TAPER_EINVAL if unknown. */
+TAPER_API int taper_profile_from_name(const char *name, int *profile);
+
+/* What the caller fills to describe a chain.  Plain data: start from
+ * taper_chain_spec_init() so that fields added later get their defaults. */
+typedef struct taper_chain_spec {
+    int profile;            /* taper_profile                                   */
+    size_t n_granules;      /* N >= 2                                          */
+    double s;               /* linear tapering S                               */
+    double q;               /* exponential tapering q                          */
+    double exponent;        /* contact exponent n > 1 (5/2: Hertz)             */
+    const double *radii;    /* TAPER_CUSTOM: n_granules radii (copied)         */
+} taper_chain_spec;
+
+/* Defaults: monodisperse, N = 100, S = q = 0, n = 5/2, radii = NULL. */
+TAPER_API void taper_chain_spec_init(taper_chain_spec *spec);
+
+typedef struct taper_chain taper_chain;
+
+/* Builds the chain: radii, masses, contact factors, rest positions.
+ * Rejects invalid parameters (TAPER_EINVAL) and chains whose masses
+ * overflow or underflow double precision (TAPER_ERANGE, naming the granule). */
+TAPER_API taper_chain *taper_chain_alloc(const taper_chain_spec *spec, taper_error *err);
+TAPER_API void taper_chain_free(taper_chain *chain);
+
+TAPER_API size_t taper_chain_size(const taper_chain *chain);       /* N */
+TAPER_API double taper_chain_exponent(const taper_chain *chain);   /* n */
+TAPER_API int taper_chain_profile(const taper_chain *chain);
+/* Arrays of length N owned by the chain, valid until taper_chain_free. */
+TAPER_API const double *taper_chain_radius(const taper_chain *chain);   /* R_k          */
+TAPER_API const double *taper_chain_mass(const taper_chain *chain);     /* m_k = R_k^3  */
+TAPER_API const double *taper_chain_contact(const taper_chain *chain);  /* r_k, [N-1] = NaN */
+/* Centre of granule k in the uncompressed chain, X0(1) = 0,
+ * X0(k) = sum_{j<k} (R_j + R_{j+1})  (the paper's X_0 for every profile). */
+TAPER_API const double *taper_chain_rest_position(const taper_chain *chain);
+
+/* ------------------------------------------------------------------ */
+/* Binary collision approximation (paper, Sec. II)                    */
+/* ------------------------------------------------------------------ */
+
+/* Residence time of one binary collision, eq. (compress-time):
+ * T = sqrt(pi) (n mu / (2 r))^(1/n) zdot0^(2/n - 1) Gamma(1+1/n) / Gamma(1/n+1/2).
+ * NaN for invalid arguments (mu, r, zdot0 <= 0 or n <= 1). */
+TAPER_API double taper_theory_collision_time(double mu, double r, double zdot0, double n);
+
+/* Fills, each optional (NULL to skip), arrays of length N:
+ *   v[k-1]  = v_k, eq. (recv), the velocity granule k leaves its collision with;
+ *   mu[k-1] = mu_k = m_k m_{k+1} / (m_k + m_{k+1}),  k = 1..N-1;
+ *   T[k-1]  = T_k, eq. (compress-time) with zdot0 = v_k, k = 1..N-1;
+ *   t[k-1]  = sum_{j<=k} T_j, eq. (totaltime), k = 1..N-1.
+ * Entries that do not exist are NaN.  TAPER_ERANGE if a value overflows. */
+TAPER_API int taper_theory_compute(const taper_chain *chain, double *v, double *mu,
+                                   double *T, double *t, taper_error *err);
+
+/* ------------------------------------------------------------------ */
+/* Full dynamics                                                       */
+/* ------------------------------------------------------------------ */
+typedef enum taper_method {
+    TAPER_ADAMS = 0,  /* CVODE Adams-Moulton, fixed-point iteration (non-stiff) */
+    TAPER_BDF = 1     /* CVODE BDF, Newton with the banded analytic Jacobian    */
+} taper_method;
+
+/* Given to the monitor after each pulse event. */
+typedef struct taper_progress {
+    size_t granule;     /* highest k whose t_pass is known (0: none yet)      */
+    size_t target;      /* the run ends once the pulse passed this granule    */
+    double t;           /* time of the event                                  */
+    long steps;         /* internal steps so far                              */
+    size_t window_lo;   /* active window: granules window_lo..window_hi move  */
+    size_t window_hi;
+} taper_progress;
+
+/* Return non-zero to stop the run (it then ends with TAPER_EINTERRUPTED,
+ * keeping what was found).  Called from the thread running the simulation. */
+typedef int (*taper_monitor_fn)(const taper_progress *progress, void *user);
+
+/* Diagnostics the library would otherwise have printed (level 0: info,
+ * 1: warning).  Optional. */
+typedef void (*taper_log_fn)(int level, const char *message, void *user);
+
+typedef struct taper_solver_spec {
+    int method;             /* taper_method                                    */
+    double rtol;            /* relative tolerance                              */
+    double atol;            /* absolute tolerance (velocities, compressions)   */
+    size_t last_granule;    /* stop once every observable of granules
+                               1..last_granule is known; 0: the whole chain   */
+    int window;             /* non-zero: integrate only the granules that can
+                               move (exact); zero: the whole chain every step */
+    double t_max;           /* stop at this time; 0: no limit                  */
+    long max_steps;         /* stop after this many internal steps; 0: none    */
+    taper_monitor_fn monitor;
+    void *monitor_data;
+    taper_log_fn log;
+    void *log_data;
+} taper_solver_spec;
+
+/* Defaults (the measured Pareto choice, see docs/benchmarks.md). */
+TAPER_API void taper_solver_spec_init(taper_solver_spec *spec);
+
+/* Per-granule observables of a run (arrays of length N, NaN where unknown). */
+typedef enum taper_observable {
+    TAPER_T_PASS = 0,   /* first time v_{k+1} overtakes v_k (pulse passes k)    */
+    TAPER_T_RES = 1,    /* t_pass(k) - t_pass(k-1), t_pass(0) = 0               */
+    TAPER_V_PEAK = 2,   /* first maximum of v_k (v_peak(1) = 1 at t = 0)        */
+    TAPER_T_PEAK = 3,   /* its time                                             */
+    TAPER_X_PASS = 4    /* X0(k) + x_k(t_pass(k)): pulse position               */
+} taper_observable;
+#define TAPER_N_OBSERVABLES 5
+
+typedef struct taper_stats {
+    long steps;             /* internal CVODE steps                           */
+    long rhs_evals;         /* right-hand side evaluations                    */
+    long root_evals;        /* root function evaluations                      */
+    long jac_evals;         /* Jacobian evaluations (BDF)                     */
+    long nonlin_iters;      /* nonlinear solver iterations                    */
+    long err_test_fails;    /* local error test failures                      */
+    long window_changes;    /* times the active window grew or shrank         */
+    long restarts;          /* solver re-initialisations                      */
+    size_t max_window;      /* largest number of granules integrated at once  */
+    size_t granule_reached; /* highest k with t_pass(k) known                 */
+    double t_final;         /* time the run ended                             */
+    double energy_error;    /* |E(t_final) - E(0)| / E(0)                     */
+    double momentum_error;  /* |P(t_final) - P(0)| / P(0)                     */
+    int complete;           /* 1 when every requested observable is known     */
+} taper_stats;
+
+typedef struct taper_sim taper_sim;
+
+/* Prepares a run of `chain` (which must outlive the sim).  Copies spec. */
+TAPER_API taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec,
+                                     taper_error *err);
+TAPER_API void taper_sim_free(taper_sim *sim);
+
+/* Integrates from the impulse until every requested observable is known.
+ * Returns TAPER_OK, or TAPER_ESOLVER / TAPER_EINTERRUPTED / TAPER_ELIMIT
+ * with the observables found so far kept (stats.complete == 0) and a message
+ * naming the granule the pulse had reached and the time.  A sim runs once. */
+TAPER_API int taper_sim_run(taper_sim *sim, taper_error *err);
+
+/* Array of length N owned by the sim; NULL for an unknown observable. */
+TAPER_API const double *taper_sim_observable(const taper_sim *sim, int which);
+TAPER_API void taper_sim_stats(const taper_sim *sim, taper_stats *stats);
+
+/* Displacements x_k and velocities v_k (arrays of length N, either may be
+ * NULL) of every granule at stats.t_final. */
+TAPER_API int taper_sim_state(const taper_sim *sim, double *x, double *v, taper_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* TAPER_H */
