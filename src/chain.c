@@ -7,6 +7,7 @@
 #include "taper_internal.h"
 
 #include <ctype.h>
+#include <stdint.h>
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -75,6 +76,11 @@ static int validate_parameters(const taper_chain_spec *spec, taper_error *err)
     if (!name) return taper_fail(err, TAPER_EINVAL, "unknown profile %d", spec->profile);
     if (spec->n_granules < 2)
         return taper_fail(err, TAPER_EINVAL, "n_granules = %zu: a chain needs at least 2 granules",
+                          spec->n_granules);
+    /* Four arrays of N doubles: a larger N would overflow n * sizeof(double)
+     * in the allocation (and the mass check would loop for ages first). */
+    if (spec->n_granules > SIZE_MAX / (4 * sizeof(double)))
+        return taper_fail(err, TAPER_EINVAL, "n_granules = %zu: too many granules to allocate",
                           spec->n_granules);
     if (!(spec->exponent > 1.0) || !isfinite(spec->exponent))
         return taper_fail(err, TAPER_EINVAL,
