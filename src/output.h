@@ -1,0 +1,54 @@
+/*
+ * output.h -- result files of the driver: tidy TSV (comment lines, one
+ * header line, one row per granule) written atomically, so that a file
+ * with a result's name is always a complete result.
+ *
+ * Not part of libtaper: the library never writes files.
+ */
+#ifndef TAPER_OUTPUT_H
+#define TAPER_OUTPUT_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+/* mkdir -p.  0 on success; -1 with a message naming the path. */
+int out_mkdir_p(const char *dir, char *msg, size_t size);
+
+/* A file being written under a temporary name in its final directory
+ * (rename() is atomic only within one file system). */
+typedef struct out_file {
+    FILE *fp;
+    char *tmp_path;
+    char *final_path;
+    int failed;        /* a write failed: commit refuses */
+} out_file;
+
+/* Opens DIR/.NAME.XXXXXX for writing.  NULL with a message on failure. */
+out_file *out_open(const char *dir, const char *name, char *msg, size_t size);
+/* Flushes, closes and renames to DIR/NAME.  Frees f.  0 or -1 with msg
+ * (the temporary file is removed on failure). */
+int out_commit(out_file *f, char *msg, size_t size);
+/* Closes and removes the temporary file.  Frees f.  NULL is a no-op. */
+void out_discard(out_file *f);
+
+/* Removes DIR/NAME if present (a stale result from an earlier run).
+ * 0 when absent afterwards, -1 with msg otherwise. */
+int out_remove(const char *dir, const char *name, char *msg, size_t size);
+
+/* TSV cells: %.17g, or "nan" for values that do not exist (any NaN), so
+ * that every reader sees one spelling. */
+void out_cell(FILE *fp, double x, int last);
+
+/* The per-granule table: columns of length n (NULL columns print nan). */
+#define OUT_N_COLUMNS 12
+extern const char *const out_column_names[OUT_N_COLUMNS];
+typedef struct out_columns {
+    size_t n;
+    const double *col[OUT_N_COLUMNS]; /* in the order of out_column_names;
+                                         col[0] (k) is ignored: k = 1..n */
+} out_columns;
+
+/* Writes the header line and the rows. */
+void out_write_table(FILE *fp, const out_columns *cols);
+
+#endif

@@ -1,0 +1,306 @@
+/*
+ * scene.c -- the table of scene variables, the values of a scene, typed
+ * access, and the conversion to the library's specs.
+ *
+ * The table below is the only place a variable is declared: the parser
+ * (scene_parse.c), the validation (scene_check.c), the echo, --defaults and
+ * --doc (scene_write.c) all walk it.
+ */
+#include "scene_impl.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+static const char *const profiles[] = {
+    "monodisperse", "backward_linear", "forward_linear",
+    "backward_exponential", "forward_exponential", "custom", NULL,
+};
+static const char *const methods[] = {"adams", "bdf", NULL};
+
+/* Bounds are generous but finite: a number outside them is a typo, not a
+ * physics question (the stress matrix of issue 7 stays well inside). */
+static const scene_var table[] = {
+    {"chain", "profile", SCENE_STRING, 0, "'monodisperse'", 0, 0, profiles,
+     "radius profile R_k: monodisperse (1), backward_linear (1+s(k-1)), forward_linear "
+     "(1-s(k-1)), backward_exponential ((1-q)^(1-k)), forward_exponential ((1+q)^(1-k)), "
+     "custom (radii)"},
+    {"chain", "n_granules", SCENE_INTEGER, 0, "100", 2, 1e7, NULL,
+     "number of granules N (custom profile: may be left out, then N = number of radii)"},
+    {"chain", "s", SCENE_REAL, SCENE_SWEEP, "0", 0, 1e3, NULL,
+     "linear tapering S (backward_linear, forward_linear); a list of values sweeps it"},
+    {"chain", "q", SCENE_REAL, SCENE_SWEEP, "0", 0, 1e3, NULL,
+     "exponential tapering q (backward_exponential needs q < 1); a list of values sweeps it"},
+    {"chain", "exponent", SCENE_REAL, SCENE_LO_OPEN, "2.5", 1, 20, NULL,
+     "contact exponent n: force ~ overlap^(n-1); 2.5 is Hertz"},
+    {"chain", "radii", SCENE_REAL_LIST, SCENE_POSITIVE, NULL, 0, 0, NULL,
+     "custom profile only: the radii R_1, ..., R_N (R_1 = 1 is the unit of length)"},
+
+    {"solver", "method", SCENE_STRING, SCENE_LIBDEF, NULL, 0, 0, methods,
+     "integrator: 'adams' (Adams-Moulton, fixed point) or 'bdf' (BDF, banded Jacobian)"},
+    {"solver", "rtol", SCENE_REAL, SCENE_LIBDEF, NULL, 1e-15, 0.1, NULL,
+     "relative tolerance of the integrator"},
+    {"solver", "atol", SCENE_REAL, SCENE_LIBDEF | SCENE_LO_OPEN, NULL, 0, 0.1, NULL,
+     "absolute tolerance of the integrator (velocities and compressions)"},
+    {"solver", "window", SCENE_LOGICAL, SCENE_LIBDEF, NULL, 0, 0, NULL,
+     "integrate only the granules that can move (exact and faster); .false.: the whole chain"},
+    {"solver", "last_granule", SCENE_INTEGER, 0, "0", 0, 1e7, NULL,
+     "stop once the pulse has passed this granule; 0: the whole chain"},
+    {"solver", "t_max", SCENE_REAL, 0, "0", 0, 1e300, NULL,
+     "stop at this time with a partial result; 0: no limit"},
+    {"solver", "max_steps", SCENE_INTEGER, 0, "0", 0, 1e15, NULL,
+     "stop after this many internal steps with a partial result; 0: no limit"},
+    {"solver", "numerics", SCENE_LOGICAL, 0, ".true.", 0, 0, NULL,
+     "integrate the dynamics; .false.: binary-collision theory only (fast)"},
+
+    {"output", "dir", SCENE_STRING, 0, NULL, 0, 0, NULL,
+     "output directory, created if missing (default out/NAME for scene NAME.nml; -o overrides)"},
+    {"output", "progress", SCENE_LOGICAL, 0, ".true.", 0, 0, NULL,
+     "show a progress line on stderr when it is a terminal"},
+};
+#define N_VARS (sizeof table / sizeof table[0])
+
+size_t scene_var_count(void) { return N_VARS; }
+
+const scene_var *scene_var_at(size_t i) { return i < N_VARS ? &table[i] : NULL; }
+
+int scene_var_find(const char *group, const char *name)
+{
+    if (!group || !name) return -1;
+    for (size_t i = 0; i < N_VARS; i++)
+        if (strcasecmp(table[i].group, group) == 0 && strcasecmp(table[i].name, name) == 0)
+            return (int)i;
+    return -1;
+}
+
+const char *scene_type_name(const scene_var *var)
+{
+    static const char *const names[] = {"string", "real", "integer", "logical", "real list"};
+    if (var->type == SCENE_REAL && (var->flags & SCENE_SWEEP)) return "real (list: sweep)";
+    return names[var->type];
+}
+
+void scene_error(scene *sc, int line, const char *group, const char *key, const char *fmt, ...)
+{
+    sc->n_errors++;
+    if (sc->n_diags >= SCENE_MAX_DIAGS) return;
+    scene_diag *d = &sc->diags[sc->n_diags++];
+    d->line = line;
+    snprintf(d->group, sizeof d->group, "%s", group ? group : "");
+    snprintf(d->key, sizeof d->key, "%s", key ? key : "");
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(d->message, sizeof d->message, fmt, ap);
+    va_end(ap);
+}
+
+void scene_print_diags(const scene *sc, FILE *fp)
+{
+    for (size_t i = 0; i < sc->n_diags; i++) {
+        const scene_diag *d = &sc->diags[i];
+        fprintf(fp, "%s:", sc->path);
+        if (d->line > 0) fprintf(fp, "%d:", d->line);
+        if (d->group[0]) fprintf(fp, " &%s", d->group);
+        if (d->key[0]) fprintf(fp, " %s", d->key);
+        fprintf(fp, "%s %s\n", d->group[0] || d->key[0] ? ":" : "", d->message);
+    }
+    if (sc->n_errors > sc->n_diags)
+        fprintf(fp, "%s: %zu more errors not shown\n", sc->path, sc->n_errors - sc->n_diags);
+}
+
+void scene_value_clear(scene_value *v)
+{
+    free(v->str);
+    free(v->list);
+    memset(v, 0, sizeof *v);
+}
+
+void scene_free(scene *sc)
+{
+    if (!sc) return;
+    if (sc->values)
+        for (size_t i = 0; i < N_VARS; i++) scene_value_clear(&sc->values[i]);
+    free(sc->values);
+    free(sc->path);
+    free(sc);
+}
+
+static char *dup_str(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *p = malloc(n);
+    if (p) memcpy(p, s, n);
+    return p;
+}
+
+static int set_real(scene_value *v, double x)
+{
+    free(v->list);
+    v->list = malloc(sizeof *v->list);
+    if (!v->list) return -1;
+    v->list[0] = x;
+    v->count = 1;
+    return 0;
+}
+
+/* Table default text -> value.  The table's defaults are a fixed, tested
+ * subset of the syntax, so this needs no error reporting beyond memory. */
+static int set_table_default(const scene_var *var, scene_value *v)
+{
+    if (!var->def) return 0;
+    switch (var->type) {
+    case SCENE_STRING: {
+        size_t n = strlen(var->def);
+        v->str = malloc(n);
+        if (!v->str) return -1;
+        memcpy(v->str, var->def + 1, n - 2); /* strip the quotes */
+        v->str[n - 2] = '\0';
+        return 0;
+    }
+    case SCENE_REAL: return set_real(v, strtod(var->def, NULL));
+    case SCENE_INTEGER: v->ival = strtoll(var->def, NULL, 10); return 0;
+    case SCENE_LOGICAL: v->bval = strcasecmp(var->def, ".true.") == 0; return 0;
+    default: return 0;
+    }
+}
+
+/* Defaults that the library measured: one source of truth. */
+static int set_library_default(const scene_var *var, scene_value *v, const taper_solver_spec *lib)
+{
+    if (strcmp(var->name, "method") == 0) {
+        v->str = dup_str(lib->method == TAPER_BDF ? "bdf" : "adams");
+        return v->str ? 0 : -1;
+    }
+    if (strcmp(var->name, "rtol") == 0) return set_real(v, lib->rtol);
+    if (strcmp(var->name, "atol") == 0) return set_real(v, lib->atol);
+    if (strcmp(var->name, "window") == 0) v->bval = lib->window != 0;
+    return 0;
+}
+
+/* out/NAME for scene file .../NAME.nml. */
+static char *derived_dir(const char *path)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    size_t n = strlen(base);
+    if (n > 4 && strcasecmp(base + n - 4, ".nml") == 0) n -= 4;
+    if (n == 0) base = "scene", n = 5;
+    char *dir = malloc(n + 5);
+    if (!dir) return NULL;
+    memcpy(dir, "out/", 4);
+    memcpy(dir + 4, base, n);
+    dir[n + 4] = '\0';
+    return dir;
+}
+
+scene *scene_new(const char *path, const taper_solver_spec *lib)
+{
+    scene *sc = calloc(1, sizeof *sc);
+    if (!sc) return NULL;
+    sc->path = dup_str(path ? path : "<scene>");
+    sc->values = calloc(N_VARS, sizeof *sc->values);
+    if (!sc->path || !sc->values) goto fail;
+    for (size_t i = 0; i < N_VARS; i++) {
+        const scene_var *var = &table[i];
+        int rc = (var->flags & SCENE_LIBDEF) ? set_library_default(var, &sc->values[i], lib)
+                                             : set_table_default(var, &sc->values[i]);
+        if (rc != 0) goto fail;
+    }
+    int d = scene_var_find("output", "dir");
+    if (!(sc->values[d].str = derived_dir(sc->path))) goto fail;
+    return sc;
+fail:
+    scene_free(sc);
+    return NULL;
+}
+
+/* ---- typed access ------------------------------------------------------ */
+
+const scene_value *scene_get(const scene *sc, const char *group, const char *name)
+{
+    int i = scene_var_find(group, name);
+    return i < 0 ? NULL : &sc->values[i];
+}
+
+const char *scene_str(const scene *sc, const char *group, const char *name)
+{
+    const scene_value *v = scene_get(sc, group, name);
+    return v && v->str ? v->str : "";
+}
+
+double scene_real(const scene *sc, const char *group, const char *name)
+{
+    const scene_value *v = scene_get(sc, group, name);
+    return v && v->count > 0 ? v->list[0] : NAN;
+}
+
+long long scene_int(const scene *sc, const char *group, const char *name)
+{
+    const scene_value *v = scene_get(sc, group, name);
+    return v ? v->ival : 0;
+}
+
+int scene_bool(const scene *sc, const char *group, const char *name)
+{
+    const scene_value *v = scene_get(sc, group, name);
+    return v ? v->bval : 0;
+}
+
+int scene_set_str(scene *sc, const char *group, const char *name, const char *value)
+{
+    int i = scene_var_find(group, name);
+    if (i < 0 || table[i].type != SCENE_STRING) return -1;
+    char *s = dup_str(value);
+    if (!s) return -1;
+    free(sc->values[i].str);
+    sc->values[i].str = s;
+    return 0;
+}
+
+int scene_sweep_var(const scene *sc)
+{
+    for (size_t i = 0; i < N_VARS; i++)
+        if ((table[i].flags & SCENE_SWEEP) && sc->values[i].count > 1) return (int)i;
+    return -1;
+}
+
+/* The value of a sweepable real at sweep_index (its only value otherwise). */
+static double swept_real(const scene *sc, const char *name, size_t sweep_index)
+{
+    const scene_value *v = scene_get(sc, "chain", name);
+    if (!v || v->count == 0) return NAN;
+    return v->list[v->count > 1 && sweep_index < v->count ? sweep_index : 0];
+}
+
+void scene_chain_spec(const scene *sc, size_t sweep_index, taper_chain_spec *spec)
+{
+    taper_chain_spec_init(spec);
+    int profile = TAPER_MONODISPERSE;
+    taper_profile_from_name(scene_str(sc, "chain", "profile"), &profile);
+    spec->profile = profile;
+    spec->n_granules = (size_t)scene_int(sc, "chain", "n_granules");
+    spec->s = swept_real(sc, "s", sweep_index);
+    spec->q = swept_real(sc, "q", sweep_index);
+    spec->exponent = scene_real(sc, "chain", "exponent");
+    const scene_value *radii = scene_get(sc, "chain", "radii");
+    if (profile == TAPER_CUSTOM && radii->count > 0) {
+        spec->radii = radii->list;
+        spec->n_granules = radii->count; /* validation made them agree */
+    }
+}
+
+void scene_solver_spec(const scene *sc, taper_solver_spec *spec)
+{
+    /* Only the fields the scene describes: the caller started from
+     * taper_solver_spec_init() and adds monitor and log. */
+    spec->method = strcmp(scene_str(sc, "solver", "method"), "bdf") == 0 ? TAPER_BDF : TAPER_ADAMS;
+    spec->rtol = scene_real(sc, "solver", "rtol");
+    spec->atol = scene_real(sc, "solver", "atol");
+    spec->window = scene_bool(sc, "solver", "window");
+    spec->last_granule = (size_t)scene_int(sc, "solver", "last_granule");
+    spec->t_max = scene_real(sc, "solver", "t_max");
+    spec->max_steps = (long)scene_int(sc, "solver", "max_steps");
+}

@@ -1,0 +1,616 @@
+/*
+ * scene_parse.c -- namelist lexer and parser: text -> scene values.
+ *
+ * Two passes keep each simple: a screening pass rejects what is not text
+ * (control bytes, absurd lines) with a line number, then a lexer cuts the
+ * text into tokens and a recursive-descent parser assigns values to table
+ * variables, checking their types.  Ranges and relations between variables
+ * are the validation pass (scene_check.c), so that a scene that parses can
+ * still be echoed and corrected.
+ */
+#include "scene_impl.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+typedef enum tok_kind { T_EOF, T_GROUP, T_SLASH, T_EQ, T_COMMA, T_STRING, T_WORD } tok_kind;
+
+typedef struct token {
+    tok_kind kind;
+    const char *text;   /* T_GROUP: the name after '&'; T_STRING: inside quotes */
+    size_t len;
+    int line;
+    char quote;         /* T_STRING: ' or "                                   */
+} token;
+
+typedef struct parser {
+    scene *sc;
+    const char *src;
+    size_t len, pos;
+    int line;
+    token tok;              /* current token                                 */
+    token next;             /* one token of look-ahead                       */
+    int failed;
+    int group_line[8];      /* line where each group was opened (0: not yet) */
+} parser;
+
+/* ---- screening ----------------------------------------------------------- */
+
+/* Rejects binary data and over-long lines before any tokenising. */
+static int screen(scene *sc, const char *s, size_t len)
+{
+    int line = 1;
+    size_t col = 0;
+    for (size_t i = 0; i < len; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c == '\n') {
+            line++;
+            col = 0;
+            continue;
+        }
+        if (++col > SCENE_MAX_LINE) {
+            scene_error(sc, line, NULL, NULL,
+                        "line longer than %d characters: split values over several lines",
+                        SCENE_MAX_LINE);
+            return -1;
+        }
+        if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f) {
+            scene_error(sc, line, NULL, NULL,
+                        "binary data (byte 0x%02x, column %zu): not a text scene file", c, col);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* ---- lexer ---------------------------------------------------------------- */
+
+static int is_word_char(int c)
+{
+    return c > ' ' && c != ',' && c != '=' && c != '/' && c != '&' && c != '!' && c != '\'' &&
+           c != '"';
+}
+
+static void skip_blanks(parser *p)
+{
+    while (p->pos < p->len) {
+        char c = p->src[p->pos];
+        if (c == '\n') {
+            p->line++;
+            p->pos++;
+        } else if (c == ' ' || c == '\t' || c == '\r') {
+            p->pos++;
+        } else if (c == '!') {
+            while (p->pos < p->len && p->src[p->pos] != '\n') p->pos++;
+        } else {
+            break;
+        }
+    }
+}
+
+/* A quoted string; a doubled quote inside stands for one (Fortran). */
+static int lex_string(parser *p, token *t)
+{
+    char q = p->src[p->pos++];
+    t->kind = T_STRING;
+    t->quote = q;
+    t->text = p->src + p->pos;
+    while (p->pos < p->len && p->src[p->pos] != '\n') {
+        if (p->src[p->pos] == q) {
+            if (p->pos + 1 < p->len && p->src[p->pos + 1] == q) {
+                p->pos += 2;
+                continue;
+            }
+            t->len = (size_t)(p->src + p->pos - t->text);
+            p->pos++;
+            return 0;
+        }
+        p->pos++;
+    }
+    scene_error(p->sc, t->line, NULL, NULL, "string opened with %c is not closed on this line", q);
+    return -1;
+}
+
+static int lex(parser *p, token *t)
+{
+    skip_blanks(p);
+    memset(t, 0, sizeof *t);
+    t->line = p->line;
+    if (p->pos >= p->len) return 0; /* T_EOF */
+    char c = p->src[p->pos];
+    if (c == '\'' || c == '"') return lex_string(p, t);
+    if (c == '&' || c == '$') { /* $name is the old VAX spelling of &name */
+        p->pos++;
+        t->kind = T_GROUP;
+        t->text = p->src + p->pos;
+        while (p->pos < p->len && is_word_char((unsigned char)p->src[p->pos])) p->pos++;
+        t->len = (size_t)(p->src + p->pos - t->text);
+        if (t->len == 0) {
+            scene_error(p->sc, t->line, NULL, NULL, "'%c' must be followed by a group name", c);
+            return -1;
+        }
+        return 0;
+    }
+    t->text = p->src + p->pos;
+    t->len = 1;
+    p->pos++;
+    switch (c) {
+    case '/': t->kind = T_SLASH; return 0;
+    case '=': t->kind = T_EQ; return 0;
+    case ',': t->kind = T_COMMA; return 0;
+    default: break;
+    }
+    t->kind = T_WORD;
+    while (p->pos < p->len && is_word_char((unsigned char)p->src[p->pos])) p->pos++;
+    t->len = (size_t)(p->src + p->pos - t->text);
+    return 0;
+}
+
+/* Moves to the next token; sets p->failed on a lexical error. */
+static void advance(parser *p)
+{
+    p->tok = p->next;
+    if (!p->failed && lex(p, &p->next) != 0) p->failed = 1;
+}
+
+/* Up to size-1 characters of a token, for messages (never unbounded). */
+static const char *tok_text(const token *t, char *buf, size_t size)
+{
+    if (t->kind == T_EOF) return "end of file";
+    size_t n = t->len < size - 1 ? t->len : size - 1;
+    memcpy(buf, t->text, n);
+    buf[n] = '\0';
+    for (size_t i = 0; i < n; i++)
+        if (!isprint((unsigned char)buf[i])) buf[i] = '?';
+    if (n < t->len && size > 4) memcpy(buf + size - 4, "...", 4);
+    return buf;
+}
+
+/* ---- values ----------------------------------------------------------------- */
+
+/* One element of a value list after repeat counts are expanded. */
+typedef struct element {
+    enum { E_NUMBER, E_INTEGER, E_LOGICAL, E_STRING } kind;
+    double x;
+    long long i;
+    int b;
+    token tok;          /* the value's token (by value: tokens are small)  */
+} element;
+
+static int is_digit_run(const char *s, size_t n, size_t *i)
+{
+    size_t start = *i;
+    while (*i < n && isdigit((unsigned char)s[*i])) (*i)++;
+    return *i > start;
+}
+
+/* Fortran numeric syntax: [+-] digits [. [digits]] | . digits, then an
+ * optional exponent [eEdD][+-]digits.  *is_int: no '.' and no exponent. */
+static int number_syntax(const char *s, size_t n, int *is_int)
+{
+    size_t i = 0;
+    if (i < n && (s[i] == '+' || s[i] == '-')) i++;
+    int mant = is_digit_run(s, n, &i);
+    *is_int = 1;
+    if (i < n && s[i] == '.') {
+        i++;
+        *is_int = 0;
+        mant |= is_digit_run(s, n, &i);
+    }
+    if (!mant) return 0;
+    if (i < n && strchr("eEdD", s[i])) {
+        i++;
+        *is_int = 0;
+        if (i < n && (s[i] == '+' || s[i] == '-')) i++;
+        if (!is_digit_run(s, n, &i)) return 0;
+    }
+    return i == n;
+}
+
+static int logical_syntax(const char *s, size_t n, int *b)
+{
+    static const char *const forms[] = {"t", "f", ".t", ".f", ".t.", ".f.", ".true.", ".false.",
+                                        "true", "false"};
+    for (size_t k = 0; k < sizeof forms / sizeof forms[0]; k++) {
+        if (strlen(forms[k]) == n && strncasecmp(s, forms[k], n) == 0) {
+            *b = (k % 2) == 0;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static int looks_nonfinite(const char *s, size_t n)
+{
+    if (n > 0 && (s[0] == '+' || s[0] == '-')) s++, n--;
+    return (n >= 3 && (strncasecmp(s, "nan", 3) == 0 || strncasecmp(s, "inf", 3) == 0));
+}
+
+/* Converts a word to an element, reporting errors against group/key. */
+static int word_value(parser *p, const token *t, const char *group, const char *key, element *e)
+{
+    char buf[64];
+    int is_int;
+    if (logical_syntax(t->text, t->len, &e->b)) {
+        e->kind = E_LOGICAL;
+        return 0;
+    }
+    if (looks_nonfinite(t->text, t->len)) {
+        scene_error(p->sc, t->line, group, key, "'%s' is not a finite number", tok_text(t, buf, sizeof buf));
+        return -1;
+    }
+    if (!number_syntax(t->text, t->len, &is_int) || t->len >= sizeof buf) {
+        scene_error(p->sc, t->line, group, key,
+                    "'%s' is not a value (numbers like 1.5d-3, logicals .true./.false., "
+                    "strings in quotes: '%s')",
+                    tok_text(t, buf, sizeof buf), buf);
+        return -1;
+    }
+    memcpy(buf, t->text, t->len);
+    buf[t->len] = '\0';
+    for (char *c = buf; *c; c++)
+        if (*c == 'd' || *c == 'D') *c = 'e';
+    errno = 0;
+    e->x = strtod(buf, NULL);
+    if (errno == ERANGE || !isfinite(e->x)) {
+        scene_error(p->sc, t->line, group, key, "%s is outside the range of double precision", buf);
+        return -1;
+    }
+    e->kind = E_NUMBER;
+    if (is_int) {
+        errno = 0;
+        e->i = strtoll(buf, NULL, 10);
+        if (errno != ERANGE) e->kind = E_INTEGER;
+    }
+    return 0;
+}
+
+/* ---- assignment: elements -> typed value ------------------------------------ */
+
+static int type_error(parser *p, const scene_var *var, const element *e)
+{
+    static const char *const example[] = {"'text'", "1.5", "10", ".true.", "1.0, 1.2, 1.5"};
+    char buf[64];
+    const char *what = e->kind == E_STRING ? "a string" : tok_text(&e->tok, buf, sizeof buf);
+    scene_error(p->sc, e->tok.line, var->group, var->name,
+                "expects %s %s, got %s (e.g. %s = %s)", var->type == SCENE_INTEGER ? "an" : "a",
+                scene_type_name(var), what, var->name, example[var->type]);
+    return -1;
+}
+
+static char *string_value(const token *t)
+{
+    char *s = malloc(t->len + 1);
+    if (!s) return NULL;
+    size_t n = 0;
+    for (size_t i = 0; i < t->len; i++) {
+        s[n++] = t->text[i];
+        if (t->text[i] == t->quote) i++; /* doubled quote */
+    }
+    s[n] = '\0';
+    return s;
+}
+
+static int assign(parser *p, int vi, const element *el, size_t n, int line)
+{
+    const scene_var *var = scene_var_at((size_t)vi);
+    scene_value *v = &p->sc->values[vi];
+    int multi_ok = var->type == SCENE_REAL_LIST || (var->flags & SCENE_SWEEP);
+    if (n > 1 && !multi_ok) {
+        scene_error(p->sc, line, var->group, var->name,
+                    "expects one value, got %zu (only s and q take a list, to sweep them)", n);
+        return -1;
+    }
+    for (size_t i = 0; i < n; i++) {
+        int k = el[i].kind;
+        int ok = (var->type == SCENE_STRING && k == E_STRING) ||
+                 (var->type == SCENE_LOGICAL && k == E_LOGICAL) ||
+                 (var->type == SCENE_INTEGER && k == E_INTEGER) ||
+                 ((var->type == SCENE_REAL || var->type == SCENE_REAL_LIST) &&
+                  (k == E_NUMBER || k == E_INTEGER));
+        if (!ok) return type_error(p, var, &el[i]);
+    }
+    scene_value_clear(v);
+    v->given = 1;
+    v->line = line;
+    switch (var->type) {
+    case SCENE_STRING:
+        if (!(v->str = string_value(&el[0].tok))) goto nomem;
+        break;
+    case SCENE_LOGICAL: v->bval = el[0].b; break;
+    case SCENE_INTEGER: v->ival = el[0].i; break;
+    default:
+        if (!(v->list = malloc(n * sizeof *v->list))) goto nomem;
+        for (size_t i = 0; i < n; i++) v->list[i] = el[i].x;
+        v->count = n;
+        break;
+    }
+    return 0;
+nomem:
+    scene_error(p->sc, line, var->group, var->name, "out of memory");
+    return -1;
+}
+
+/* ---- parser ------------------------------------------------------------------ */
+
+/* Appends `count` copies of e to the element array, growing it. */
+static int push(parser *p, element **el, size_t *n, size_t *cap, const element *e,
+                long long count, const char *group, const char *key)
+{
+    if (count < 1 || (unsigned long long)count > SCENE_MAX_LIST - *n) {
+        scene_error(p->sc, e->tok.line, group, key,
+                    "list longer than %d values (repeat count %lld)", SCENE_MAX_LIST, count);
+        return -1;
+    }
+    if (*n + (size_t)count > *cap) {
+        size_t c = *cap ? *cap : 16;
+        while (c < *n + (size_t)count) c *= 2;
+        element *grown = realloc(*el, c * sizeof *grown);
+        if (!grown) {
+            scene_error(p->sc, e->tok.line, group, key, "out of memory");
+            return -1;
+        }
+        *el = grown;
+        *cap = c;
+    }
+    for (long long i = 0; i < count; i++) (*el)[(*n)++] = *e;
+    return 0;
+}
+
+/* One value token: a string, or a word possibly with an r* repeat count. */
+static int one_value(parser *p, element **el, size_t *n, size_t *cap, const char *group,
+                     const char *key)
+{
+    token *t = &p->tok;
+    element e = {0};
+    e.tok = *t;
+    if (t->kind == T_STRING) {
+        e.kind = E_STRING;
+        return push(p, el, n, cap, &e, 1, group, key);
+    }
+    const char *star = memchr(t->text, '*', t->len);
+    long long count = 1;
+    token part = *t;
+    if (star) {
+        int is_int;
+        size_t head = (size_t)(star - t->text);
+        char buf[24];
+        if (head == 0 || head >= sizeof buf || !number_syntax(t->text, head, &is_int) || !is_int ||
+            !isdigit((unsigned char)t->text[0]) || head + 1 == t->len) {
+            scene_error(p->sc, t->line, group, key,
+                        "'%s' is not a repeat: write COUNT*VALUE, e.g. 3*1.0",
+                        tok_text(t, buf, sizeof buf));
+            return -1;
+        }
+        memcpy(buf, t->text, head);
+        buf[head] = '\0';
+        count = strtoll(buf, NULL, 10);
+        part.text += head + 1;
+        part.len -= head + 1;
+    }
+    if (word_value(p, &part, group, key, &e) != 0) return -1;
+    return push(p, el, n, cap, &e, count, group, key);
+}
+
+/* key = value [,] value ... up to the next key, '/' or end of input. */
+static int parse_values(parser *p, int vi, const char *group, const char *key, int key_line)
+{
+    element *el = NULL;
+    size_t n = 0, cap = 0;
+    int rc = -1, prev_comma = 0;
+    for (;;) {
+        token *t = &p->tok;
+        if (p->failed) goto out;
+        if (t->kind == T_COMMA) {
+            if (n == 0 || prev_comma) {
+                scene_error(p->sc, t->line, group, key,
+                            "empty value before ',' (null values are not supported)");
+                goto out;
+            }
+            prev_comma = 1;
+            advance(p);
+            continue;
+        }
+        int is_value = t->kind == T_STRING || (t->kind == T_WORD && p->next.kind != T_EQ);
+        if (!is_value) break;
+        if (one_value(p, &el, &n, &cap, group, key) != 0) goto out;
+        prev_comma = 0;
+        advance(p);
+    }
+    if (n == 0) {
+        char buf[40];
+        scene_error(p->sc, p->tok.line, group, key, "no value after '=' (found %s)",
+                    tok_text(&p->tok, buf, sizeof buf));
+        goto out;
+    }
+    rc = vi < 0 ? 0 : assign(p, vi, el, n, key_line);
+out:
+    free(el);
+    return rc;
+}
+
+static size_t edit_distance(const char *a, const char *b)
+{
+    size_t la = strlen(a), lb = strlen(b), row[64];
+    if (la >= 63 || lb >= 63) return 99;
+    for (size_t j = 0; j <= lb; j++) row[j] = j;
+    for (size_t i = 1; i <= la; i++) {
+        size_t diag = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= lb; j++) {
+            size_t up = row[j];
+            size_t sub = diag + (tolower((unsigned char)a[i - 1]) != tolower((unsigned char)b[j - 1]));
+            size_t best = up + 1 < row[j - 1] + 1 ? up + 1 : row[j - 1] + 1;
+            row[j] = sub < best ? sub : best;
+            diag = up;
+        }
+    }
+    return row[lb];
+}
+
+/* "did you mean" plus the list of keys of the group. */
+static void unknown_key(parser *p, const char *group, const char *key, int line)
+{
+    char keys[256] = "", *w = keys;
+    const char *close = NULL;
+    for (size_t i = 0; i < scene_var_count(); i++) {
+        const scene_var *v = scene_var_at(i);
+        if (strcmp(v->group, group) != 0) continue;
+        int k = snprintf(w, sizeof keys - (size_t)(w - keys), "%s%s", w == keys ? "" : ", ", v->name);
+        if (k > 0 && (size_t)k < sizeof keys - (size_t)(w - keys)) w += k;
+        if (!close && edit_distance(key, v->name) <= 2) close = v->name;
+    }
+    if (close)
+        scene_error(p->sc, line, group, key, "unknown key: did you mean %s? (&%s has: %s)", close,
+                    group, keys);
+    else
+        scene_error(p->sc, line, group, key, "unknown key (&%s has: %s)", group, keys);
+}
+
+static void copy_name(const token *t, char *buf, size_t size)
+{
+    size_t n = t->len < size - 1 ? t->len : size - 1;
+    for (size_t i = 0; i < n; i++) buf[i] = (char)tolower((unsigned char)t->text[i]);
+    buf[n] = '\0';
+}
+
+/* One key = values inside group. */
+static int parse_assignment(parser *p, const char *group)
+{
+    char key[48], buf[48];
+    int line = p->tok.line;
+    copy_name(&p->tok, key, sizeof key);
+    if (p->tok.len >= sizeof key) {
+        scene_error(p->sc, line, group, NULL, "key '%s' is too long", tok_text(&p->tok, buf, sizeof buf));
+        return -1;
+    }
+    if (p->next.kind != T_EQ) {
+        scene_error(p->sc, line, group, key, "expected '=' after the key, found %s",
+                    tok_text(&p->next, buf, sizeof buf));
+        return -1;
+    }
+    if (strchr(key, '(') || strchr(key, '%')) {
+        scene_error(p->sc, line, group, key,
+                    "array elements and components are not supported: give the whole list");
+        return -1;
+    }
+    int vi = scene_var_find(group, key);
+    if (vi < 0) {
+        unknown_key(p, group, key, line);
+        return -1;
+    }
+    if (p->sc->values[vi].given) {
+        scene_error(p->sc, line, group, key, "repeated key (first given at line %d)",
+                    p->sc->values[vi].line);
+        return -1;
+    }
+    advance(p); /* key */
+    advance(p); /* = */
+    return parse_values(p, vi, group, key, line);
+}
+
+static int group_index(const char *name)
+{
+    static const char *const groups[] = {"chain", "solver", "output"};
+    for (int i = 0; i < 3; i++)
+        if (strcmp(groups[i], name) == 0) return i;
+    return -1;
+}
+
+static int parse_group(parser *p)
+{
+    char group[32], buf[48];
+    int line = p->tok.line;
+    copy_name(&p->tok, group, sizeof group);
+    int gi = p->tok.len < sizeof group ? group_index(group) : -1;
+    if (gi < 0) {
+        scene_error(p->sc, line, tok_text(&p->tok, buf, sizeof buf), NULL,
+                    "unknown group (groups: &chain, &solver, &output)");
+        return -1;
+    }
+    if (p->group_line[gi]) {
+        scene_error(p->sc, line, group, NULL, "group given twice (first at line %d): merge them",
+                    p->group_line[gi]);
+        return -1;
+    }
+    p->group_line[gi] = line;
+    advance(p);
+    for (;;) {
+        if (p->failed) return -1;
+        switch (p->tok.kind) {
+        case T_SLASH: advance(p); return 0;
+        case T_COMMA: advance(p); break;
+        case T_WORD:
+            if (parse_assignment(p, group) != 0) return -1;
+            break;
+        case T_EOF:
+            scene_error(p->sc, line, group, NULL, "group is not closed: add '/' after its last value");
+            return -1;
+        case T_GROUP:
+            scene_error(p->sc, p->tok.line, group, NULL,
+                        "&%s starts before &%s (line %d) is closed: add '/'",
+                        tok_text(&p->tok, buf, sizeof buf), group, line);
+            return -1;
+        default:
+            scene_error(p->sc, p->tok.line, group, NULL, "expected a key, found '%s'",
+                        tok_text(&p->tok, buf, sizeof buf));
+            return -1;
+        }
+    }
+}
+
+size_t scene_parse(scene *sc, const char *text, size_t len)
+{
+    size_t before = sc->n_errors;
+    if (len > SCENE_MAX_FILE) {
+        scene_error(sc, 0, NULL, NULL, "file larger than %u bytes: not a scene", SCENE_MAX_FILE);
+        return sc->n_errors - before;
+    }
+    if (screen(sc, text, len) != 0) return sc->n_errors - before;
+    parser p = {.sc = sc, .src = text, .len = len, .line = 1};
+    advance(&p);
+    advance(&p);
+    int groups = 0;
+    char buf[48];
+    while (!p.failed && p.tok.kind != T_EOF) {
+        if (p.tok.kind != T_GROUP) {
+            scene_error(sc, p.tok.line, NULL, NULL,
+                        "expected a group (&chain, &solver or &output), found '%s'",
+                        tok_text(&p.tok, buf, sizeof buf));
+            break;
+        }
+        if (parse_group(&p) != 0) break;
+        groups++;
+    }
+    if (sc->n_errors == before && groups == 0)
+        scene_error(sc, 0, NULL, NULL, "empty scene: no &chain, &solver or &output group");
+    return sc->n_errors - before;
+}
+
+size_t scene_load(scene *sc)
+{
+    size_t before = sc->n_errors;
+    FILE *fp = fopen(sc->path, "rb");
+    if (!fp) {
+        scene_error(sc, 0, NULL, NULL, "cannot open: %s", strerror(errno));
+        return 1;
+    }
+    char *buf = malloc(SCENE_MAX_FILE + 1);
+    if (!buf) {
+        fclose(fp);
+        scene_error(sc, 0, NULL, NULL, "out of memory");
+        return 1;
+    }
+    size_t n = fread(buf, 1, SCENE_MAX_FILE + 1, fp);
+    if (ferror(fp))
+        scene_error(sc, 0, NULL, NULL, "read error (is it a directory?)");
+    else
+        scene_parse(sc, buf, n);
+    fclose(fp);
+    free(buf);
+    return sc->n_errors - before;
+}
