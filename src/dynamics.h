@@ -1,0 +1,83 @@
+/*
+ * dynamics.h -- the rescaled equations of motion (eq. motion_rescaled) in
+ * difference variables, on a window of granules.
+ *
+ * State layout (absolute indices into a 2N vector):  v_k at 2(k-1), and
+ * z_k = x_k - x_{k+1} at 2(k-1)+1, with x_{N+1} := 0 so that z_N = x_N.
+ * Interleaving makes the Jacobian tridiagonal (bandwidth 1).
+ *
+ * Why compressions, not displacements: the forces depend only on z_k, which
+ * stay O(1) (or small) while granules thrown back drift arbitrarily far; in
+ * displacement variables z_k = x_k - x_{k+1} would be a difference of large
+ * numbers and lose digits, and CVODE's error control would weigh drift, not
+ * compression.  Displacements are recovered exactly as x_k = sum_{j>=k} z_j
+ * (granules ahead of the window are at rest, x = 0).
+ *
+ * Window: granules lo..hi are integrated.  Granules > hi are at rest; the
+ * contact (hi, hi+1) is left out while z_hi is below a growth threshold (the
+ * solver grows the window before it matters).  Granules < lo fly freely; the
+ * gap z_{lo-1} is kept in the state (first entry) with the frozen velocity
+ * v_left of granule lo-1, so that its closing can be detected.
+ */
+#ifndef TAPER_DYNAMICS_H
+#define TAPER_DYNAMICS_H
+
+#include <stddef.h>
+
+typedef struct taper_dyn {
+    size_t n;               /* granules                                     */
+    double exponent;        /* n                                            */
+    int hertz;              /* exponent == 5/2: z^(3/2) = z sqrt(z), no pow */
+    const double *mass;     /* m_k                                          */
+    const double *contact;  /* r_k                                          */
+    double *inv_mass;       /* 1 / m_k                                      */
+    double *rho;            /* r_k^(1/(n-1)), rho_N = 0 (peak function)     */
+    size_t lo, hi;          /* integrated granules                          */
+    double v_left;          /* frozen velocity of granule lo-1 (lo > 1)     */
+} taper_dyn;
+
+static inline size_t taper_idx_v(size_t k) { return 2 * (k - 1); }
+static inline size_t taper_idx_z(size_t k) { return 2 * (k - 1) + 1; }
+/* Absolute index range [begin, end) of the window's state. */
+static inline size_t taper_dyn_begin(const taper_dyn *d) { return d->lo > 1 ? taper_idx_z(d->lo - 1) : 0; }
+static inline size_t taper_dyn_end(const taper_dyn *d) { return 2 * d->hi; }
+
+/* 0 on success, -1 on allocation failure. */
+int taper_dyn_init(taper_dyn *d, size_t n, double exponent, const double *mass,
+                   const double *contact);
+void taper_dyn_release(taper_dyn *d);
+
+/* Contact force r_k z^(n-1) theta(z) of the pair (k, k+1). */
+double taper_dyn_force(const taper_dyn *d, size_t k, double z);
+
+/* dF/dz of the pair (k, k+1): r_k (n-1) z^(n-2) theta(z) (Jacobian). */
+double taper_dyn_force_slope(const taper_dyn *d, size_t k, double z);
+
+/* y and ydot point at absolute index taper_dyn_begin(d). */
+void taper_dyn_rhs(const taper_dyn *d, const double *y, double *ydot);
+
+/* Velocity and compression of granule k (lo <= k <= hi) in the window state;
+ * compression of k = lo - 1 is the boundary gap. */
+static inline double taper_dyn_v(const taper_dyn *d, const double *y, size_t k)
+{
+    return y[taper_idx_v(k) - taper_dyn_begin(d)];
+}
+static inline double taper_dyn_z(const taper_dyn *d, const double *y, size_t k)
+{
+    return y[taper_idx_z(k) - taper_dyn_begin(d)];
+}
+
+/* Displacement x_k = sum_{j=k}^{hi} z_j for lo <= k <= hi. */
+double taper_dyn_position(const taper_dyn *d, const double *y, size_t k);
+
+/* Kinetic plus contact energy and momentum of the window's granules. */
+void taper_dyn_energy_momentum(const taper_dyn *d, const double *y, double *energy,
+                               double *momentum);
+
+/* Sign of the acceleration of granule k without the division:
+ * rho_{k-1} z_{k-1} - rho_k z_k has the sign of F_{k-1} - F_k whenever a
+ * contact of k is closed, and unlike the force difference it is never
+ * identically zero on an interval (CVODE rejects such root functions). */
+double taper_dyn_peak_function(const taper_dyn *d, const double *y, size_t k);
+
+#endif

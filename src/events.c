@@ -1,0 +1,119 @@
+/*
+ * events.c -- pulse events located exactly by CVODE's root finder.
+ *
+ *  pass(k): g = v_{k+1} - v_k crosses zero upward (the pulse passes k);
+ *  peak(k): the acceleration of k changes sign downward while v_k > 0,
+ *           g = rho_{k-1} z_{k-1} - rho_k z_k (see dynamics.h);
+ *  grow:    z_hi - threshold crosses zero upward (the front reaches hi+1);
+ *  gap:     the gap z_{lo-1} behind the window closes.
+ *
+ * Only a few root functions follow the front (a ring of slots), never N.
+ * A slot is armed only while its granule moves at a velocity above
+ * ARM_FRACTION of the pulse velocity v_ref; otherwise it returns a fixed
+ * non-zero value of the "nothing happened yet" sign.  Why: ahead of the
+ * front the precursor velocities fall to 1e-300 and below, and SUNDIALS
+ * 6.4.1 tests sign changes with glo*ghi < 0, which underflows on such values
+ * (fixed upstream in 6.5).  In the precursor v_k > v_{k+1} and the
+ * acceleration is positive, so arming late misses no crossing; the pass slot
+ * of the next granule the pulse must pass is always armed, because at the
+ * event that makes it next its velocity equals the pulse velocity.
+ */
+#include "sim.h"
+
+#include <math.h>
+
+#define ARM_FRACTION 1e-6
+
+/* Granule followed by ring slot `slot` when `first` is the lowest unknown. */
+static size_t slot_granule(size_t first, size_t slot, size_t ring)
+{
+    size_t first_slot = (first - 1) % ring;
+    return first + (slot + ring - first_slot) % ring;
+}
+
+static double velocity(const taper_sim *sim, const double *y, size_t k)
+{
+    const taper_dyn *d = &sim->dyn;
+    return k <= d->hi ? taper_dyn_v(d, y, k) : 0.0;
+}
+
+static double pass_function(const taper_sim *sim, const double *y, size_t k)
+{
+    if (k > sim->pass_limit || k > sim->dyn.hi || !isnan(sim->obs[TAPER_T_PASS][k - 1]))
+        return -1.0;
+    double v = velocity(sim, y, k);
+    if (k != sim->next_pass && !(v > ARM_FRACTION * sim->v_ref)) return -1.0;
+    return velocity(sim, y, k + 1) - v;
+}
+
+static double peak_function(const taper_sim *sim, const double *y, size_t k)
+{
+    if (k > sim->target || k > sim->dyn.hi || !isnan(sim->obs[TAPER_T_PEAK][k - 1])) return 1.0;
+    if (!(velocity(sim, y, k) > ARM_FRACTION * sim->v_ref)) return 1.0;
+    return taper_dyn_peak_function(&sim->dyn, y, k);
+}
+
+int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
+{
+    (void)t;
+    const taper_sim *sim = user;
+    const taper_dyn *d = &sim->dyn;
+    const double *y = taper_sim_data(sim, yv);
+    for (size_t i = 0; i < TAPER_PASS_SLOTS; i++)
+        g[i] = pass_function(sim, y, slot_granule(sim->next_pass, i, TAPER_PASS_SLOTS));
+    for (size_t i = 0; i < TAPER_PEAK_SLOTS; i++)
+        g[TAPER_PASS_SLOTS + i] =
+            peak_function(sim, y, slot_granule(sim->next_peak, i, TAPER_PEAK_SLOTS));
+    g[TAPER_SLOT_GROW] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_threshold : -1.0;
+    g[TAPER_SLOT_GAP] = d->lo > 1 ? y[0] : -1.0;
+    return 0;
+}
+
+void taper_events_directions(int *directions)
+{
+    for (size_t i = 0; i < TAPER_N_SLOTS; i++) directions[i] = 1;
+    for (size_t i = 0; i < TAPER_PEAK_SLOTS; i++) directions[TAPER_PASS_SLOTS + i] = -1;
+}
+
+static void record_pass(taper_sim *sim, const double *y, size_t k)
+{
+    const taper_dyn *d = &sim->dyn;
+    sim->obs[TAPER_T_PASS][k - 1] = sim->t;
+    sim->obs[TAPER_X_PASS][k - 1] = sim->chain->rest[k - 1] + taper_dyn_position(d, y, k);
+    double v = velocity(sim, y, k + 1);
+    if (v > 0.0) sim->v_ref = v;
+}
+
+static void record_peak(taper_sim *sim, const double *y, size_t k)
+{
+    double v = velocity(sim, y, k);
+    if (!(v > 0.0)) return; /* a maximum while moving backwards is no pulse peak */
+    sim->obs[TAPER_V_PEAK][k - 1] = v;
+    sim->obs[TAPER_T_PEAK][k - 1] = sim->t;
+}
+
+void taper_events_record(taper_sim *sim, const int *roots_found, int *grow, int *gap_closed)
+{
+    const double *y = taper_sim_data(sim, sim->y);
+    /* Granules in increasing order, mapped with the ring as it was when
+     * CVODE evaluated the slots. */
+    for (size_t k = sim->next_pass; k < sim->next_pass + TAPER_PASS_SLOTS; k++)
+        if (roots_found[(k - 1) % TAPER_PASS_SLOTS] > 0 && k <= sim->pass_limit)
+            record_pass(sim, y, k);
+    for (size_t k = sim->next_peak; k < sim->next_peak + TAPER_PEAK_SLOTS; k++)
+        if (roots_found[TAPER_PASS_SLOTS + (k - 1) % TAPER_PEAK_SLOTS] < 0 && k <= sim->target)
+            record_peak(sim, y, k);
+    while (sim->next_pass <= sim->pass_limit && !isnan(sim->obs[TAPER_T_PASS][sim->next_pass - 1]))
+        sim->next_pass++;
+    while (sim->next_peak <= sim->target && !isnan(sim->obs[TAPER_T_PEAK][sim->next_peak - 1]))
+        sim->next_peak++;
+    *grow = roots_found[TAPER_SLOT_GROW] > 0;
+    *gap_closed = roots_found[TAPER_SLOT_GAP] > 0;
+}
+
+int taper_events_passes_complete(const taper_sim *sim) { return sim->next_pass > sim->pass_limit; }
+
+int taper_events_complete(const taper_sim *sim)
+{
+    return taper_events_passes_complete(sim) && sim->next_peak > sim->target;
+}

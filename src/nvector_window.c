@@ -1,0 +1,392 @@
+/*
+ * nvector_window.c -- the sliding-window N_Vector (see nvector_window.h).
+ * The operations are the serial ones restricted to the active range.
+ */
+#include "nvector_window.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    taper_window *w;
+    double *buf;   /* capacity entries; buf[i] is absolute index base + i */
+} window_content;
+
+#define CONTENT(v) ((window_content *)(v)->content)
+
+double *taper_window_data(N_Vector v)
+{
+    window_content *c = CONTENT(v);
+    return c->buf + (c->w->begin - c->w->base);
+}
+
+size_t taper_window_length(N_Vector v) { return CONTENT(v)->w->end - CONTENT(v)->w->begin; }
+
+/* ---- registry ------------------------------------------------------- */
+static int register_vector(taper_window *w, N_Vector v)
+{
+    if (w->n_vectors == w->vectors_cap) {
+        size_t cap = w->vectors_cap ? 2 * w->vectors_cap : 32;
+        N_Vector *grown = realloc(w->vectors, cap * sizeof *grown);
+        if (!grown) return -1;
+        w->vectors = grown;
+        w->vectors_cap = cap;
+    }
+    w->vectors[w->n_vectors++] = v;
+    return 0;
+}
+
+static void unregister_vector(taper_window *w, N_Vector v)
+{
+    for (size_t i = 0; i < w->n_vectors; i++) {
+        if (w->vectors[i] == v) {
+            w->vectors[i] = w->vectors[--w->n_vectors];
+            return;
+        }
+    }
+}
+
+/* ---- required operations -------------------------------------------- */
+static N_Vector_ID window_id(N_Vector v) { (void)v; return SUNDIALS_NVEC_CUSTOM; }
+
+static void window_destroy(N_Vector v)
+{
+    if (!v) return;
+    if (v->content) {
+        unregister_vector(CONTENT(v)->w, v);
+        free(CONTENT(v)->buf);
+        free(v->content);
+        v->content = NULL;
+    }
+    N_VFreeEmpty(v);
+}
+
+static N_Vector window_new_like(taper_window *w, SUNContext ctx, N_Vector ops_from)
+{
+    N_Vector v = N_VNewEmpty(ctx);
+    if (!v) return NULL;
+    if (ops_from && N_VCopyOps(ops_from, v) != 0) {
+        N_VFreeEmpty(v);
+        return NULL;
+    }
+    window_content *c = malloc(sizeof *c);
+    double *buf = calloc(w->capacity, sizeof(double));
+    if (!c || !buf || register_vector(w, v) != 0) {
+        free(c);
+        free(buf);
+        N_VFreeEmpty(v);
+        return NULL;
+    }
+    c->w = w;
+    c->buf = buf;
+    v->content = c;
+    return v;
+}
+
+static N_Vector window_clone(N_Vector v) { return window_new_like(CONTENT(v)->w, v->sunctx, v); }
+
+static N_Vector window_clone_empty(N_Vector v)
+{
+    (void)v;
+    return NULL; /* never needed by CVODE with these solvers */
+}
+
+static void window_space(N_Vector v, sunindextype *lrw, sunindextype *liw)
+{
+    *lrw = (sunindextype)CONTENT(v)->w->capacity;
+    *liw = 2;
+}
+
+static double *window_array(N_Vector v) { return taper_window_data(v); }
+static sunindextype window_get_length(N_Vector v) { return (sunindextype)taper_window_length(v); }
+
+#define LOOP(v) for (size_t i = 0, n_ = taper_window_length(v); i < n_; i++)
+
+static void window_linear_sum(double a, N_Vector x, double b, N_Vector y, N_Vector z)
+{
+    const double *xd = taper_window_data(x), *yd = taper_window_data(y);
+    double *zd = taper_window_data(z);
+    LOOP(z) zd[i] = a * xd[i] + b * yd[i];
+}
+
+static void window_const(double c, N_Vector z)
+{
+    double *zd = taper_window_data(z);
+    LOOP(z) zd[i] = c;
+}
+
+static void window_prod(N_Vector x, N_Vector y, N_Vector z)
+{
+    const double *xd = taper_window_data(x), *yd = taper_window_data(y);
+    double *zd = taper_window_data(z);
+    LOOP(z) zd[i] = xd[i] * yd[i];
+}
+
+static void window_div(N_Vector x, N_Vector y, N_Vector z)
+{
+    const double *xd = taper_window_data(x), *yd = taper_window_data(y);
+    double *zd = taper_window_data(z);
+    LOOP(z) zd[i] = xd[i] / yd[i];
+}
+
+static void window_scale(double c, N_Vector x, N_Vector z)
+{
+    const double *xd = taper_window_data(x);
+    double *zd = taper_window_data(z);
+    LOOP(z) zd[i] = c * xd[i];
+}
+
+static void window_abs(N_Vector x, N_Vector z)
+{
+    const double *xd = taper_window_data(x);
+    double *zd = taper_window_data(z);
+    LOOP(z) zd[i] = fabs(xd[i]);
+}
+
+static void window_inv(N_Vector x, N_Vector z)
+{
+    const double *xd = taper_window_data(x);
+    double *zd = taper_window_data(z);
+    LOOP(z) zd[i] = 1.0 / xd[i];
+}
+
+static void window_add_const(N_Vector x, double b, N_Vector z)
+{
+    const double *xd = taper_window_data(x);
+    double *zd = taper_window_data(z);
+    LOOP(z) zd[i] = xd[i] + b;
+}
+
+static double window_dot(N_Vector x, N_Vector y)
+{
+    const double *xd = taper_window_data(x), *yd = taper_window_data(y);
+    double s = 0.0;
+    LOOP(x) s += xd[i] * yd[i];
+    return s;
+}
+
+static double window_max_norm(N_Vector x)
+{
+    const double *xd = taper_window_data(x);
+    double m = 0.0;
+    LOOP(x) if (fabs(xd[i]) > m) m = fabs(xd[i]);
+    return m;
+}
+
+static double window_wsqrsum(N_Vector x, N_Vector w)
+{
+    const double *xd = taper_window_data(x), *wd = taper_window_data(w);
+    double s = 0.0;
+    LOOP(x) {
+        double p = xd[i] * wd[i];
+        s += p * p;
+    }
+    return s;
+}
+
+static double window_wrms(N_Vector x, N_Vector w)
+{
+    size_t n = taper_window_length(x);
+    return n ? sqrt(window_wsqrsum(x, w) / (double)n) : 0.0;
+}
+
+static double window_wrms_mask(N_Vector x, N_Vector w, N_Vector id)
+{
+    const double *xd = taper_window_data(x), *wd = taper_window_data(w),
+                 *md = taper_window_data(id);
+    double s = 0.0;
+    size_t n = taper_window_length(x);
+    LOOP(x) if (md[i] > 0.0) {
+        double p = xd[i] * wd[i];
+        s += p * p;
+    }
+    return n ? sqrt(s / (double)n) : 0.0;
+}
+
+static double window_min(N_Vector x)
+{
+    const double *xd = taper_window_data(x);
+    double m = INFINITY;
+    LOOP(x) if (xd[i] < m) m = xd[i];
+    return m;
+}
+
+static double window_wl2(N_Vector x, N_Vector w) { return sqrt(window_wsqrsum(x, w)); }
+
+static double window_l1(N_Vector x)
+{
+    const double *xd = taper_window_data(x);
+    double s = 0.0;
+    LOOP(x) s += fabs(xd[i]);
+    return s;
+}
+
+static void window_compare(double c, N_Vector x, N_Vector z)
+{
+    const double *xd = taper_window_data(x);
+    double *zd = taper_window_data(z);
+    LOOP(z) zd[i] = fabs(xd[i]) >= c ? 1.0 : 0.0;
+}
+
+static booleantype window_inv_test(N_Vector x, N_Vector z)
+{
+    const double *xd = taper_window_data(x);
+    double *zd = taper_window_data(z);
+    booleantype ok = SUNTRUE;
+    LOOP(z) {
+        if (xd[i] == 0.0) ok = SUNFALSE;
+        else zd[i] = 1.0 / xd[i];
+    }
+    return ok;
+}
+
+static booleantype window_constr_mask(N_Vector c, N_Vector x, N_Vector m)
+{
+    (void)c;
+    window_const(0.0, m);
+    (void)x;
+    return SUNTRUE; /* no constraints are ever set */
+}
+
+static double window_min_quotient(N_Vector num, N_Vector denom)
+{
+    const double *nd = taper_window_data(num), *dd = taper_window_data(denom);
+    double m = 1.0e300; /* BIG_REAL, as the serial vector */
+    LOOP(num) if (dd[i] != 0.0 && nd[i] / dd[i] < m) m = nd[i] / dd[i];
+    return m;
+}
+
+/* ---- fused operations used by CVODE's predictor and interpolation ---- */
+static int window_linear_combination(int nv, double *c, N_Vector *x, N_Vector z)
+{
+    double *zd = taper_window_data(z);
+    size_t n = taper_window_length(z);
+    const double *x0 = taper_window_data(x[0]);
+    for (size_t i = 0; i < n; i++) zd[i] = c[0] * x0[i];
+    for (int j = 1; j < nv; j++) {
+        const double *xj = taper_window_data(x[j]);
+        for (size_t i = 0; i < n; i++) zd[i] += c[j] * xj[i];
+    }
+    return 0;
+}
+
+static int window_scale_add_multi(int nv, double *a, N_Vector x, N_Vector *y, N_Vector *z)
+{
+    const double *xd = taper_window_data(x);
+    size_t n = taper_window_length(x);
+    for (int j = 0; j < nv; j++) {
+        const double *yd = taper_window_data(y[j]);
+        double *zd = taper_window_data(z[j]);
+        for (size_t i = 0; i < n; i++) zd[i] = a[j] * xd[i] + yd[i];
+    }
+    return 0;
+}
+
+static void set_ops(N_Vector v)
+{
+    struct _generic_N_Vector_Ops *o = v->ops;
+    o->nvgetvectorid = window_id;
+    o->nvclone = window_clone;
+    o->nvcloneempty = window_clone_empty;
+    o->nvdestroy = window_destroy;
+    o->nvspace = window_space;
+    o->nvgetarraypointer = window_array;
+    o->nvgetlength = window_get_length;
+    o->nvlinearsum = window_linear_sum;
+    o->nvconst = window_const;
+    o->nvprod = window_prod;
+    o->nvdiv = window_div;
+    o->nvscale = window_scale;
+    o->nvabs = window_abs;
+    o->nvinv = window_inv;
+    o->nvaddconst = window_add_const;
+    o->nvdotprod = window_dot;
+    o->nvmaxnorm = window_max_norm;
+    o->nvwrmsnorm = window_wrms;
+    o->nvwrmsnormmask = window_wrms_mask;
+    o->nvmin = window_min;
+    o->nvwl2norm = window_wl2;
+    o->nvl1norm = window_l1;
+    o->nvcompare = window_compare;
+    o->nvinvtest = window_inv_test;
+    o->nvconstrmask = window_constr_mask;
+    o->nvminquotient = window_min_quotient;
+    o->nvlinearcombination = window_linear_combination;
+    o->nvscaleaddmulti = window_scale_add_multi;
+}
+
+/* ---- the window ------------------------------------------------------ */
+taper_window *taper_window_alloc(size_t begin, size_t end, size_t capacity)
+{
+    taper_window *w = calloc(1, sizeof *w);
+    if (!w) return NULL;
+    w->begin = begin;
+    w->end = end;
+    w->base = begin;
+    w->capacity = capacity > end - begin ? capacity : end - begin;
+    return w;
+}
+
+void taper_window_free(taper_window *w)
+{
+    if (!w) return;
+    free(w->vectors);
+    free(w);
+}
+
+N_Vector taper_window_vector_new(taper_window *w, SUNContext ctx)
+{
+    N_Vector v = window_new_like(w, ctx, NULL);
+    if (v) set_ops(v);
+    return v;
+}
+
+/* Copies what old buffers hold of [begin, end) into fresh buffers based at
+ * `base`; everything else in the new buffers is zero. */
+static int reposition(taper_window *w, size_t base, size_t capacity, size_t begin, size_t end)
+{
+    size_t n = w->n_vectors;
+    double **fresh = calloc(n ? n : 1, sizeof *fresh);
+    if (!fresh) return -1;
+    for (size_t j = 0; j < n; j++) {
+        fresh[j] = calloc(capacity, sizeof(double));
+        if (!fresh[j]) {
+            for (size_t i = 0; i < j; i++) free(fresh[i]);
+            free(fresh);
+            return -1;
+        }
+    }
+    size_t lo = begin > w->base ? begin : w->base;
+    size_t old_top = w->base + w->capacity;
+    size_t hi = end < old_top ? end : old_top;
+    for (size_t j = 0; j < n; j++) {
+        window_content *c = CONTENT(w->vectors[j]);
+        if (hi > lo) memcpy(fresh[j] + (lo - base), c->buf + (lo - w->base), (hi - lo) * sizeof(double));
+        free(c->buf);
+        c->buf = fresh[j];
+    }
+    free(fresh);
+    w->base = base;
+    w->capacity = capacity;
+    return 0;
+}
+
+int taper_window_set_range(taper_window *w, size_t begin, size_t end)
+{
+    if (begin >= w->base && end <= w->base + w->capacity) {
+        /* Keep the zero invariant when the right edge retreats (never in
+         * normal use, but cheap to honour). */
+        for (size_t j = 0; end < w->end && j < w->n_vectors; j++)
+            memset(CONTENT(w->vectors[j])->buf + (end - w->base), 0, (w->end - end) * sizeof(double));
+        w->begin = begin;
+        w->end = end;
+        return 0;
+    }
+    size_t need = end - begin;
+    size_t capacity = w->capacity > 2 * need ? w->capacity : 2 * need + 64;
+    if (reposition(w, begin, capacity, begin, end) != 0) return -1;
+    w->begin = begin;
+    w->end = end;
+    return 0;
+}

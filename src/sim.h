@@ -1,0 +1,82 @@
+/*
+ * sim.h -- the simulation object shared by solve.c (CVODE set-up and the
+ * run loop), events.c (root functions: pulse events and window edges) and
+ * window.c (moving the active window).
+ */
+#ifndef TAPER_SIM_H
+#define TAPER_SIM_H
+
+#include "dynamics.h"
+#include "nvector_window.h"
+#include "sundials_compat.h"
+#include "taper_internal.h"
+
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+#include <sundials/sundials_nonlinearsolver.h>
+
+/* Root-function slots: a ring of pass slots and of peak slots that follow
+ * the front, one slot for growing the window, one for the gap behind it. */
+#define TAPER_PASS_SLOTS 3
+#define TAPER_PEAK_SLOTS 3
+#define TAPER_SLOT_GROW (TAPER_PASS_SLOTS + TAPER_PEAK_SLOTS)
+#define TAPER_SLOT_GAP (TAPER_SLOT_GROW + 1)
+#define TAPER_N_SLOTS (TAPER_SLOT_GAP + 1)
+
+struct taper_sim {
+    const taper_chain *chain;
+    taper_solver_spec spec;
+    taper_dyn dyn;
+    size_t target;          /* last granule requested                       */
+    size_t pass_limit;      /* last granule with a pass time: min(target, N-1) */
+    double *obs[TAPER_N_OBSERVABLES];
+
+    /* pulse-event bookkeeping */
+    size_t next_pass;       /* lowest granule whose t_pass is unknown       */
+    size_t next_peak;       /* lowest granule whose peak is unknown         */
+    double v_ref;           /* pulse velocity at the last pass event        */
+    double grow_threshold;  /* z_hi above which granule hi+1 joins          */
+
+    /* granules that left the window: x_j(t) = x_free[j] + v_free[j] t */
+    double *x_free, *v_free;
+    double energy_free, momentum_free;
+
+    /* CVODE */
+    SUNContext ctx;
+    void *cvode;
+    N_Vector y;
+    taper_window *window;   /* NULL: plain serial vector, whole chain       */
+    SUNMatrix band;
+    SUNLinearSolver linear;
+    SUNNonlinearSolver nonlinear;
+    taper_solver_messages messages;
+    char solver_message[400];
+
+    double t;               /* time of the current state                    */
+    int ran;
+    int stop_reason;        /* status the run ends with                     */
+    taper_stats stats;
+    long counters_before_restart[6]; /* CVODE counters reset by CVodeReInit */
+};
+
+/* Pointer to the entry at absolute index taper_dyn_begin() of a state vector. */
+double *taper_sim_data(const taper_sim *sim, N_Vector v);
+
+/* events.c */
+int taper_events_root_function(double t, N_Vector y, double *g, void *user);
+void taper_events_directions(int *directions);
+/* Records the events of one CVODE root return; sets *window_event when the
+ * window must grow (1) or take back the granule behind it (-1). */
+void taper_events_record(taper_sim *sim, const int *roots_found, int *grow, int *gap_closed);
+int taper_events_complete(const taper_sim *sim);
+int taper_events_passes_complete(const taper_sim *sim);
+
+/* solve.c: re-initialise CVODE at the current state (counters are kept). */
+int taper_solver_restart(taper_sim *sim, taper_error *err);
+
+/* window.c */
+int taper_window_grow(taper_sim *sim, taper_error *err);
+int taper_window_take_back(taper_sim *sim, taper_error *err);
+int taper_window_shrink(taper_sim *sim, taper_error *err);
+
+#endif

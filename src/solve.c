@@ -1,0 +1,438 @@
+/*
+ * solve.c -- the simulation object: CVODE set-up, the run loop that hands
+ * root returns to events.c and window.c, and the results.
+ *
+ * The run starts from the impulse (v_1 = 1, everything else at rest and just
+ * touching) and ends by itself as soon as every requested observable is
+ * known, never at a guessed end time.
+ */
+#include "sim.h"
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_band.h>
+#include <sunmatrix/sunmatrix_band.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Internal steps per CVode call: the monitor (progress, Ctrl-C) is consulted
+ * at least this often.  CVODE's default of 500 would end long chains. */
+#define STEPS_PER_CALL 20000L
+/* Once every pass time is known, how long (in units of the last residence
+ * time) to wait for the remaining peaks before declaring them absent. */
+#define PEAK_GRACE 20.0
+#define INITIAL_STEP 1e-4
+
+void taper_solver_spec_init(taper_solver_spec *spec)
+{
+    if (!spec) return;
+    memset(spec, 0, sizeof *spec);
+    spec->method = TAPER_ADAMS;
+    spec->rtol = 1e-10;
+    spec->atol = 1e-12;
+    spec->last_granule = 0;
+    spec->window = 1;
+}
+
+double *taper_sim_data(const taper_sim *sim, N_Vector v)
+{
+    return sim->window ? taper_window_data(v) : N_VGetArrayPointer(v);
+}
+
+/* ---- allocation ------------------------------------------------------ */
+static int validate_spec(const taper_chain *chain, const taper_solver_spec *s, taper_error *err)
+{
+    if (s->method != TAPER_ADAMS && s->method != TAPER_BDF)
+        return taper_fail(err, TAPER_EINVAL, "method = %d: use TAPER_ADAMS or TAPER_BDF", s->method);
+    if (!(s->rtol > 0.0 && s->rtol < 1.0))
+        return taper_fail(err, TAPER_EINVAL, "rtol = %g: must lie in (0, 1)", s->rtol);
+    if (s->rtol < 10.0 * DBL_EPSILON)
+        return taper_fail(err, TAPER_EINVAL, "rtol = %g is below what double precision resolves "
+                          "(use rtol >= %g)", s->rtol, 10.0 * DBL_EPSILON);
+    if (!(s->atol > 0.0 && s->atol < 1.0))
+        return taper_fail(err, TAPER_EINVAL, "atol = %g: must lie in (0, 1)", s->atol);
+    if (s->last_granule > chain->n)
+        return taper_fail(err, TAPER_EINVAL, "last_granule = %zu exceeds n_granules = %zu",
+                          s->last_granule, chain->n);
+    if (!(s->t_max >= 0.0) || s->max_steps < 0)
+        return taper_fail(err, TAPER_EINVAL, "t_max and max_steps must be >= 0 (0: no limit)");
+    return TAPER_OK;
+}
+
+/* z_hi at which the window grows: the neglected force r z^(n-1) is then
+ * below 1e-40, far under any tolerance.  Clamped so that root values stay
+ * clear of underflow. */
+static double growth_threshold(double exponent)
+{
+    double z = pow(10.0, -40.0 / (exponent - 1.0));
+    return fmin(fmax(z, 1e-150), 1e-8);
+}
+
+static int alloc_arrays(taper_sim *sim)
+{
+    size_t n = sim->chain->n;
+    for (int i = 0; i < TAPER_N_OBSERVABLES; i++) {
+        sim->obs[i] = malloc(n * sizeof(double));
+        if (!sim->obs[i]) return -1;
+        for (size_t k = 0; k < n; k++) sim->obs[i][k] = NAN;
+    }
+    sim->x_free = calloc(n, sizeof(double));
+    sim->v_free = calloc(n, sizeof(double));
+    if (!sim->x_free || !sim->v_free) return -1;
+    return taper_dyn_init(&sim->dyn, n, sim->chain->exponent, sim->chain->mass, sim->chain->contact);
+}
+
+taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec, taper_error *err)
+{
+    taper_solver_spec defaults;
+    if (!chain) {
+        taper_fail(err, TAPER_EINVAL, "taper_sim_alloc: chain is NULL");
+        return NULL;
+    }
+    if (!spec) {
+        taper_solver_spec_init(&defaults);
+        spec = &defaults;
+    }
+    if (validate_spec(chain, spec, err) != TAPER_OK) return NULL;
+    taper_sim *sim = calloc(1, sizeof *sim);
+    if (!sim) {
+        taper_fail(err, TAPER_ENOMEM, "cannot allocate the simulation");
+        return NULL;
+    }
+    sim->chain = chain;
+    sim->spec = *spec;
+    if (alloc_arrays(sim) != 0) {
+        taper_sim_free(sim);
+        taper_fail(err, TAPER_ENOMEM, "cannot allocate results for %zu granules", chain->n);
+        return NULL;
+    }
+    sim->target = spec->last_granule ? spec->last_granule : chain->n;
+    sim->pass_limit = sim->target < chain->n ? sim->target : chain->n - 1;
+    sim->next_pass = 1;
+    sim->next_peak = 2;
+    sim->obs[TAPER_V_PEAK][0] = 1.0; /* the impulse itself */
+    sim->obs[TAPER_T_PEAK][0] = 0.0;
+    sim->v_ref = 1.0;
+    sim->grow_threshold = growth_threshold(chain->exponent);
+    taper_ok(err);
+    return sim;
+}
+
+void taper_sim_free(taper_sim *sim)
+{
+    if (!sim) return;
+    if (sim->cvode) CVodeFree(&sim->cvode);
+    if (sim->nonlinear) SUNNonlinSolFree(sim->nonlinear);
+    if (sim->linear) SUNLinSolFree(sim->linear);
+    if (sim->band) SUNMatDestroy(sim->band);
+    if (sim->y) N_VDestroy(sim->y);
+    taper_window_free(sim->window);
+    taper_sundials_context_free(&sim->ctx);
+    taper_dyn_release(&sim->dyn);
+    for (int i = 0; i < TAPER_N_OBSERVABLES; i++) free(sim->obs[i]);
+    free(sim->x_free);
+    free(sim->v_free);
+    free(sim);
+}
+
+/* ---- CVODE callbacks --------------------------------------------------- */
+static int rhs(double t, N_Vector y, N_Vector ydot, void *user)
+{
+    (void)t;
+    const taper_sim *sim = user;
+    taper_dyn_rhs(&sim->dyn, taper_sim_data(sim, y), taper_sim_data(sim, ydot));
+    return 0;
+}
+
+/* Banded analytic Jacobian (BDF, whole chain): d(v_k')/dz = +-F'(z)/m_k,
+ * d(z_k')/dv = +-1.  The interleaved layout makes it tridiagonal. */
+static int jacobian(double t, N_Vector yv, N_Vector fy, SUNMatrix J, void *user, N_Vector t1,
+                    N_Vector t2, N_Vector t3)
+{
+    (void)t, (void)fy, (void)t1, (void)t2, (void)t3;
+    const taper_sim *sim = user;
+    const taper_dyn *d = &sim->dyn;
+    const double *y = N_VGetArrayPointer(yv);
+    SUNMatZero(J);
+    for (size_t k = 1; k <= d->n; k++) {
+        sunindextype iv = (sunindextype)taper_idx_v(k), iz = (sunindextype)taper_idx_z(k);
+        if (k > 1)
+            SM_ELEMENT_B(J, iv, iz - 2) = taper_dyn_force_slope(d, k - 1, y[iz - 2]) * d->inv_mass[k - 1];
+        if (k < d->n) {
+            SM_ELEMENT_B(J, iv, iz) = -taper_dyn_force_slope(d, k, y[iz]) * d->inv_mass[k - 1];
+            SM_ELEMENT_B(J, iz, iv + 2) = -1.0;
+        }
+        SM_ELEMENT_B(J, iz, iv) = 1.0;
+    }
+    return 0;
+}
+
+static void keep_solver_message(const char *message, void *user)
+{
+    taper_sim *sim = user;
+    strncpy(sim->solver_message, message, sizeof sim->solver_message - 1);
+}
+
+/* ---- set-up ------------------------------------------------------------ */
+static int make_state(taper_sim *sim)
+{
+    taper_dyn *d = &sim->dyn;
+    if (sim->spec.window && sim->spec.method == TAPER_ADAMS) {
+        d->lo = d->hi = 1; /* only granule 1 moves; contact (1,2) joins at once */
+        sim->window = taper_window_alloc(0, 2, 64);
+        if (!sim->window) return -1;
+        sim->y = taper_window_vector_new(sim->window, sim->ctx);
+    } else {
+        d->lo = 1;
+        d->hi = d->n;
+        sim->y = N_VNew_Serial((sunindextype)(2 * d->n), sim->ctx);
+        if (sim->y) N_VConst(0.0, sim->y);
+    }
+    if (!sim->y) return -1;
+    sim->stats.max_window = d->hi - d->lo + 1;
+    taper_sim_data(sim, sim->y)[0] = 1.0; /* v_1 = 1: the impulse */
+    return 0;
+}
+
+static int check(int flag, const char *what, taper_sim *sim, taper_error *err)
+{
+    if (flag >= 0) return TAPER_OK;
+    return taper_fail(err, TAPER_ESOLVER, "CVODE set-up failed in %s (flag %d): %s", what, flag,
+                      sim->solver_message);
+}
+
+static int attach_solvers(taper_sim *sim, taper_error *err)
+{
+    void *cv = sim->cvode;
+    if (sim->spec.method == TAPER_ADAMS) {
+        /* Non-stiff: fixed-point iteration needs no Jacobian at all. */
+        sim->nonlinear = SUNNonlinSol_FixedPoint(sim->y, 0, sim->ctx);
+        if (!sim->nonlinear) return taper_fail(err, TAPER_ENOMEM, "cannot create the fixed-point solver");
+        return check(CVodeSetNonlinearSolver(cv, sim->nonlinear), "CVodeSetNonlinearSolver", sim, err);
+    }
+    sunindextype n = (sunindextype)(2 * sim->dyn.n);
+    sim->band = SUNBandMatrix(n, 1, 1, sim->ctx);
+    if (!sim->band) return taper_fail(err, TAPER_ENOMEM, "cannot create the band matrix");
+    sim->linear = SUNLinSol_Band(sim->y, sim->band, sim->ctx);
+    if (!sim->linear) return taper_fail(err, TAPER_ENOMEM, "cannot create the band solver");
+    int status = check(CVodeSetLinearSolver(cv, sim->linear, sim->band), "CVodeSetLinearSolver", sim, err);
+    if (status != TAPER_OK) return status;
+    return check(CVodeSetJacFn(cv, jacobian), "CVodeSetJacFn", sim, err);
+}
+
+static int setup_cvode(taper_sim *sim, taper_error *err)
+{
+    if (taper_sundials_context_new(&sim->ctx) != 0)
+        return taper_fail(err, TAPER_ENOMEM, "cannot create the SUNDIALS context");
+    if (make_state(sim) != 0) return taper_fail(err, TAPER_ENOMEM, "cannot allocate the state");
+    sim->cvode = CVodeCreate(sim->spec.method == TAPER_BDF ? CV_BDF : CV_ADAMS, sim->ctx);
+    if (!sim->cvode) return taper_fail(err, TAPER_ENOMEM, "cannot create CVODE");
+    void *cv = sim->cvode;
+    sim->messages.fn = keep_solver_message;
+    sim->messages.user = sim;
+    int directions[TAPER_N_SLOTS];
+    taper_events_directions(directions);
+    int status = TAPER_OK;
+    if (!status) status = check(taper_sundials_capture_errors(cv, &sim->messages), "error handler", sim, err);
+    if (!status) status = check(CVodeInit(cv, rhs, 0.0, sim->y), "CVodeInit", sim, err);
+    if (!status) status = check(CVodeSStolerances(cv, sim->spec.rtol, sim->spec.atol), "CVodeSStolerances", sim, err);
+    if (!status) status = check(CVodeSetUserData(cv, sim), "CVodeSetUserData", sim, err);
+    if (!status) status = check(CVodeSetMaxNumSteps(cv, STEPS_PER_CALL), "CVodeSetMaxNumSteps", sim, err);
+    /* An explicit first step: CVODE's estimate would use the (unbounded) tout. */
+    if (!status) status = check(CVodeSetInitStep(cv, INITIAL_STEP), "CVodeSetInitStep", sim, err);
+    if (!status) status = check(CVodeRootInit(cv, TAPER_N_SLOTS, taper_events_root_function), "CVodeRootInit", sim, err);
+    if (!status) status = check(CVodeSetRootDirection(cv, directions), "CVodeSetRootDirection", sim, err);
+    if (!status) status = check(CVodeSetNoInactiveRootWarn(cv), "CVodeSetNoInactiveRootWarn", sim, err);
+    if (!status) status = attach_solvers(sim, err);
+    return status;
+}
+
+/* ---- counters ------------------------------------------------------------ */
+static void read_counters(const taper_sim *sim, long c[6])
+{
+    long v = 0;
+    memset(c, 0, 6 * sizeof(long));
+    if (!sim->cvode) return;
+    CVodeGetNumSteps(sim->cvode, &v), c[0] = v;
+    CVodeGetNumRhsEvals(sim->cvode, &v), c[1] = v;
+    CVodeGetNumGEvals(sim->cvode, &v), c[2] = v;
+    if (sim->linear) CVodeGetNumJacEvals(sim->cvode, &v), c[3] = v;
+    CVodeGetNumNonlinSolvIters(sim->cvode, &v), c[4] = v;
+    CVodeGetNumErrTestFails(sim->cvode, &v), c[5] = v;
+}
+
+static long total_steps(const taper_sim *sim)
+{
+    long c[6];
+    read_counters(sim, c);
+    return c[0] + sim->counters_before_restart[0];
+}
+
+int taper_solver_restart(taper_sim *sim, taper_error *err)
+{
+    long c[6];
+    read_counters(sim, c);
+    for (int i = 0; i < 6; i++) sim->counters_before_restart[i] += c[i];
+    if (CVodeReInit(sim->cvode, sim->t, sim->y) != CV_SUCCESS)
+        return taper_fail(err, TAPER_ESOLVER, "cannot restart CVODE at t = %.17g: %s", sim->t,
+                          sim->solver_message);
+    CVodeSetInitStep(sim->cvode, INITIAL_STEP * 1e-2);
+    sim->stats.restarts++;
+    return TAPER_OK;
+}
+
+/* ---- the run -------------------------------------------------------------- */
+static int call_monitor(taper_sim *sim)
+{
+    if (!sim->spec.monitor) return 0;
+    taper_progress p = {
+        .granule = sim->next_pass - 1, .target = sim->pass_limit, .t = sim->t,
+        .steps = total_steps(sim), .window_lo = sim->dyn.lo, .window_hi = sim->dyn.hi,
+    };
+    return sim->spec.monitor(&p, sim->spec.monitor_data);
+}
+
+static int stop(taper_sim *sim, taper_error *err, int status, const char *why)
+{
+    return taper_fail(err, status,
+                      "%s at t = %.17g with the pulse past granule %zu of %zu "
+                      "(observables found so far are kept)",
+                      why, sim->t, sim->next_pass - 1, sim->pass_limit);
+}
+
+static int handle_roots(taper_sim *sim, taper_error *err)
+{
+    int roots[TAPER_N_SLOTS], grow = 0, gap_closed = 0;
+    if (CVodeGetRootInfo(sim->cvode, roots) < 0) return stop(sim, err, TAPER_ESOLVER, "CVodeGetRootInfo failed");
+    size_t passed_before = sim->next_pass;
+    taper_events_record(sim, roots, &grow, &gap_closed);
+    int status = TAPER_OK;
+    if (gap_closed) status = taper_window_take_back(sim, err);
+    if (!status && grow) status = taper_window_grow(sim, err);
+    if (!status && sim->next_pass != passed_before) {
+        status = taper_window_shrink(sim, err);
+        if (!status && call_monitor(sim)) status = stop(sim, err, TAPER_EINTERRUPTED, "interrupted");
+    }
+    return status;
+}
+
+/* The time after which missing peaks are declared absent. */
+static double grace_time(const taper_sim *sim)
+{
+    const double *tp = sim->obs[TAPER_T_PASS];
+    size_t k = sim->pass_limit;
+    double last = tp[k - 1] - (k > 1 ? tp[k - 2] : 0.0);
+    return sim->t + PEAK_GRACE * fmax(last, 1e-3);
+}
+
+static int step_once(taper_sim *sim, double *tout, int *grace, taper_error *err)
+{
+    double t = sim->t;
+    int flag = CVode(sim->cvode, *tout, sim->y, &t, CV_NORMAL);
+    sim->t = t;
+    if (flag == CV_ROOT_RETURN) return handle_roots(sim, err);
+    if (flag == CV_TOO_MUCH_WORK) {
+        if (call_monitor(sim)) return stop(sim, err, TAPER_EINTERRUPTED, "interrupted");
+        return TAPER_OK;
+    }
+    if (flag == CV_SUCCESS || flag == CV_TSTOP_RETURN) {
+        if (*grace) return TAPER_OK; /* remaining peaks do not exist */
+        return stop(sim, err, TAPER_ELIMIT, "t_max reached");
+    }
+    char why[600];
+    snprintf(why, sizeof why, "CVODE failed (flag %d: %s)", flag, sim->solver_message);
+    return stop(sim, err, TAPER_ESOLVER, why);
+}
+
+static int integrate(taper_sim *sim, taper_error *err)
+{
+    double tout = sim->spec.t_max > 0.0 ? sim->spec.t_max : 1e30;
+    int grace = 0;
+    while (!taper_events_complete(sim)) {
+        if (sim->spec.max_steps > 0 && total_steps(sim) >= sim->spec.max_steps)
+            return stop(sim, err, TAPER_ELIMIT, "max_steps reached");
+        if (!grace && taper_events_passes_complete(sim)) {
+            grace = 1;
+            double tg = grace_time(sim);
+            if (tg < tout) tout = tg;
+            CVodeSetStopTime(sim->cvode, tout);
+        }
+        double t_before = sim->t;
+        int status = step_once(sim, &tout, &grace, err);
+        if (status != TAPER_OK) return status;
+        if (grace && sim->t >= tout && sim->t > t_before) break;
+    }
+    return TAPER_OK;
+}
+
+static void finish(taper_sim *sim, int status)
+{
+    const taper_chain *c = sim->chain;
+    double *tp = sim->obs[TAPER_T_PASS], *tr = sim->obs[TAPER_T_RES];
+    for (size_t k = 1; k <= c->n; k++) tr[k - 1] = tp[k - 1] - (k > 1 ? tp[k - 2] : 0.0);
+    long cnt[6];
+    read_counters(sim, cnt);
+    for (int i = 0; i < 6; i++) cnt[i] += sim->counters_before_restart[i];
+    taper_stats *s = &sim->stats;
+    s->steps = cnt[0], s->rhs_evals = cnt[1], s->root_evals = cnt[2], s->jac_evals = cnt[3];
+    s->nonlin_iters = cnt[4], s->err_test_fails = cnt[5];
+    s->granule_reached = sim->next_pass - 1;
+    s->t_final = sim->t;
+    s->complete = status == TAPER_OK;
+    double e = 0.0, p = 0.0;
+    if (sim->y) taper_dyn_energy_momentum(&sim->dyn, taper_sim_data(sim, sim->y), &e, &p);
+    e += sim->energy_free;
+    p += sim->momentum_free;
+    const double e0 = 0.5 * c->mass[0], p0 = c->mass[0];
+    s->energy_error = fabs(e - e0) / e0;
+    s->momentum_error = fabs(p - p0) / p0;
+}
+
+int taper_sim_run(taper_sim *sim, taper_error *err)
+{
+    if (!sim) return taper_fail(err, TAPER_EINVAL, "taper_sim_run: sim is NULL");
+    if (sim->ran) return taper_fail(err, TAPER_EINVAL, "taper_sim_run: this sim has already run");
+    sim->ran = 1;
+    int status = setup_cvode(sim, err);
+    if (status == TAPER_OK) status = integrate(sim, err);
+    finish(sim, status);
+    if (status == TAPER_OK) taper_ok(err);
+    return status;
+}
+
+/* ---- results ------------------------------------------------------------ */
+const double *taper_sim_observable(const taper_sim *sim, int which)
+{
+    if (!sim || which < 0 || which >= TAPER_N_OBSERVABLES) return NULL;
+    return sim->obs[which];
+}
+
+void taper_sim_stats(const taper_sim *sim, taper_stats *stats)
+{
+    if (sim && stats) *stats = sim->stats;
+}
+
+int taper_sim_state(const taper_sim *sim, double *x, double *v, taper_error *err)
+{
+    if (!sim) return taper_fail(err, TAPER_EINVAL, "taper_sim_state: sim is NULL");
+    if (!sim->y) return taper_fail(err, TAPER_EINVAL, "taper_sim_state: the sim has not run");
+    const taper_dyn *d = &sim->dyn;
+    const double *y = taper_sim_data(sim, sim->y);
+    for (size_t k = 1; k <= d->n; k++) {
+        double xk = 0.0, vk = 0.0;
+        if (k < d->lo) {
+            vk = sim->v_free[k - 1];
+            xk = sim->x_free[k - 1] + vk * sim->t;
+        } else if (k <= d->hi) {
+            vk = taper_dyn_v(d, y, k);
+            xk = taper_dyn_position(d, y, k);
+        }
+        if (x) x[k - 1] = xk;
+        if (v) v[k - 1] = vk;
+    }
+    return taper_ok(err);
+}
