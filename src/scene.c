@@ -257,6 +257,7 @@ int scene_set_str(scene *sc, const char *group, const char *name, const char *va
     if (!s) return -1;
     free(sc->values[i].str);
     sc->values[i].str = s;
+    sc->values[i].line = 0; /* no longer from the file: messages name no line */
     return 0;
 }
 

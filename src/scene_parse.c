@@ -123,7 +123,7 @@ static int lex(parser *p, token *t)
     if (p->pos >= p->len) return 0; /* T_EOF */
     char c = p->src[p->pos];
     if (c == '\'' || c == '"') return lex_string(p, t);
-    if (c == '&' || c == '$') { /* $name is the old VAX spelling of &name */
+    if (c == '&') {
         p->pos++;
         t->kind = T_GROUP;
         t->text = p->src + p->pos;
