@@ -180,6 +180,7 @@ typedef struct taper_solver_spec {
                                1..last_granule is known; 0: the whole chain   */
     int window;             /* non-zero: integrate only the granules that can
                                move (exact); zero: the whole chain every step */
+    int max_order;          /* highest method order; 0: the measured default */
     double t_max;           /* stop at this time; 0: no limit                  */
     long max_steps;         /* stop after this many internal steps; 0: none    */
     taper_monitor_fn monitor;
@@ -238,6 +239,90 @@ TAPER_API void taper_sim_stats(const taper_sim *sim, taper_stats *stats);
 /* Displacements x_k and velocities v_k (arrays of length N, either may be
  * NULL) of every granule at stats.t_final. */
 TAPER_API int taper_sim_state(const taper_sim *sim, double *x, double *v, taper_error *err);
+
+/* --- Asymptotic laws (paper Secs. III-IV) --- */
+/*
+ * Large-k laws of the binary collision approximation for the four tapering
+ * protocols, for any contact exponent n > 1 (the paper: n = 5/2).  Each
+ * was derived again and is checked in tests/test_asymptotic.c against the
+ * exact sums and products of taper_theory_compute; where the paper's
+ * printed formula is wrong the correct one is implemented and the
+ * difference is recorded in docs/paper.md ("Discrepancies found in the
+ * paper").  Every function returns NaN outside its domain (NaN arguments,
+ * n <= 1 or infinite, q or S out of range); none fails otherwise.
+ *
+ * Exponential chains use the paper's signed q: q > 0 is the backward chain
+ * R_k = (1-q)^(1-k) (Sec. III B); a forward chain R_k = (1+q)^(1-k) of
+ * parameter q is evaluated at -q, exactly as the paper does in Sec. IV B.
+ */
+
+/* Power laws y ~ x^p of linear chains.  Backward linear (R_k = 1 + S(k-1),
+ * S k >> 1, independent of S), with beta = 3/2 - 1/(2n):           n = 5/2 */
+typedef enum taper_law {
+    TAPER_LAW_V_OF_K = 0,     /* v_k ~ k^-3/2, eq. (vel-ampl-lin-large)       -3/2   */
+    TAPER_LAW_T_RES_OF_K = 1, /* T_k ~ k^beta, eq. (rel-t-k)                   13/10 */
+    TAPER_LAW_T_OF_K = 2,     /* t_k ~ k^(beta+1), eq. (time-with-k-binary)    23/10 */
+    TAPER_LAW_K_OF_T = 3,     /* k ~ t^(1/(beta+1)), Table I                   10/23 */
+    TAPER_LAW_V_OF_T = 4,     /* v ~ t^(-3/2/(beta+1)), eq. (ampl-timelinear) -15/23 */
+    TAPER_LAW_X_OF_T = 5,     /* X ~ t^(2/(beta+1)), eq. (positiont)           20/23 */
+    TAPER_LAW_C_OF_T = 6,     /* c = dX/dt ~ t^(2/(beta+1) - 1), eq. (speed)  -3/23
+                                 (the paper prints -3/20: wrong)                       */
+    /* Forward linear (R_k = 1 - S(k-1) = (1+S)(1 - b k), b = S/(1+S)): the
+     * divergence laws of Sec. IV A as powers of (1 - b k) or (1 - t/C). */
+    TAPER_LAW_FWD_V_OF_K = 7,  /* v_k ~ (1 - b k)^-3/2, eq. (vk-forw)          -3/2   */
+    TAPER_LAW_FWD_T_OF_K = 8,  /* C - t_k ~ (1 - b k)^(beta+1), eq. (t-forw)   23/10 */
+    TAPER_LAW_FWD_V_OF_T = 9   /* v ~ (1 - t/C)^(-3/2/(beta+1)), eq. (v-t-forw) -15/23 */
+} taper_law;
+
+/* The exponent p of `law` (a taper_law) for contact exponent n. */
+TAPER_API double taper_asymptotic_exponent(int law, double n);
+
+/* A(q) = [1 + (1-q)^-3] / 2, eq. (eq:Adef): v_{k+1} = v_k / A, so
+ * v_k = A^(1-k) = A e^(-k ln A), eq. (eq:vgeometric).  Domain q < 1. */
+TAPER_API double taper_asymptotic_A(double q);
+/* ln A(q), accurate for small |q|: the decay rate of v_k in k (Table II);
+ * a forward chain's growth rate is -ln A(-q) (Table IV).  Domain q < 1. */
+TAPER_API double taper_asymptotic_lnA(double q);
+/* eta(q) = ln(T_{k+1} / T_k) = (1 - 2/n) ln A - (5/(2n)) ln(1-q), exact for
+ * every k; n = 5/2 gives eq. (Bq), ln(A^(1/5) / (1-q)).  t ~ e^(eta k),
+ * eq. (time-k-binary).  Domain q < 1, n > 1. */
+TAPER_API double taper_asymptotic_eta(double q, double n);
+/* f(q) = ln A / eta, eq. (bq-geometric): v ~ t^-f (backward, Table III) and
+ * v ~ (1 + t/M)^-f(-q) (forward, Table V).  Domain q < 1, q != 0, n > 1. */
+TAPER_API double taper_asymptotic_f(double q, double n);
+/* Backward exponential chains, 0 < q < 1: X ~ t^p with
+ * p = -ln(1-q) / eta, which is 1 - f/5 for n = 5/2, eq. (position-pulse-binary). */
+TAPER_API double taper_asymptotic_position_exponent(double q, double n);
+/* c = dX/dt ~ t^(p - 1), -f/5 for n = 5/2, eq. (pulse-velocity-bianry).
+ * Domain 0 < q < 1. */
+TAPER_API double taper_asymptotic_speed_exponent(double q, double n);
+/* Time scale tau(q) = T_1 / (e^eta - 1), T_1 the first residence time
+ * (eq. compress-time with v = 1, mu_1 = 1/(1 + (1-q)^3),
+ * r_1 = (1 - q/2)^(-1/2)).  The exact theory obeys, for every k,
+ *   t_k = tau (e^(k eta) - 1)  and  v_k = (1 + t_{k-1}/tau)^(-f)   (t_0 = 0),
+ * i.e. v(t) of eqs. (vel-t-binary) and (geo-vt-forw) with t the time the
+ * pulse reaches granule k.  tau > 0 for backward chains (q > 0); tau < 0
+ * for forward ones (q < 0), whose pulse passes the whole infinite chain by
+ * t = -tau.  Domain q < 1, q != 0, n > 1. */
+TAPER_API double taper_asymptotic_timescale(double q, double n);
+/* M(q) of eq. (mq) for a forward exponential chain of parameter q > 0:
+ * taper_asymptotic_timescale(-q, n) < 0; v diverges as t -> -M.
+ * The paper's printed M(q) is wrong (docs/paper.md). */
+TAPER_API double taper_asymptotic_M(double q, double n);
+
+/* Forward linear chains, 0 < S < 1: the divergence time C(S), where the
+ * exact sum of T_k over the longest chain (N < 1 + 1/S) converges.
+ * C0: leading order, sqrt(pi) Gamma(1+1/n)/Gamma(1/n+1/2) (n/4)^(1/n) /
+ *     ((beta+1) S); for n = 5/2 it is the paper's C0(S) with 1/S in place
+ *     of the paper's (1 + 1/S), which is not the correct O(S) term.
+ * C:  C0 (1 + c1 S), c1 = 57/130 for n = 5/2 (general n: see asymptotic.c);
+ *     relative error O(S^2). */
+TAPER_API double taper_asymptotic_C0(double S, double n);
+TAPER_API double taper_asymptotic_C(double S, double n);
+/* b = S / (1 + S) = 1/(1 + 1/S): v_k ~ (1 - b k)^-3/2 diverges at k = 1/b
+ * (Fig. 8 inset).  Domain 0 < S < 1. */
+TAPER_API double taper_asymptotic_forward_linear_b(double S);
+/* --- end asymptotic --- */
 
 #ifdef __cplusplus
 }
