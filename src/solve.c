@@ -32,8 +32,11 @@ void taper_solver_spec_init(taper_solver_spec *spec)
     if (!spec) return;
     memset(spec, 0, sizeof *spec);
     spec->method = TAPER_ADAMS;
-    spec->rtol = 1e-10;
-    spec->atol = 1e-12;
+    /* Measured (docs/benchmarks.md): the cheapest setting whose t_pass and
+     * v_peak stay within 1e-8 and 1e-7 of a 1e-13 reference on all five
+     * profiles (worst: backward exponential, 1.5e-9 and 8e-9). */
+    spec->rtol = 2e-11;
+    spec->atol = 1e-14;
     spec->last_granule = 0;
     spec->window = 1;
 }
@@ -58,6 +61,9 @@ static int validate_spec(const taper_chain *chain, const taper_solver_spec *s, t
     if (s->last_granule > chain->n)
         return taper_fail(err, TAPER_EINVAL, "last_granule = %zu exceeds n_granules = %zu",
                           s->last_granule, chain->n);
+    if (s->max_order < 0 || s->max_order > (s->method == TAPER_BDF ? 5 : 12))
+        return taper_fail(err, TAPER_EINVAL, "max_order = %d: CVODE allows 1..%d for this method "
+                          "(0: default)", s->max_order, s->method == TAPER_BDF ? 5 : 12);
     if (!(s->t_max >= 0.0) || s->max_steps < 0)
         return taper_fail(err, TAPER_EINVAL, "t_max and max_steps must be >= 0 (0: no limit)");
     return TAPER_OK;
@@ -247,6 +253,10 @@ static int setup_cvode(taper_sim *sim, taper_error *err)
     if (!status) status = check(CVodeRootInit(cv, TAPER_N_SLOTS, taper_events_root_function), "CVodeRootInit", sim, err);
     if (!status) status = check(CVodeSetRootDirection(cv, directions), "CVodeSetRootDirection", sim, err);
     if (!status) status = check(CVodeSetNoInactiveRootWarn(cv), "CVodeSetNoInactiveRootWarn", sim, err);
+    /* Adams above order 6 buys few steps here (the force is only C^1 at
+     * contact onset) and each step costs O(q^2) vector operations. */
+    int order = sim->spec.max_order ? sim->spec.max_order : (sim->spec.method == TAPER_ADAMS ? 6 : 5);
+    if (!status) status = check(CVodeSetMaxOrd(cv, order), "CVodeSetMaxOrd", sim, err);
     if (!status) status = attach_solvers(sim, err);
     return status;
 }
