@@ -324,6 +324,76 @@ TAPER_API double taper_asymptotic_C(double S, double n);
 TAPER_API double taper_asymptotic_forward_linear_b(double S);
 /* --- end asymptotic --- */
 
+/* --- Fits --- */
+/*
+ * Least-squares fits of y(x) over a window, applied alike to numerics and to
+ * the theory.  Every model is fitted to ln y (relative residuals, the right
+ * weighting for data that span decades, and a > 0 by construction):
+ *
+ *   TAPER_FIT_POWER        y = a x^b          ln y = ln a + b ln x  (linear)
+ *   TAPER_FIT_EXPONENTIAL  y = a e^(b x)      ln y = ln a + b x     (linear)
+ *   TAPER_FIT_DIVERGENCE_B y = a (1 - b x)^-p, p given (e.g. 3/2): a, b
+ *   TAPER_FIT_DIVERGENCE_C y = a (1 - x/C)^-p: a, C; p given, or fitted
+ *                          too when spec.p is NaN (e.g. 15/23 expected)
+ *   TAPER_FIT_DIVERGENCE_M y = a (1 + x/M)^-f: a, M, f
+ *
+ * The divergence forms are solved with gsl_multifit_nlinear (trust region,
+ * Levenberg-Marquardt, analytic Jacobian), started from the linearisation
+ * y^(-1/p) = a^(-1/p) (1 - x/C), which is exact for exact data (with a scan
+ * over p when p is fitted).  Results: param[] in the order listed
+ * (param[2] is the exponent p or f, fixed or fitted), param_err[] their
+ * standard errors from the covariance (J^T J)^-1 scaled by the residual
+ * variance chi2 / (n_points - n_params) (a's error by the delta method from
+ * ln a; a fixed p has error 0), chi2 = sum of squared ln-residuals.
+ *
+ * Window: the points with index_begin <= i < index_end (index_end = 0: to the
+ * end) and x_min <= x <= x_max.  Points in the window whose x or y is not
+ * finite, whose y <= 0, or (power law) whose x <= 0 are skipped and counted
+ * in n_skipped when skip_invalid is non-zero (the default); otherwise the
+ * first such point is an error.  TAPER_EINVAL (with a message) for bad
+ * arguments or fewer than n_params + 1 usable points or x values that cannot
+ * determine the fit; TAPER_ESOLVER if the nonlinear fit does not converge.
+ * On failure result->param and param_err are NaN.  GSL's error handler is
+ * never reached (inputs are validated first), so nothing prints or aborts.
+ */
+typedef enum taper_fit_model {
+    TAPER_FIT_POWER = 0,
+    TAPER_FIT_EXPONENTIAL = 1,
+    TAPER_FIT_DIVERGENCE_B = 2,
+    TAPER_FIT_DIVERGENCE_C = 3,
+    TAPER_FIT_DIVERGENCE_M = 4
+} taper_fit_model;
+
+typedef struct taper_fit_spec {
+    int model;            /* taper_fit_model                                 */
+    double p;             /* exponent of DIVERGENCE_B/_C; NaN: fit it (_C)   */
+    size_t index_begin;   /* window in indices [begin, end); end 0: all      */
+    size_t index_end;
+    double x_min, x_max;  /* window in x (inclusive); -inf, +inf: all        */
+    int skip_invalid;     /* 1: skip unusable points; 0: they are an error   */
+    size_t max_iter;      /* nonlinear iterations (default 200)              */
+    double xtol;          /* step tolerance (default 1e-12)                  */
+} taper_fit_spec;
+
+typedef struct taper_fit_result {
+    int model;
+    size_t n_params;      /* parameters fitted: 2 or 3                       */
+    double param[3];      /* (a, b) | (a, b, p) | (a, C, p) | (a, M, f)       */
+    double param_err[3];  /* standard errors                                 */
+    size_t n_points;      /* points used                                     */
+    size_t n_skipped;     /* points in the window skipped as unusable        */
+    double chi2;          /* sum of squared residuals of ln y                */
+    size_t iterations;    /* nonlinear iterations (0 for linear fits)        */
+} taper_fit_result;
+
+/* Defaults for `model`: whole range, p = 3/2 (DIVERGENCE_B), NaN (fit p,
+ * DIVERGENCE_C), skip_invalid = 1, max_iter = 200, xtol = 1e-12. */
+TAPER_API void taper_fit_spec_init(taper_fit_spec *spec, int model);
+/* Fits y[i] against x[i], i < n, per spec (see above). */
+TAPER_API int taper_fit(const taper_fit_spec *spec, const double *x, const double *y, size_t n,
+                        taper_fit_result *result, taper_error *err);
+/* --- end fits --- */
+
 #ifdef __cplusplus
 }
 #endif
