@@ -271,7 +271,9 @@ static int run_one(const scene *sc, size_t sweep_index, const char *dir)
 {
     run r = {.sc = sc, .sweep_index = sweep_index, .dir = dir};
     r.numerics = scene_bool(sc, "solver", "numerics");
-    int rc = prepare_dir(sc, dir) != 0 ? EXIT_INPUT : build_chain(&r);
+    /* The chain first: a scene it rejects leaves no empty directory. */
+    int rc = build_chain(&r);
+    if (rc == EXIT_COMPLETE && prepare_dir(sc, dir) != 0) rc = EXIT_INPUT;
     if (rc == EXIT_COMPLETE) rc = compute_theory(&r);
     if (rc == EXIT_COMPLETE && r.numerics) rc = simulate(&r);
     if ((rc == EXIT_COMPLETE || rc == EXIT_PARTIAL) && write_result(&r, rc == EXIT_PARTIAL) != 0)

@@ -47,7 +47,8 @@ int out_mkdir_p(const char *dir, char *msg, size_t size)
         char c = p[i];
         p[i] = '\0';
         if (mkdir(p, 0777) != 0 && !(errno == EEXIST && is_dir(p))) {
-            snprintf(msg, size, "cannot create output directory %s: %s", p, strerror(errno));
+            snprintf(msg, size, "cannot create output directory %s: %s", p,
+                     errno == EEXIST ? "exists and is not a directory" : strerror(errno));
             free(p);
             return -1;
         }

@@ -341,7 +341,11 @@ nomem:
 static int push(parser *p, element **el, size_t *n, size_t *cap, const element *e,
                 long long count, const char *group, const char *key)
 {
-    if (count < 1 || (unsigned long long)count > SCENE_MAX_LIST - *n) {
+    if (count < 1) {
+        scene_error(p->sc, e->tok.line, group, key, "repeat count %lld: it must be at least 1", count);
+        return -1;
+    }
+    if ((unsigned long long)count > SCENE_MAX_LIST - *n) {
         scene_error(p->sc, e->tok.line, group, key,
                     "list longer than %d values (repeat count %lld)", SCENE_MAX_LIST, count);
         return -1;
@@ -396,6 +400,19 @@ static int one_value(parser *p, element **el, size_t *n, size_t *cap, const char
     return push(p, el, n, cap, &e, count, group, key);
 }
 
+/* A key of the group where a value should be: the '=' after it was
+ * forgotten ("s 0.5").  Reported against that key, not the previous one. */
+static int missing_equals(parser *p, const token *t, const char *group)
+{
+    char name[48];
+    if (t->len >= sizeof name) return 0;
+    for (size_t i = 0; i < t->len; i++) name[i] = (char)tolower((unsigned char)t->text[i]);
+    name[t->len] = '\0';
+    if (scene_var_find(group, name) < 0) return 0;
+    scene_error(p->sc, t->line, group, name, "expected '=' after the key (write %s = value)", name);
+    return 1;
+}
+
 /* key = value [,] value ... up to the next key, '/' or end of input. */
 static int parse_values(parser *p, int vi, const char *group, const char *key, int key_line)
 {
@@ -417,6 +434,7 @@ static int parse_values(parser *p, int vi, const char *group, const char *key, i
         }
         int is_value = t->kind == T_STRING || (t->kind == T_WORD && p->next.kind != T_EQ);
         if (!is_value) break;
+        if (t->kind == T_WORD && missing_equals(p, t, group)) goto out;
         if (one_value(p, &el, &n, &cap, group, key) != 0) goto out;
         prev_comma = 0;
         advance(p);

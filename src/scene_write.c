@@ -22,10 +22,19 @@ void scene_format_real(double x, char *buf, size_t size)
 {
     /* Shortest representation that reads back exactly: tidy scenes, and
      * the echo re-parses to the same doubles. */
-    for (int prec = 1; prec <= 17; prec++) {
+    int prec = 1;
+    for (; prec < 17; prec++) {
         snprintf(buf, size, "%.*g", prec, x);
-        if (strtod(buf, NULL) == x) return;
+        if (strtod(buf, NULL) == x) break;
     }
+    /* %g switches to an exponent once it has fewer digits than the integer
+     * part: print 20 rather than 2e+01, keep 1e+06 and beyond short. */
+    double mag = fabs(x);
+    if (mag >= 1.0 && mag < 1e6) {
+        int digits = (int)floor(log10(mag)) + 1;
+        if (digits > prec) prec = digits;
+    }
+    snprintf(buf, size, "%.*g", prec, x);
 }
 
 static void append(char *buf, size_t size, size_t *used, const char *fmt_text)
@@ -51,6 +60,8 @@ void scene_range_text(const scene_var *var, char *buf, size_t size)
         scene_format_real(var->hi, hi, sizeof hi);
         snprintf(buf, size, "%c%s, %s%c", (var->flags & SCENE_LO_OPEN) ? '(' : '[', lo, hi,
                  (var->flags & SCENE_HI_OPEN) ? ')' : ']');
+    } else if (var->type == SCENE_LOGICAL) {
+        snprintf(buf, size, ".true., .false.");
     } else if (var->type == SCENE_REAL_LIST && (var->flags & SCENE_POSITIVE)) {
         snprintf(buf, size, "each > 0");
     }
