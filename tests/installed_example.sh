@@ -1,0 +1,60 @@
+#!/bin/sh
+# installed_example.sh BUILD_DIR SOURCE_DIR -- a user's view of libtaper:
+# `meson install` into a temporary root, then share/examples/pulse.c is
+# compiled with nothing but `pkg-config --cflags --libs taper` from there and
+# run against the installed libtaper.so (never the build tree's).  Checks the
+# installed files, the versioned soname and the example's output.
+set -eu
+build=$1
+src=$2
+CC=${CC:-cc}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+root=$tmp/root
+
+meson install -C "$build" --no-rebuild --quiet --destdir "$root" >"$tmp/install.log" 2>&1 || {
+    cat "$tmp/install.log" >&2
+    exit 1
+}
+
+pc=$(find "$root" -name taper.pc | head -n 1)
+[ -n "$pc" ] || { echo "taper.pc was not installed" >&2; exit 1; }
+# The .pc file names the final prefix; relocate it into the staging root.
+prefix=$(sed -n 's/^prefix=//p' "$pc")
+export PKG_CONFIG_PATH="$(dirname "$pc")"
+export PKG_CONFIG_SYSROOT_DIR=
+PC="pkg-config --define-variable=prefix=$root$prefix"
+$PC --exists taper || { echo "pkg-config cannot use $pc" >&2; exit 1; }
+version=$($PC --modversion taper)
+libdir=$($PC --variable=libdir taper)
+includedir=$($PC --variable=includedir taper)
+
+fail=0
+[ -f "$includedir/taper.h" ] || { echo "taper.h not installed in $includedir" >&2; fail=1; }
+for f in libtaper.so libtaper.so.0 "libtaper.so.$version"; do
+    [ -e "$libdir/$f" ] || { echo "$libdir/$f not installed" >&2; fail=1; }
+done
+soname=$(objdump -p "$libdir/libtaper.so" | awk '$1 == "SONAME" { print $2 }')
+[ "$soname" = libtaper.so.0 ] || { echo "soname is '$soname', expected libtaper.so.0" >&2; fail=1; }
+[ $fail -eq 0 ] || exit 1
+
+# shellcheck disable=SC2046
+"$CC" -std=c11 -Wall -Wextra -Werror -o "$tmp/pulse" "$src/share/examples/pulse.c" \
+    $($PC --cflags taper) $($PC --libs taper) -lm
+LD_LIBRARY_PATH=$libdir "$tmp/pulse" >"$tmp/out"
+cat "$tmp/out"
+
+# It ran against the installed library...
+LD_LIBRARY_PATH=$libdir ldd "$tmp/pulse" | grep -q "$libdir/libtaper.so.0" || {
+    echo "pulse did not load $libdir/libtaper.so.0:" >&2
+    LD_LIBRARY_PATH=$libdir ldd "$tmp/pulse" >&2
+    exit 1
+}
+# ...and printed the whole table with numerics close to the theory.
+awk -v version="$version" '
+    /^# libtaper/ { if ($3 != version ":") { print "version " $3 " != " version; bad = 1 } }
+    !/^#/ { rows++; rel = ($2 - $3) / $3; if (rel < 0) rel = -rel
+            if (rel > 0.05) { print "k = " $1 ": t_pass " $2 " vs theory " $3; bad = 1 }
+            if (!($4 > 0 && $4 <= 1)) { print "k = " $1 ": v_peak " $4; bad = 1 } }
+    END { if (rows < 10) { print rows " rows"; bad = 1 } exit bad }' "$tmp/out" >&2
+echo "installed example OK (libtaper $version from $root$prefix)"
