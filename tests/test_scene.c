@@ -114,8 +114,7 @@ static void test_real_forms(void **state)
         char text[128];
         snprintf(text, sizeof text, "&solver t_max = %s /", cases[i].text);
         scene *sc = load(text);
-        /* -0 parses, then fails validation like any negative time would not:
-         * -0 == 0 is in range, so every case must be clean */
+        /* every form is a valid time (-0 == 0 is in range) */
         assert_int_equal(sc->n_errors, 0);
         assert_double_rel(scene_real(sc, "solver", "t_max"), cases[i].value, 0);
         scene_free(sc);
@@ -510,6 +509,27 @@ static void test_garbage_never_crashes(void **state)
     }
 }
 
+/* A scene cut at every byte: either it still parses, or the first error
+ * names a line that exists. */
+static void test_every_truncation(void **state)
+{
+    (void)state;
+    static const char text[] = "! demo\n&chain profile = 'custom',\n  radii = 1, 2*1.5,\n  0.5 /\n"
+                               "&solver rtol = 1d-9, window = .false. /\n&output dir = \"o\" /\n";
+    for (size_t len = 0; len < sizeof text; len++) {
+        int lines = 1;
+        for (size_t i = 0; i < len; i++) lines += text[i] == '\n';
+        scene *sc = new_scene();
+        if (scene_parse(sc, text, len) == 0) scene_validate(sc);
+        if (sc->n_diags > 0 && !(sc->diags[0].line >= 0 && sc->diags[0].line <= lines))
+            fail_msg("cut at %zu: error at line %d of %d", len, sc->diags[0].line, lines);
+        scene_free(sc);
+    }
+    scene *sc = load_ok(text); /* and uncut it is fine */
+    assert_int_equal(scene_int(sc, "chain", "n_granules"), 4);
+    scene_free(sc);
+}
+
 /* ---- output ------------------------------------------------------------- */
 
 static void test_output_atomic(void **state)
@@ -601,6 +621,7 @@ int main(void)
         cmocka_unit_test(test_missing_file),
         cmocka_unit_test(test_diag_format),
         cmocka_unit_test(test_garbage_never_crashes),
+        cmocka_unit_test(test_every_truncation),
         cmocka_unit_test(test_output_atomic),
         cmocka_unit_test(test_table_output),
     };
