@@ -5,7 +5,10 @@
  *  peak(k): the acceleration of k changes sign downward while v_k > 0,
  *           g = rho_{k-1} z_{k-1} - rho_k z_k (see dynamics.h);
  *  grow:    z_hi - threshold crosses zero upward (the front reaches hi+1);
- *  gap:     the gap z_{lo-1} behind the window closes.
+ *  gap:     the gap z_{lo-1} behind the window closes: its compression
+ *           crosses gap_watch[lo-1] upward (0 after an exact free-flight
+ *           departure, a noise-proof threshold after a departure at rest;
+ *           see window.c).
  *
  * Only a few root functions follow the front (a ring of slots), never N.
  * A slot is armed only while its granule moves at a velocity above
@@ -65,7 +68,7 @@ int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
         g[TAPER_PASS_SLOTS + i] =
             peak_function(sim, y, slot_granule(sim->next_peak, i, TAPER_PEAK_SLOTS));
     g[TAPER_SLOT_GROW] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_threshold : -1.0;
-    g[TAPER_SLOT_GAP] = d->lo > 1 ? y[0] : -1.0;
+    g[TAPER_SLOT_GAP] = d->lo > 1 ? y[0] - sim->gap_watch[d->lo - 2] : -1.0;
     return 0;
 }
 
@@ -82,6 +85,8 @@ static void record_pass(taper_sim *sim, const double *y, size_t k)
     sim->obs[TAPER_X_PASS][k - 1] = sim->chain->rest[k - 1] + taper_dyn_position(d, y, k);
     double v = velocity(sim, y, k + 1);
     if (v > 0.0) sim->v_ref = v;
+    double z = taper_dyn_z(d, y, k);
+    if (z > 0.0) sim->z_ref = z;
 }
 
 static void record_peak(taper_sim *sim, const double *y, size_t k)

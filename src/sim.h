@@ -35,10 +35,16 @@ struct taper_sim {
     size_t next_pass;       /* lowest granule whose t_pass is unknown       */
     size_t next_peak;       /* lowest granule whose peak is unknown         */
     double v_ref;           /* pulse velocity at the last pass event        */
+    double z_ref;           /* compression z_k at the last pass event of k:
+                               the pair's largest compression (dz_k/dt =
+                               v_k - v_{k+1} = 0 there)                     */
     double grow_threshold;  /* z_hi above which granule hi+1 joins          */
 
-    /* granules that left the window: x_j(t) = x_free[j] + v_free[j] t */
-    double *x_free, *v_free;
+    /* granules that left the window: x_j(t) = x_free[j] + v_free[j] t;
+     * gap_watch[j]: compression of the gap z_j above which granule j is taken
+     * back while it is the last granule out (0: it left in exact free flight,
+     * > 0: it left at rest within the tolerance, see window.c) */
+    double *x_free, *v_free, *gap_watch;
     double energy_free, momentum_free;
 
     /* CVODE */
@@ -57,6 +63,7 @@ struct taper_sim {
     int stop_reason;        /* status the run ends with                     */
     taper_stats stats;
     long counters_before_restart[6]; /* CVODE counters reset by CVodeReInit */
+    long left_resting;      /* granules that left at rest within tolerance  */
 };
 
 /* Pointer to the entry at absolute index taper_dyn_begin() of a state vector. */

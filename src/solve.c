@@ -88,7 +88,8 @@ static int alloc_arrays(taper_sim *sim)
     }
     sim->x_free = calloc(n, sizeof(double));
     sim->v_free = calloc(n, sizeof(double));
-    if (!sim->x_free || !sim->v_free) return -1;
+    sim->gap_watch = calloc(n, sizeof(double));
+    if (!sim->x_free || !sim->v_free || !sim->gap_watch) return -1;
     return taper_dyn_init(&sim->dyn, n, sim->chain->exponent, sim->chain->mass, sim->chain->contact);
 }
 
@@ -123,6 +124,7 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
     sim->obs[TAPER_V_PEAK][0] = 1.0; /* the impulse itself */
     sim->obs[TAPER_T_PEAK][0] = 0.0;
     sim->v_ref = 1.0;
+    sim->z_ref = 1.0;
     sim->grow_threshold = growth_threshold(chain->exponent);
     taper_ok(err);
     return sim;
@@ -142,6 +144,7 @@ void taper_sim_free(taper_sim *sim)
     for (int i = 0; i < TAPER_N_OBSERVABLES; i++) free(sim->obs[i]);
     free(sim->x_free);
     free(sim->v_free);
+    free(sim->gap_watch);
     free(sim);
 }
 
@@ -432,14 +435,17 @@ int taper_sim_state(const taper_sim *sim, double *x, double *v, taper_error *err
     if (!sim->y) return taper_fail(err, TAPER_EINVAL, "taper_sim_state: the sim has not run");
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, sim->y);
-    for (size_t k = 1; k <= d->n; k++) {
+    /* From the right: x_k = z_k + x_{k+1} inside the window, O(N) in all. */
+    double x_window = 0.0;
+    for (size_t k = d->n; k >= 1; k--) {
         double xk = 0.0, vk = 0.0;
         if (k < d->lo) {
             vk = sim->v_free[k - 1];
             xk = sim->x_free[k - 1] + vk * sim->t;
         } else if (k <= d->hi) {
             vk = taper_dyn_v(d, y, k);
-            xk = taper_dyn_position(d, y, k);
+            x_window += taper_dyn_z(d, y, k);
+            xk = x_window;
         }
         if (x) x[k - 1] = xk;
         if (v) v[k - 1] = vk;

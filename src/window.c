@@ -4,21 +4,57 @@
  *  grow:      granule hi+1 joins when z_hi reaches the growth threshold.
  *             Its state and Nordsieck history are zero in every vector, which
  *             is exact for a granule at rest: no solver restart.
- *  shrink:    granule lo leaves when its motion is free flight for ever: the
- *             gaps on both sides are open and not closing (velocities ordered),
- *             and all its observables are known.  Dropping components leaves
- *             the others' Nordsieck history exact: no restart.
+ *  shrink:    granule lo leaves, after all its observables are known, when
+ *             either criterion below holds.  Dropping components leaves the
+ *             others' Nordsieck history exact: no restart.
  *  take back: if the gap behind the window closes after all, granule lo-1
  *             returns with its ballistic state; this changes the history of
  *             a component, so CVODE is re-initialised (rare).
+ *
+ * Criterion 1, exact free flight (the clean case, e.g. backward chains): the
+ * gaps on both sides of lo are open by more than GAP_MIN and not closing
+ * (v_{lo-1} <= v_lo <= v_{lo+1}).  Granule lo then moves at constant velocity
+ * for ever unless the window pushes granule lo+1 back into it, which the gap
+ * slot watches at compression 0 (gap_watch = 0): take-back is exact.
+ *
+ * Criterion 2, at rest within the tolerance (monodisperse chains, the tails
+ * of forward chains): behind the pulse granules are left with velocities and
+ * compressions of either sign at the level of the solver's error (about
+ * 1e-12 .. 1e-10 for rtol 2e-11), which criterion 1 rejects for ever, so the
+ * window would span the whole chain behind the front (O(N^2) cost).  With
+ * the error scales of the pulse
+ *     v_eps = REST_FACTOR (rtol v_ref + atol),  z_eps = REST_FACTOR (rtol z_ref + atol)
+ * (v_ref, z_ref: velocity of granule k+1 and compression z_k at the last pass
+ * event, the pulse's largest), granule lo may leave, flying ballistically at
+ * its velocity, when
+ *     |v_lo| <= v_eps,  |z_lo| <= z_eps,
+ *     z_{lo-1} <= z_eps and v_{lo-1} <= v_lo + v_eps   (lo > 1),
+ * i.e. when its velocity and both contacts are within REST_FACTOR error units
+ * of rest.  Why this is harmless: the gap z_lo it leaves behind is watched
+ * with gap_watch = WATCH_FACTOR / REST_FACTOR * z_eps, so while lo is out the
+ * one-sided force the window feels from it is at most r z_watch^(n-1), a
+ * fraction (WATCH_FACTOR rtol)^(n-1) (3e-12 for n = 5/2 and the default rtol)
+ * of the pulse force r z_ref^(n-1): below what the tolerance resolves.  A
+ * compression beyond z_watch (a real signal) takes the granule back exactly
+ * as in criterion 1; the factor WATCH_FACTOR / REST_FACTOR = 10 between
+ * leaving and returning is the hysteresis that keeps noise from thrashing
+ * (each take-back costs a CVodeReInit).  Granules that are both out move
+ * apart or together at most 2 v_eps, so out of the window the chain's gaps
+ * close by at most z_eps + 2 v_eps t (documented in docs/window.md).  The
+ * granule's momentum is kept exactly; the contact energy dropped is at most
+ * r z_eps^n / n per granule.
  */
 #include "sim.h"
 
 #include <math.h>
 
 /* A gap must be open by more than this (in units of R_1) before the granule
- * behind it may leave; avoids leaving and returning at once. */
+ * behind it may leave in free flight; avoids leaving and returning at once. */
 #define GAP_MIN 1e-9
+/* Criterion 2: leave within REST_FACTOR error units of rest, come back
+ * beyond WATCH_FACTOR units of compression. */
+#define REST_FACTOR 100.0
+#define WATCH_FACTOR 1000.0
 
 static int apply_range(taper_sim *sim, taper_error *err)
 {
@@ -38,17 +74,31 @@ int taper_window_grow(taper_sim *sim, taper_error *err)
     return apply_range(sim, err);
 }
 
-static int can_leave(const taper_sim *sim, const double *y, size_t j)
+/* How granule j may leave: 0 not at all, 1 exact free flight, 2 at rest
+ * within the tolerance (criteria 1 and 2 above). */
+static int can_leave(const taper_sim *sim, const double *y, size_t j, double *watch)
 {
     const taper_dyn *d = &sim->dyn;
     if (j + 2 >= d->hi || j >= sim->next_pass || j >= sim->next_peak) return 0;
-    double v = taper_dyn_v(d, y, j), v_next = taper_dyn_v(d, y, j + 1);
-    if (!(taper_dyn_z(d, y, j) < -GAP_MIN) || !(v <= v_next)) return 0;
-    if (j > 1 && (!(y[0] < -GAP_MIN) || !(d->v_left <= v))) return 0;
-    return 1;
+    const double v = taper_dyn_v(d, y, j), v_next = taper_dyn_v(d, y, j + 1);
+    const double z = taper_dyn_z(d, y, j);
+    const double z_back = j > 1 ? y[0] : -INFINITY; /* gap z_{j-1} */
+    const double v_back = j > 1 ? d->v_left : -INFINITY;
+    if (z < -GAP_MIN && v <= v_next && z_back < -GAP_MIN && v_back <= v) {
+        *watch = 0.0;
+        return 1;
+    }
+    const double rtol = sim->spec.rtol, atol = sim->spec.atol;
+    const double v_eps = REST_FACTOR * (rtol * fabs(sim->v_ref) + atol);
+    const double z_eps = REST_FACTOR * (rtol * fabs(sim->z_ref) + atol);
+    if (fabs(v) <= v_eps && fabs(z) <= z_eps && z_back <= z_eps && v_back <= v + v_eps) {
+        *watch = WATCH_FACTOR / REST_FACTOR * z_eps;
+        return 2;
+    }
+    return 0;
 }
 
-static void leave(taper_sim *sim, const double *y, size_t j)
+static void leave(taper_sim *sim, const double *y, size_t j, double watch)
 {
     taper_dyn *d = &sim->dyn;
     double v = taper_dyn_v(d, y, j);
@@ -57,6 +107,7 @@ static void leave(taper_sim *sim, const double *y, size_t j)
     sim->v_free[j - 1] = v;
     sim->energy_free += 0.5 * d->mass[j - 1] * v * v;
     sim->momentum_free += d->mass[j - 1] * v;
+    sim->gap_watch[j - 1] = watch;
     d->v_left = v;
     d->lo = j + 1;
 }
@@ -66,8 +117,11 @@ int taper_window_shrink(taper_sim *sim, taper_error *err)
     if (!sim->window) return TAPER_OK;
     size_t lo = sim->dyn.lo;
     /* y's data pointer follows the window's begin: re-read after each drop */
-    while (can_leave(sim, taper_sim_data(sim, sim->y), sim->dyn.lo)) {
-        leave(sim, taper_sim_data(sim, sim->y), sim->dyn.lo);
+    double watch = 0.0;
+    int how;
+    while ((how = can_leave(sim, taper_sim_data(sim, sim->y), sim->dyn.lo, &watch)) != 0) {
+        if (how == 2) sim->left_resting++;
+        leave(sim, taper_sim_data(sim, sim->y), sim->dyn.lo, watch);
         sim->window->begin = taper_dyn_begin(&sim->dyn); /* shrinking needs no copy */
     }
     if (sim->dyn.lo != lo) return apply_range(sim, err);
