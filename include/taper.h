@@ -20,11 +20,19 @@
  *    Quantities that belong to the pair (k, k+1) (r_k, mu_k, T_k, t_pass(k))
  *    sit at index k-1; the last entry of such an array is NaN.
  *  - Values that do not exist (not reached, not defined) are NaN.
- *  - Every function that can fail returns a taper_status and, when given a
- *    non-NULL taper_error, writes a message the caller can show.  The library
- *    never prints, never calls exit() or abort(), and has no global mutable
- *    state: distinct objects may be used from distinct threads at once.
- *  - Objects are created by *_alloc and released by *_free (NULL is a no-op).
+ *  - Every function that can fail returns a taper_status (or NULL for the
+ *    *_alloc functions) and, when given a non-NULL taper_error, writes the
+ *    status and a message the caller can show.  err may always be NULL.
+ *    After a successful call err holds TAPER_OK and an empty message.
+ *  - The library never prints, never calls exit() or abort(), and has no
+ *    global mutable state: distinct objects may be used from distinct
+ *    threads at once.  A chain is only read after taper_chain_alloc, so one
+ *    chain may serve several sims running in different threads; a single
+ *    sim must not be used from two threads at the same time.
+ *  - Objects are created by *_alloc, owned by the caller and released by
+ *    *_free (NULL is a no-op).  Arrays returned as `const double *` belong
+ *    to the object that returned them and live as long as it does.
+ *  - See docs/api.md for a complete walk-through.
  */
 #ifndef TAPER_H
 #define TAPER_H
@@ -75,7 +83,8 @@ typedef struct taper_error {
     char message[TAPER_MESSAGE_SIZE];
 } taper_error;
 
-/* A short constant description of a status code ("invalid argument", ...). */
+/* A short constant description of a status code ("invalid argument", ...);
+ * "unknown status" for other values.  Never NULL; static storage. */
 TAPER_API const char *taper_strerror(int status);
 
 /* ------------------------------------------------------------------ */
@@ -111,10 +120,15 @@ TAPER_API void taper_chain_spec_init(taper_chain_spec *spec);
 
 typedef struct taper_chain taper_chain;
 
-/* Builds the chain: radii, masses, contact factors, rest positions.
- * Rejects invalid parameters (TAPER_EINVAL) and chains whose masses
- * overflow or underflow double precision (TAPER_ERANGE, naming the granule). */
+/* Builds the chain: radii, masses, contact factors, rest positions.  The
+ * spec (and spec->radii) is copied: the caller may free it afterwards.
+ * Returns a chain the caller owns (release with taper_chain_free), or NULL:
+ * TAPER_EINVAL for invalid parameters (NULL spec, N < 2, S or q out of
+ * range, forward_linear with N >= 1 + 1/S, custom without radii or with a
+ * radius <= 0, n <= 1), TAPER_ERANGE for chains whose masses overflow or
+ * underflow double precision (naming the granule), TAPER_ENOMEM. */
 TAPER_API taper_chain *taper_chain_alloc(const taper_chain_spec *spec, taper_error *err);
+/* Releases the chain and its arrays.  Every sim of it must be freed first. */
 TAPER_API void taper_chain_free(taper_chain *chain);
 
 TAPER_API size_t taper_chain_size(const taper_chain *chain);       /* N */
@@ -137,12 +151,14 @@ TAPER_API const double *taper_chain_rest_position(const taper_chain *chain);
  * NaN for invalid arguments (mu, r, zdot0 <= 0 or n <= 1). */
 TAPER_API double taper_theory_collision_time(double mu, double r, double zdot0, double n);
 
-/* Fills, each optional (NULL to skip), arrays of length N:
+/* Fills caller-owned arrays, each optional (NULL to skip), of length N:
  *   v[k-1]  = v_k, eq. (recv), the velocity granule k leaves its collision with;
  *   mu[k-1] = mu_k = m_k m_{k+1} / (m_k + m_{k+1}),  k = 1..N-1;
  *   T[k-1]  = T_k, eq. (compress-time) with zdot0 = v_k, k = 1..N-1;
  *   t[k-1]  = sum_{j<=k} T_j, eq. (totaltime), k = 1..N-1.
- * Entries that do not exist are NaN.  TAPER_ERANGE if a value overflows. */
+ * Entries that do not exist are NaN.  TAPER_EINVAL for a NULL chain;
+ * TAPER_ERANGE if a time overflows (the arrays are then filled up to the
+ * granule named in the message). */
 TAPER_API int taper_theory_compute(const taper_chain *chain, double *v, double *mu,
                                    double *T, double *t, taper_error *err);
 
@@ -169,7 +185,9 @@ typedef struct taper_progress {
 typedef int (*taper_monitor_fn)(const taper_progress *progress, void *user);
 
 /* Diagnostics the library would otherwise have printed (level 0: info,
- * 1: warning).  Optional. */
+ * 1: warning).  Optional; called from the thread running the simulation.
+ * Note: version 0.1.0 has no such diagnostics yet and never calls it
+ * (failures are reported through taper_error). */
 typedef void (*taper_log_fn)(int level, const char *message, void *user);
 
 typedef struct taper_solver_spec {
@@ -221,7 +239,13 @@ typedef struct taper_stats {
 
 typedef struct taper_sim taper_sim;
 
-/* Prepares a run of `chain` (which must outlive the sim).  Copies spec. */
+/* Prepares a run of `chain` (which must outlive the sim).  Copies spec;
+ * NULL spec: the defaults of taper_solver_spec_init.  Returns a sim the
+ * caller owns (release with taper_sim_free), or NULL: TAPER_EINVAL for a
+ * NULL chain or invalid settings (method, rtol outside [10 eps, 1), atol
+ * outside (0, 1), last_granule > N, max_order beyond CVODE's limit,
+ * negative t_max or max_steps), TAPER_ENOMEM.  Cheap: CVODE is set up by
+ * taper_sim_run. */
 TAPER_API taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec,
                                      taper_error *err);
 TAPER_API void taper_sim_free(taper_sim *sim);
@@ -229,15 +253,22 @@ TAPER_API void taper_sim_free(taper_sim *sim);
 /* Integrates from the impulse until every requested observable is known.
  * Returns TAPER_OK, or TAPER_ESOLVER / TAPER_EINTERRUPTED / TAPER_ELIMIT
  * with the observables found so far kept (stats.complete == 0) and a message
- * naming the granule the pulse had reached and the time.  A sim runs once. */
+ * naming the granule the pulse had reached and the time (for ESOLVER it
+ * includes CVODE's own message, which SUNDIALS would otherwise print).
+ * A sim runs once: a second call is TAPER_EINVAL.  NULL sim: TAPER_EINVAL. */
 TAPER_API int taper_sim_run(taper_sim *sim, taper_error *err);
 
-/* Array of length N owned by the sim; NULL for an unknown observable. */
+/* Array of length N owned by the sim (valid until taper_sim_free), NaN
+ * where not (yet) known; NULL for an unknown observable or a NULL sim.
+ * Readable after a partial run too. */
 TAPER_API const double *taper_sim_observable(const taper_sim *sim, int which);
+/* Copies the statistics of the run into *stats (zeros before the run).
+ * Does nothing if either pointer is NULL. */
 TAPER_API void taper_sim_stats(const taper_sim *sim, taper_stats *stats);
 
-/* Displacements x_k and velocities v_k (arrays of length N, either may be
- * NULL) of every granule at stats.t_final. */
+/* Displacements x_k and velocities v_k (caller-owned arrays of length N,
+ * either may be NULL) of every granule at stats.t_final.  TAPER_EINVAL for
+ * a NULL sim or one that has not run. */
 TAPER_API int taper_sim_state(const taper_sim *sim, double *x, double *v, taper_error *err);
 
 /* --- Asymptotic laws (paper Secs. III-IV) --- */
