@@ -11,8 +11,12 @@
  * Ctrl-C, t_max or max_steps reached: granules.partial.tsv is written and no
  * granules.tsv exists).
  */
+#include "analysis.h"
 #include "output.h"
+#include "plot.h"
 #include "scene.h"
+#include "sweep.h"
+#include "table.h"
 #include "taper.h"
 
 #include <math.h>
@@ -101,17 +105,24 @@ static void progress_done(progress_state *ps)
 
 /* ---- one run ------------------------------------------------------------- */
 
+/* One value of a sweep (or the only run).  Computed possibly on a worker
+ * thread: nothing here prints; what is to be said waits in `message`. */
 typedef struct run {
     const scene *sc;
     size_t sweep_index;
-    const char *dir;
+    char dir[4200];
+    taper_chain_spec spec;
     taper_chain *chain;
     taper_sim *sim;
     double *theory[4];       /* v, mu, T, t */
     taper_stats stats;
     int numerics;
+    int show_progress;       /* only when runs are computed one at a time */
     int status;              /* taper_sim_run's status (TAPER_OK without numerics) */
+    int rc;                  /* exit status of this run                   */
+    int computed;            /* 0: skipped (interrupted before it started) */
     taper_error err;
+    char message[TAPER_MESSAGE_SIZE + 4300];
 } run;
 
 static void run_free(run *r)
@@ -133,9 +144,8 @@ static void key_error(const scene *sc, const char *group, const char *key, const
 
 static int build_chain(run *r)
 {
-    taper_chain_spec spec;
-    scene_chain_spec(r->sc, r->sweep_index, &spec);
-    r->chain = taper_chain_alloc(&spec, &r->err);
+    scene_chain_spec(r->sc, r->sweep_index, &r->spec);
+    r->chain = taper_chain_alloc(&r->spec, &r->err);
     if (r->chain) return EXIT_COMPLETE;
     /* Validation catches what it can name; what remains is the chain's size
      * (masses beyond double range): the key to change is n_granules. */
@@ -149,20 +159,20 @@ static int compute_theory(run *r)
     size_t n = taper_chain_size(r->chain);
     for (int i = 0; i < 4; i++)
         if (!(r->theory[i] = malloc(n * sizeof(double)))) {
-            fprintf(stderr, "%s: out of memory\n", r->sc->path);
+            snprintf(r->message, sizeof r->message, "%s: out of memory", r->sc->path);
             return EXIT_FAILED;
         }
     if (taper_theory_compute(r->chain, r->theory[0], r->theory[1], r->theory[2], r->theory[3],
                              &r->err) == TAPER_OK)
         return EXIT_COMPLETE;
-    fprintf(stderr, "%s: theory: %s\n", r->sc->path, r->err.message);
+    snprintf(r->message, sizeof r->message, "%s: theory: %s", r->sc->path, r->err.message);
     return EXIT_FAILED;
 }
 
 static int simulate(run *r)
 {
     progress_state ps = {0};
-    ps.show = scene_bool(r->sc, "output", "progress") && isatty(STDERR_FILENO);
+    ps.show = r->show_progress && scene_bool(r->sc, "output", "progress") && isatty(STDERR_FILENO);
     ps.start = ps.last = wall_seconds();
     taper_solver_spec spec;
     taper_solver_spec_init(&spec);
@@ -170,17 +180,32 @@ static int simulate(run *r)
     spec.monitor = monitor;
     spec.monitor_data = &ps;
     if (!(r->sim = taper_sim_alloc(r->chain, &spec, &r->err))) {
-        fprintf(stderr, "%s: %s\n", r->sc->path, r->err.message);
+        snprintf(r->message, sizeof r->message, "%s: %s", r->sc->path, r->err.message);
         return EXIT_FAILED;
     }
     r->status = taper_sim_run(r->sim, &r->err);
     progress_done(&ps);
     taper_sim_stats(r->sim, &r->stats);
     if (r->status == TAPER_OK) return EXIT_COMPLETE;
-    fprintf(stderr, "%s: %s\n", r->sc->path, r->err.message);
+    snprintf(r->message, sizeof r->message, "%s: %s", r->sc->path, r->err.message);
     if (r->status == TAPER_ESOLVER || r->status == TAPER_EINTERRUPTED || r->status == TAPER_ELIMIT)
         return EXIT_PARTIAL;
     return EXIT_FAILED;
+}
+
+/* The computation of one run: thread-safe (the library has no global
+ * state), prints nothing. */
+static void compute_run(size_t i, void *data)
+{
+    run *r = &((run *)data)[i];
+    if (r->rc != EXIT_COMPLETE) return;
+    if (interrupted) {
+        r->rc = EXIT_PARTIAL;
+        return;
+    }
+    r->computed = 1;
+    r->rc = compute_theory(r);
+    if (r->rc == EXIT_COMPLETE && r->numerics) r->rc = simulate(r);
 }
 
 /* ---- granules.tsv -------------------------------------------------------- */
@@ -217,6 +242,20 @@ static void write_stats_comment(const run *r, FILE *fp)
             s->energy_error, s->momentum_error);
 }
 
+static void run_columns(const run *r, out_columns *cols)
+{
+    memset(cols, 0, sizeof *cols);
+    cols->n = taper_chain_size(r->chain);
+    cols->col[1] = taper_chain_radius(r->chain);
+    cols->col[2] = taper_chain_mass(r->chain);
+    cols->col[3] = taper_chain_rest_position(r->chain);
+    if (r->sim)
+        for (int o = 0; o < TAPER_N_OBSERVABLES; o++) cols->col[4 + o] = taper_sim_observable(r->sim, o);
+    cols->col[9] = r->theory[0];
+    cols->col[10] = r->theory[2];
+    cols->col[11] = r->theory[3];
+}
+
 static void write_granules(const run *r, FILE *fp, int partial)
 {
     fprintf(fp, "# taper %s granules: per-granule pulse observables and binary-collision theory\n",
@@ -228,15 +267,8 @@ static void write_granules(const run *r, FILE *fp, int partial)
     fprintf(fp, "# scene file: %s\n", r->sc->path);
     write_scene_comment(r, fp);
     write_stats_comment(r, fp);
-    out_columns cols = {.n = taper_chain_size(r->chain)};
-    cols.col[1] = taper_chain_radius(r->chain);
-    cols.col[2] = taper_chain_mass(r->chain);
-    cols.col[3] = taper_chain_rest_position(r->chain);
-    if (r->sim)
-        for (int o = 0; o < TAPER_N_OBSERVABLES; o++) cols.col[4 + o] = taper_sim_observable(r->sim, o);
-    cols.col[9] = r->theory[0];
-    cols.col[10] = r->theory[2];
-    cols.col[11] = r->theory[3];
+    out_columns cols;
+    run_columns(r, &cols);
     out_write_table(fp, &cols);
 }
 
@@ -267,19 +299,22 @@ static int prepare_dir(const scene *sc, const char *dir)
     return -1;
 }
 
-static int run_one(const scene *sc, size_t sweep_index, const char *dir)
+/* Before any computation: the chain (a scene it rejects leaves no empty
+ * directory), then the directory. */
+static void prepare_run(run *r)
 {
-    run r = {.sc = sc, .sweep_index = sweep_index, .dir = dir};
-    r.numerics = scene_bool(sc, "solver", "numerics");
-    /* The chain first: a scene it rejects leaves no empty directory. */
-    int rc = build_chain(&r);
-    if (rc == EXIT_COMPLETE && prepare_dir(sc, dir) != 0) rc = EXIT_INPUT;
-    if (rc == EXIT_COMPLETE) rc = compute_theory(&r);
-    if (rc == EXIT_COMPLETE && r.numerics) rc = simulate(&r);
-    if ((rc == EXIT_COMPLETE || rc == EXIT_PARTIAL) && write_result(&r, rc == EXIT_PARTIAL) != 0)
-        rc = EXIT_FAILED;
-    run_free(&r);
-    return rc;
+    r->numerics = scene_bool(r->sc, "solver", "numerics");
+    r->rc = build_chain(r);
+    if (r->rc == EXIT_COMPLETE && prepare_dir(r->sc, r->dir) != 0) r->rc = EXIT_INPUT;
+}
+
+/* After the computation, in the order of the sweep. */
+static void finish_run(run *r)
+{
+    if (r->message[0]) fprintf(stderr, "%s\n", r->message);
+    if (r->computed && (r->rc == EXIT_COMPLETE || r->rc == EXIT_PARTIAL) &&
+        write_result(r, r->rc == EXIT_PARTIAL) != 0)
+        r->rc = EXIT_FAILED;
 }
 
 /* ---- scenes and sweeps ------------------------------------------------------ */
@@ -291,20 +326,109 @@ static int worst(int a, int b)
     return rank[b] > rank[a] ? b : a;
 }
 
-/* Each value of a swept variable runs into DIR/NAME=VALUE/. */
-static int run_sweep(const scene *sc, int sv, const char *dir)
+/* DIR, or DIR/NAME=VALUE/ for each value of a swept variable. */
+static void run_dirs(const scene *sc, int sv, const char *dir, run *runs, size_t n)
 {
-    const scene_var *var = scene_var_at((size_t)sv);
-    const scene_value *v = &sc->values[sv];
+    for (size_t i = 0; i < n; i++) {
+        if (sv < 0) {
+            snprintf(runs[i].dir, sizeof runs[i].dir, "%s", dir);
+            continue;
+        }
+        char num[40];
+        const scene_var *var = scene_var_at((size_t)sv);
+        scene_format_real(sc->values[sv].list[i], num, sizeof num);
+        snprintf(runs[i].dir, sizeof runs[i].dir, "%s/%s=%s", dir, var->name, num);
+        printf("! sweep %s = %s -> %s\n", var->name, num, runs[i].dir);
+    }
+}
+
+/* DIR/sweep.tsv: every run's granules.tsv rows, the swept value first. */
+static int write_sweep_table(const scene *sc, int sv, const char *dir, const run *runs, size_t n)
+{
+    char msg[600];
+    const char *name = scene_var_at((size_t)sv)->name;
+    out_file *f = out_open(dir, "sweep.tsv", msg, sizeof msg);
+    if (!f) goto fail;
+    fprintf(f->fp, "# taper %s sweep over %s: the rows of every %s=VALUE/granules.tsv\n",
+            taper_version(), name, name);
+    for (size_t i = 0; i < n; i++) {
+        out_columns cols;
+        run_columns(&runs[i], &cols);
+        out_write_rows(f->fp, &cols, name, sc->values[sv].list[i], i == 0);
+    }
+    if (out_commit(f, msg, sizeof msg) != 0) goto fail;
+    printf("! wrote %s/sweep.tsv\n", dir);
+    return EXIT_COMPLETE;
+fail:
+    fprintf(stderr, "%s: %s\n", sc->path, msg);
+    return EXIT_FAILED;
+}
+
+static void fill_point(const run *r, report_point *p, const char *param_name)
+{
+    memset(p, 0, sizeof *p);
+    p->spec = r->spec;
+    p->param = strcmp(param_name, "s") == 0 ? r->spec.s : r->spec.q;
+    p->src.n = taper_chain_size(r->chain);
+    p->src.theory_v = r->theory[0];
+    p->src.theory_T = r->theory[2];
+    p->src.theory_t = r->theory[3];
+    if (r->sim)
+        for (int o = 0; o < TAPER_N_OBSERVABLES; o++) p->src.obs[o] = taper_sim_observable(r->sim, o);
+}
+
+/* Fits, table and figure of a complete scene. */
+static int write_reports(const scene *sc, const char *dir, const run *runs, size_t n)
+{
+    report rep = {.sc = sc, .dir = dir, .n = n};
+    const char *profile = scene_str(sc, "chain", "profile");
+    rep.param_name = strstr(profile, "exponential") ? "q" : "s";
+    if (!(rep.points = calloc(n, sizeof *rep.points))) return EXIT_FAILED;
+    for (size_t i = 0; i < n; i++) fill_point(&runs[i], &rep.points[i], rep.param_name);
+    analysis_apply(&rep);
+    char msg[700];
     int rc = EXIT_COMPLETE;
-    for (size_t i = 0; i < v->count && !interrupted; i++) {
-        char num[40], sub[4200];
-        scene_format_real(v->list[i], num, sizeof num);
-        snprintf(sub, sizeof sub, "%s/%s=%s", dir, var->name, num);
-        printf("! sweep %s = %s -> %s\n", var->name, num, sub);
-        rc = worst(rc, run_one(sc, i, sub));
+    if (scene_group_active(sc, "fit") && table_write_fits(&rep, msg, sizeof msg) != 0) rc = EXIT_FAILED;
+    if (rc == 0 && scene_group_active(sc, "table")) {
+        if (table_write(&rep, msg, sizeof msg) != 0) rc = EXIT_FAILED;
+        else table_print(&rep, stdout);
+    }
+    if (rc == 0 && scene_group_active(sc, "figure")) {
+        if (plot_write(&rep, msg, sizeof msg) != 0) rc = EXIT_FAILED;
+        int rendered = rc == 0 ? plot_render(dir, msg, sizeof msg) : -1;
+        if (rendered == 0) printf("! wrote %s/figure.png\n", dir);
+        if (rendered == 1) printf("! note: %s\n", msg), msg[0] = '\0';
+        if (rendered < 0) rc = EXIT_FAILED;
+    }
+    if (rc != 0) fprintf(stderr, "%s: %s\n", sc->path, msg);
+    free(rep.points);
+    return rc;
+}
+
+static int run_all(const scene *sc, const char *dir)
+{
+    int sv = scene_sweep_var(sc);
+    size_t n = sv < 0 ? 1 : sc->values[sv].count;
+    run *runs = calloc(n, sizeof *runs);
+    if (!runs) return EXIT_FAILED;
+    run_dirs(sc, sv, dir, runs, n);
+    int rc = EXIT_COMPLETE;
+    for (size_t i = 0; i < n; i++) {
+        runs[i].sc = sc;
+        runs[i].sweep_index = i;
+        runs[i].show_progress = n == 1;
+        prepare_run(&runs[i]);
+    }
+    sweep_parallel(n, (unsigned)scene_int(sc, "output", "threads"), compute_run, runs);
+    for (size_t i = 0; i < n; i++) {
+        finish_run(&runs[i]);
+        rc = worst(rc, runs[i].rc);
     }
     if (interrupted) rc = worst(rc, EXIT_PARTIAL);
+    if (rc == EXIT_COMPLETE && sv >= 0) rc = write_sweep_table(sc, sv, dir, runs, n);
+    if (rc == EXIT_COMPLETE) rc = write_reports(sc, dir, runs, n);
+    for (size_t i = 0; i < n; i++) run_free(&runs[i]);
+    free(runs);
     return rc;
 }
 
@@ -333,9 +457,7 @@ static int run_scene(const char *path, const char *out_dir)
     install_sigint();
     scene_write(sc, stdout, 0);
     fflush(stdout);
-    const char *dir = scene_str(sc, "output", "dir");
-    int sv = scene_sweep_var(sc);
-    int rc = sv < 0 ? run_one(sc, 0, dir) : run_sweep(sc, sv, dir);
+    int rc = run_all(sc, scene_str(sc, "output", "dir"));
     scene_free(sc);
     return rc;
 }

@@ -152,13 +152,20 @@ void out_cell(FILE *fp, double x, int last)
     fputc(last ? '\n' : '\t', fp);
 }
 
-void out_write_table(FILE *fp, const out_columns *cols)
+void out_write_rows(FILE *fp, const out_columns *cols, const char *lead_name, double lead,
+                    int header)
 {
-    for (size_t c = 0; c < OUT_N_COLUMNS; c++)
-        fprintf(fp, "%s%c", out_column_names[c], c + 1 < OUT_N_COLUMNS ? '\t' : '\n');
+    if (header) {
+        if (lead_name) fprintf(fp, "%s\t", lead_name);
+        for (size_t c = 0; c < OUT_N_COLUMNS; c++)
+            fprintf(fp, "%s%c", out_column_names[c], c + 1 < OUT_N_COLUMNS ? '\t' : '\n');
+    }
     for (size_t k = 1; k <= cols->n; k++) {
+        if (lead_name) out_cell(fp, lead, 0);
         fprintf(fp, "%zu\t", k);
         for (size_t c = 1; c < OUT_N_COLUMNS; c++)
             out_cell(fp, cols->col[c] ? cols->col[c][k - 1] : NAN, c + 1 == OUT_N_COLUMNS);
     }
 }
+
+void out_write_table(FILE *fp, const out_columns *cols) { out_write_rows(fp, cols, NULL, 0, 1); }

@@ -50,5 +50,10 @@ typedef struct out_columns {
 
 /* Writes the header line and the rows. */
 void out_write_table(FILE *fp, const out_columns *cols);
+/* The same rows with a leading column lead_name = lead (the swept value of
+ * a combined sweep table; lead_name NULL: none), the header line only when
+ * header != 0. */
+void out_write_rows(FILE *fp, const out_columns *cols, const char *lead_name, double lead,
+                    int header);
 
 #endif

@@ -20,6 +20,30 @@ static const char *const profiles[] = {
     "backward_exponential", "forward_exponential", "custom", NULL,
 };
 static const char *const methods[] = {"adams", "bdf", NULL};
+static const char *const fit_models[] = {
+    "none", "power", "exponential", "divergence_b", "divergence_c", "divergence_m", NULL,
+};
+/* Per-granule quantities, each for the numerics and for the theory alike
+ * (series.c): see the doc strings of &fit x and y. */
+static const char *const quantities[] = {"k", "v", "T_res", "t", "t_reach", "t_peak", NULL};
+static const char *const fit_params[] = {"a", "b", "c", "m", "p", "f", NULL};
+static const char *const theories[] = {"fit", "rate", "f", "b", NULL};
+static const char *const curves[] = {"both", "theory", "numerics", NULL};
+
+/* The groups, in the order they are written and documented. */
+static const char *const groups[][2] = {
+    {"chain", "the granular chain: radius profile, size, contact law"},
+    {"solver", "the integration of the equations of motion (CVODE)"},
+    {"output", "where and how results are written"},
+    {"fit", "a fit applied to every run of the scene, to numerics and theory alike"},
+    {"table", "a table of the fitted parameter over the sweep, next to the paper's values"},
+    {"figure", "a figure: per-granule data of every run, and the fit as an inset"},
+};
+#define N_GROUPS (sizeof groups / sizeof groups[0])
+
+size_t scene_group_count(void) { return N_GROUPS; }
+const char *scene_group_name(size_t i) { return i < N_GROUPS ? groups[i][0] : NULL; }
+const char *scene_group_doc(size_t i) { return i < N_GROUPS ? groups[i][1] : NULL; }
 
 /* Bounds are generous but finite: a number outside them is a typo, not a
  * physics question (the stress matrix of issue 7 stays well inside). */
@@ -60,8 +84,78 @@ static const scene_var table[] = {
      "output directory, created if missing (default out/NAME for scene NAME.nml; -o overrides)"},
     {"output", "progress", SCENE_LOGICAL, 0, ".true.", 0, 0, NULL,
      "show a progress line on stderr when it is a terminal"},
+    {"output", "threads", SCENE_INTEGER, 0, "0", 0, 256, NULL,
+     "runs of a sweep computed at once (results identical to one at a time); 0: one per core"},
+
+    {"fit", "model", SCENE_STRING, 0, "'none'", 0, 0, fit_models,
+     "'none' (no fit), or y = 'power' a x^b, 'exponential' a e^(b x), 'divergence_b' "
+     "a (1 - b x)^-p, 'divergence_c' a (1 - x/C)^-p, 'divergence_m' a (1 + x/M)^-f; fitted "
+     "to ln y; writes DIR/fits.tsv"},
+    {"fit", "x", SCENE_STRING, 0, "'k'", 0, 0, quantities,
+     "abscissa: k (granule), v (numerics: v_peak; theory: v_k, eq. recv), T_res (T_res; T_k), "
+     "t (pulse passes k: t_pass; eq. totaltime), t_reach (pulse reaches k: t of k-1), "
+     "t_peak (time of v_peak; theory: t_reach, when k leaves its collision with k-1)"},
+    {"fit", "y", SCENE_STRING, 0, "'v'", 0, 0, quantities,
+     "ordinate, one of the quantities of x"},
+    {"fit", "k_min", SCENE_INTEGER, 0, "1", 1, 1e7, NULL,
+     "first granule of the fit window"},
+    {"fit", "k_max", SCENE_INTEGER, 0, "0", 0, 1e7, NULL,
+     "last granule of the fit window; 0: the last granule with a value"},
+    {"fit", "p", SCENE_REAL, SCENE_LO_OPEN, NULL, 0, 100, NULL,
+     "fixed exponent p of divergence_b and divergence_c; left out: 3/2 (divergence_b), "
+     "fitted (divergence_c)"},
+    {"fit", "report", SCENE_STRING, 0, "'b'", 0, 0, fit_params,
+     "the parameter tabulated: a or b (power, exponential, divergence_b), p (divergence_b, "
+     "_c), c (divergence_c), m or f (divergence_m)"},
+    {"fit", "factor", SCENE_REAL, 0, "1", -1e3, 1e3, NULL,
+     "the tabulated value is factor * parameter (e.g. -1: a decay rate from b < 0)"},
+    {"fit", "label", SCENE_STRING, 0, "''", 0, 0, NULL,
+     "name of the tabulated value in tables and plots; empty: the parameter's name"},
+    {"fit", "theory", SCENE_STRING, 0, "'fit'", 0, 0, theories,
+     "theory column: 'fit' (the same fit of the exact binary-collision theory), or the "
+     "closed form: 'rate' |ln A(q)|, 'f' f(q) (q -> -q for forward chains), 'b' S/(1+S)"},
+
+    {"table", "name", SCENE_STRING, 0, "''", 0, 0, NULL,
+     "table label (e.g. 'Table I'); non-empty: write DIR/table.tsv and print the table"},
+    {"table", "caption", SCENE_STRING, 0, "''", 0, 0, NULL, "one line printed above the table"},
+    {"table", "digits", SCENE_INTEGER, 0, "4", 1, 12, NULL,
+     "decimals printed on stdout (table.tsv has every digit)"},
+    {"table", "paper_theory", SCENE_REAL_LIST, 0, NULL, 0, 0, NULL,
+     "the paper's theory column, one value per swept value"},
+    {"table", "paper_numerics", SCENE_REAL_LIST, 0, NULL, 0, 0, NULL,
+     "the paper's numerics column, one value per swept value"},
+
+    {"figure", "name", SCENE_STRING, 0, "''", 0, 0, NULL,
+     "figure label (e.g. 'Fig. 1'); non-empty: write DIR/figure.gp, its data, and "
+     "DIR/figure.png when gnuplot is installed"},
+    {"figure", "title", SCENE_STRING, 0, "''", 0, 0, NULL, "title line of the plot"},
+    {"figure", "x", SCENE_STRING, 0, "'k'", 0, 0, quantities,
+     "abscissa of the main panel (quantities as for &fit x)"},
+    {"figure", "y", SCENE_STRING, 0, "'v'", 0, 0, quantities, "ordinate of the main panel"},
+    {"figure", "curves", SCENE_STRING, 0, "'both'", 0, 0, curves,
+     "series drawn: theory (open circles), numerics (filled circles), or both"},
+    {"figure", "log_x", SCENE_LOGICAL, 0, ".false.", 0, 0, NULL, "logarithmic x axis"},
+    {"figure", "log_y", SCENE_LOGICAL, 0, ".false.", 0, 0, NULL, "logarithmic y axis"},
+    {"figure", "every", SCENE_INTEGER, 0, "1", 1, 1e6, NULL,
+     "draw every n-th granule (the first and every n-th after it)"},
+    {"figure", "k_max", SCENE_INTEGER, 0, "0", 0, 1e7, NULL,
+     "last granule drawn; 0: the whole chain"},
+    {"figure", "x_label", SCENE_STRING, 0, "''", 0, 0, NULL, "x axis label; empty: from x"},
+    {"figure", "y_label", SCENE_STRING, 0, "''", 0, 0, NULL, "y axis label; empty: from y"},
+    {"figure", "inset", SCENE_LOGICAL, 0, ".false.", 0, 0, NULL,
+     "second panel: the &fit value of theory and numerics against the swept variable"},
+    {"figure", "inset_reference", SCENE_REAL, 0, NULL, -1e3, 1e3, NULL,
+     "a horizontal line in the inset (e.g. an asymptotic exponent); left out: none"},
 };
 #define N_VARS (sizeof table / sizeof table[0])
+
+int scene_group_active(const scene *sc, const char *group)
+{
+    if (strcmp(group, "fit") == 0) return strcmp(scene_str(sc, "fit", "model"), "none") != 0;
+    if (strcmp(group, "table") == 0 || strcmp(group, "figure") == 0)
+        return scene_str(sc, group, "name")[0] != '\0';
+    return 1;
+}
 
 size_t scene_var_count(void) { return N_VARS; }
 

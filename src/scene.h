@@ -46,7 +46,7 @@ typedef enum scene_type {
 
 /* One row of the variable table. */
 typedef struct scene_var {
-    const char *group;            /* "chain", "solver", "output"               */
+    const char *group;            /* "chain", "solver", "output", "fit", ...   */
     const char *name;             /* lower case                                */
     scene_type type;
     unsigned flags;
@@ -57,6 +57,11 @@ typedef struct scene_var {
                                      NULL: any string                          */
     const char *doc;              /* one line                                  */
 } scene_var;
+
+/* The groups (chain, solver, output, fit, table, figure), in order. */
+size_t scene_group_count(void);
+const char *scene_group_name(size_t i);   /* NULL past the end */
+const char *scene_group_doc(size_t i);
 
 /* The table, and lookups in it. */
 size_t scene_var_count(void);
@@ -125,6 +130,11 @@ long long scene_int(const scene *sc, const char *group, const char *name);
 int scene_bool(const scene *sc, const char *group, const char *name);
 /* Replaces a string value (e.g. -o DIR).  0 on success, -1 out of memory. */
 int scene_set_str(scene *sc, const char *group, const char *name, const char *value);
+
+/* 1 when the optional group (fit, table, figure) is switched on
+ * (&fit model != 'none', &table / &figure name non-empty); 1 for the
+ * groups every scene has. */
+int scene_group_active(const scene *sc, const char *group);
 
 /* The swept variable: its table index, or -1 when no variable has more than
  * one value.  scene_validate rejects sweeps of more than one variable. */

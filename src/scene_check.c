@@ -167,6 +167,8 @@ static void check_backward_exponential(scene *sc)
     }
 }
 
+static void check_optional(scene *sc, const char *profile, long long n);
+
 static void check_relations(scene *sc)
 {
     const char *profile = val(sc, "chain", "profile")->str;
@@ -186,9 +188,98 @@ static void check_relations(scene *sc)
     if (s->count > 1 && q->count > 1)
         scene_error(sc, q->line, "chain", "q",
                     "only one variable may be swept at a time (s, line %d, is a list too)", s->line);
+    check_optional(sc, profile, n);
     if (!val(sc, "output", "dir")->str[0])
         scene_error(sc, val(sc, "output", "dir")->line, "output", "dir",
                     "the output directory must not be empty");
+}
+
+/* The fit's tabulated parameter must be one the model has. */
+static void check_fit_report(scene *sc)
+{
+    static const char *const params[][2] = {
+        {"power", "ab"}, {"exponential", "ab"}, {"divergence_b", "abp"},
+        {"divergence_c", "acp"}, {"divergence_m", "amf"},
+    };
+    const char *model = val(sc, "fit", "model")->str;
+    scene_value *r = val(sc, "fit", "report");
+    for (size_t i = 0; i < sizeof params / sizeof params[0]; i++) {
+        if (strcmp(params[i][0], model) != 0) continue;
+        if (!strchr(params[i][1], r->str[0]))
+            scene_error(sc, r->line, "fit", "report",
+                        "model '%s' has no parameter '%s': report one of %s", model, r->str,
+                        params[i][1]);
+    }
+    scene_value *p = val(sc, "fit", "p");
+    if (p->count > 0 && strcmp(model, "divergence_b") != 0 && strcmp(model, "divergence_c") != 0)
+        scene_error(sc, p->line, "fit", "p",
+                    "p is the fixed exponent of divergence_b and divergence_c, not of '%s': "
+                    "remove it", model);
+}
+
+/* A closed-form theory column exists only for its profile. */
+static void check_fit_theory(scene *sc, const char *profile)
+{
+    scene_value *t = val(sc, "fit", "theory");
+    int expo = strstr(profile, "exponential") != NULL;
+    if ((strcmp(t->str, "rate") == 0 || strcmp(t->str, "f") == 0) && !expo)
+        scene_error(sc, t->line, "fit", "theory",
+                    "theory = '%s' is a law of the exponential chains, not of '%s': use 'fit'",
+                    t->str, profile);
+    if (strcmp(t->str, "b") == 0 && strcmp(profile, "forward_linear") != 0)
+        scene_error(sc, t->line, "fit", "theory",
+                    "theory = 'b' (S/(1+S)) is a law of forward_linear chains: use 'fit'");
+}
+
+static void check_window(scene *sc, const char *group, const char *key, long long n)
+{
+    scene_value *k = val(sc, group, key);
+    if (k->ival > n)
+        scene_error(sc, k->line, group, key,
+                    "%s = %lld is beyond the chain (n_granules = %lld)", key, k->ival, n);
+}
+
+static void check_fit(scene *sc, const char *profile, long long n)
+{
+    check_fit_report(sc);
+    check_fit_theory(sc, profile);
+    check_window(sc, "fit", "k_min", n);
+    check_window(sc, "fit", "k_max", n);
+    scene_value *lo = val(sc, "fit", "k_min"), *hi = val(sc, "fit", "k_max");
+    if (hi->ival > 0 && hi->ival < lo->ival + 2)
+        scene_error(sc, hi->line, "fit", "k_max",
+                    "the window k_min = %lld .. k_max = %lld has fewer than 3 granules",
+                    lo->ival, hi->ival);
+}
+
+/* Optional groups: what each needs from the others. */
+static void check_optional(scene *sc, const char *profile, long long n)
+{
+    int fit = scene_group_active(sc, "fit");
+    if (fit) check_fit(sc, profile, n);
+    int sv = scene_sweep_var(sc);
+    size_t points = sv < 0 ? 1 : sc->values[sv].count;
+    if (scene_group_active(sc, "table")) {
+        scene_value *name = val(sc, "table", "name");
+        if (!fit)
+            scene_error(sc, name->line, "table", "name",
+                        "a table tabulates the fit: give &fit model (and x, y, window)");
+        const char *lists[] = {"paper_theory", "paper_numerics"};
+        for (int i = 0; i < 2; i++) {
+            scene_value *l = val(sc, "table", lists[i]);
+            if (l->given && l->count != points)
+                scene_error(sc, l->line, "table", lists[i],
+                            "%zu values for %zu runs: give one value per swept value", l->count,
+                            points);
+        }
+    }
+    if (scene_group_active(sc, "figure")) {
+        check_window(sc, "figure", "k_max", n);
+        scene_value *inset = val(sc, "figure", "inset");
+        if (inset->bval && !fit)
+            scene_error(sc, inset->line, "figure", "inset",
+                        "the inset shows the fit: give &fit model (and x, y, window)");
+    }
 }
 
 size_t scene_validate(scene *sc)

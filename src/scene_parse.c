@@ -533,9 +533,8 @@ static int parse_assignment(parser *p, const char *group)
 
 static int group_index(const char *name)
 {
-    static const char *const groups[] = {"chain", "solver", "output"};
-    for (int i = 0; i < 3; i++)
-        if (strcmp(groups[i], name) == 0) return i;
+    for (size_t i = 0; i < scene_group_count(); i++)
+        if (strcmp(scene_group_name(i), name) == 0) return (int)i;
     return -1;
 }
 
@@ -547,7 +546,8 @@ static int parse_group(parser *p)
     int gi = p->tok.len < sizeof group ? group_index(group) : -1;
     if (gi < 0) {
         scene_error(p->sc, line, tok_text(&p->tok, buf, sizeof buf), NULL,
-                    "unknown group (groups: &chain, &solver, &output)");
+                    "unknown group (groups: &chain, &solver, &output, &fit, &table, "
+                    "&figure)");
         return -1;
     }
     if (p->group_line[gi]) {

@@ -11,13 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const group_doc[][2] = {
-    {"chain", "the granular chain: radius profile, size, contact law"},
-    {"solver", "the integration of the equations of motion (CVODE)"},
-    {"output", "where and how results are written"},
-};
-#define N_GROUPS 3
-
 void scene_format_real(double x, char *buf, size_t size)
 {
     /* Shortest representation that reads back exactly: tidy scenes, and
@@ -119,7 +112,7 @@ static void write_var(const scene_var *var, const scene_value *v, FILE *fp, int 
         fprintf(fp, "  ! %-10s = %-18s ! %s\n", var->name, "'out/NAME'", var->doc);
         return;
     }
-    if (var->type == SCENE_REAL_LIST || (var->type == SCENE_REAL && v->count > 1)) {
+    if (var->type == SCENE_REAL_LIST || (var->type == SCENE_REAL && v->count != 1)) {
         if (v->count == 0) {
             /* Namelists cannot say "empty list": leave it out, documented. */
             fprintf(fp, "  ! %s = (none)%s%s\n", var->name, doc ? "  ! " : "", doc ? var->doc : "");
@@ -142,12 +135,16 @@ static void write_var(const scene_var *var, const scene_value *v, FILE *fp, int 
 /* sweep_index: write only that value of a swept variable (SIZE_MAX: all). */
 static void write_scene(const scene *sc, FILE *fp, int doc, size_t sweep_index)
 {
-    for (size_t g = 0; g < N_GROUPS; g++) {
-        if (doc) fprintf(fp, "! &%s: %s\n", group_doc[g][0], group_doc[g][1]);
-        fprintf(fp, "&%s\n", group_doc[g][0]);
+    for (size_t g = 0; g < scene_group_count(); g++) {
+        const char *group = scene_group_name(g);
+        /* The echo leaves out optional groups that are off: shorter, and
+         * the same scene. */
+        if (!doc && !scene_group_active(sc, group)) continue;
+        if (doc) fprintf(fp, "! &%s: %s\n", group, scene_group_doc(g));
+        fprintf(fp, "&%s\n", group);
         for (size_t i = 0; i < scene_var_count(); i++) {
             const scene_var *var = scene_var_at(i);
-            if (strcmp(var->group, group_doc[g][0]) != 0) continue;
+            if (strcmp(var->group, group) != 0) continue;
             scene_value one = sc->values[i];
             if ((var->flags & SCENE_SWEEP) && one.count > 1 && sweep_index < one.count) {
                 one.list += sweep_index; /* a view of one element, nothing owned */
@@ -175,7 +172,8 @@ static void doc_default(const scene *sc, size_t i, char *buf, size_t size)
         snprintf(buf, size, "`'out/NAME'` for NAME.nml");
         return;
     }
-    if (var->type == SCENE_REAL_LIST) {
+    if (var->type == SCENE_REAL_LIST || (var->type == SCENE_REAL && !var->def &&
+                                         !(var->flags & SCENE_LIBDEF))) {
         snprintf(buf, size, "none");
         return;
     }
@@ -204,18 +202,33 @@ static const char doc_intro[] =
     "\n"
     "**Sweeps.** `s` and `q` accept a list of values (`s = 0.1, 0.2, 0.3`); only one\n"
     "variable may be swept.  The driver then runs each value into its own\n"
-    "sub-directory `DIR/s=VALUE/` (`DIR/q=VALUE/`).  Every other real takes one value.\n";
+    "sub-directory `DIR/s=VALUE/` (`DIR/q=VALUE/`), and writes the combined table\n"
+    "`DIR/sweep.tsv` (the swept value as first column, then the columns of\n"
+    "`granules.tsv`).  Runs are computed in parallel (`&output threads`), with results\n"
+    "identical to serial runs.  Every other real takes one value.\n"
+    "\n"
+    "**Fits, tables, figures.** `&fit` fits one per-granule quantity against another\n"
+    "over a window of granules, for every run, to the numerics and to the exact\n"
+    "binary-collision theory alike, each with its standard error (`DIR/fits.tsv`).\n"
+    "`&table` tabulates the fitted value over the sweep next to the paper's printed\n"
+    "values (`DIR/table.tsv`, and on stdout).  `&figure` writes the per-granule data\n"
+    "(`DIR/figure.tsv`), the fits (`DIR/fits.tsv`) and a gnuplot script\n"
+    "(`DIR/figure.gp`), and renders `DIR/figure.png` when gnuplot is installed.\n"
+    "These three groups are off unless `&fit model` or `&table`/`&figure name` is\n"
+    "given.  The scenes of the paper's figures and tables are in\n"
+    "`share/scenes/paper/` (see docs/paper.md).\n";
 
 void scene_write_doc(const scene *sc, FILE *fp)
 {
     fputs(doc_intro, fp);
-    for (size_t g = 0; g < N_GROUPS; g++) {
-        fprintf(fp, "\n## `&%s`: %s\n\n", group_doc[g][0], group_doc[g][1]);
+    for (size_t g = 0; g < scene_group_count(); g++) {
+        const char *group = scene_group_name(g);
+        fprintf(fp, "\n## `&%s`: %s\n\n", group, scene_group_doc(g));
         fputs("| name | type | default | allowed | description |\n", fp);
         fputs("|------|------|---------|---------|-------------|\n", fp);
         for (size_t i = 0; i < scene_var_count(); i++) {
             const scene_var *var = scene_var_at(i);
-            if (strcmp(var->group, group_doc[g][0]) != 0) continue;
+            if (strcmp(var->group, group) != 0) continue;
             char def[300], range[256];
             doc_default(sc, i, def, sizeof def);
             scene_range_text(var, range, sizeof range);
