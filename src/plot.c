@@ -24,8 +24,13 @@ static void data_block(const report *r, const report_point *p, double *buf[4], F
               series_fill(&p->src, SERIES_NUMERICS, qy, buf[3]) == 0;
     series_fill(&p->src, SERIES_THEORY, qx, buf[0]);
     series_fill(&p->src, SERIES_THEORY, qy, buf[1]);
+    /* Log-log axes: about 40 points per decade of k instead of every n-th
+     * (which would leave the first decade nearly empty). */
+    int geometric = scene_bool(r->sc, "figure", "log_x") && scene_bool(r->sc, "figure", "log_y");
     fprintf(fp, "# %s = %.17g\n", r->param_name, p->param);
-    for (size_t i = 0; i < last; i += every) {
+    for (size_t i = 0, kept = 0; i < last; i += geometric ? 1 : every) {
+        if (geometric && i > 0 && (double)(i + 1) < 1.06 * (double)kept) continue;
+        kept = i + 1;
         out_cell(fp, p->param, 0);
         fprintf(fp, "%zu\t", i + 1);
         out_cell(fp, buf[0][i], 0);
@@ -91,6 +96,12 @@ static void gp_string(FILE *fp, const char *s)
     fputc('"', fp);
 }
 
+/* The paper writes S and q. */
+static const char *display_name(const report *r)
+{
+    return strcmp(r->param_name, "s") == 0 ? "S" : r->param_name;
+}
+
 static const char *label_or(const report *r, const char *key, const char *quantity)
 {
     const char *l = scene_str(r->sc, "figure", key);
@@ -103,19 +114,26 @@ static void script_head(const report *r, FILE *fp, int inset)
             scene_str(r->sc, "figure", "name"), r->sc->path);
     fputs("# Render: gnuplot figure.gp (in this directory) -> figure.png\n", fp);
     fprintf(fp, "if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
-                "    set terminal pngcairo size %d,640 enhanced font \"Sans,12\"\n"
+                "    set terminal pngcairo size %d,660 enhanced font \"Sans,12\"\n"
                 "} else {\n"
-                "    set terminal png size %d,640\n"
-                "}\n", inset ? 1200 : 860, inset ? 1200 : 860);
+                "    set terminal png size %d,660\n"
+                "}\n", inset ? 1300 : 900, inset ? 1300 : 900);
     fputs("set output \"figure.png\"\nset datafile missing \"nan\"\n"
-          "set border lw 1.2\nset tics scale 1.2\nset style line 100 lc rgb \"black\"\n", fp);
+          "set border lw 1.2\nset tics scale 1.2\n", fp);
+    /* Ten distinguishable colours, none black (black is the key's
+     * theory/numerics legend). */
+    static const char *const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
+                                          "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"};
+    for (int i = 0; i < 10; i++)
+        fprintf(fp, "set linetype %d lc rgb \"%s\"\n", i + 1, colours[i]);
+    fputs("set linetype cycle 10\n", fp);
 }
 
 static void main_panel(const report *r, FILE *fp, int inset)
 {
     const char *curves = scene_str(r->sc, "figure", "curves");
     int th = strcmp(curves, "numerics") != 0, nu = strcmp(curves, "theory") != 0;
-    if (inset) fputs("set multiplot\nset origin 0, 0\nset size 0.68, 1\n", fp);
+    if (inset) fputs("set multiplot\nset origin 0, 0\nset size 0.66, 1\n", fp);
     fputs("set title ", fp);
     char title[512];
     snprintf(title, sizeof title, "%s  %s", scene_str(r->sc, "figure", "name"),
@@ -125,12 +143,13 @@ static void main_panel(const report *r, FILE *fp, int inset)
     gp_string(fp, label_or(r, "x_label", "x"));
     fputs("\nset ylabel ", fp);
     gp_string(fp, label_or(r, "y_label", "y"));
-    fprintf(fp, "\n%s\n%s\n", scene_bool(r->sc, "figure", "log_x") ? "set logscale x" : "",
-            scene_bool(r->sc, "figure", "log_y") ? "set logscale y" : "");
+    fputc('\n', fp);
+    if (scene_bool(r->sc, "figure", "log_x")) fputs("set logscale x\nset format x \"10^{%L}\"\n", fp);
+    if (scene_bool(r->sc, "figure", "log_y")) fputs("set logscale y\nset format y \"10^{%L}\"\n", fp);
     fputs("set key outside right top spacing 1.1\nset mxtics\nset mytics\n", fp);
     fprintf(fp, "n = %zu\ntitles = \"", r->n);
     for (size_t i = 0; i < r->n; i++)
-        fprintf(fp, "%s%s=%g", i ? " " : "", r->param_name, r->points[i].param);
+        fprintf(fp, "%s%s=%g", i ? " " : "", display_name(r), r->points[i].param);
     fputs("\"\nplot \\\n", fp);
     if (th) fputs("  keyentry with points pt 6 ps 1.1 lc rgb \"black\" title \"theory\", \\\n", fp);
     if (nu) fputs("  keyentry with points pt 7 ps 0.9 lc rgb \"black\" title \"numerics\", \\\n", fp);
@@ -143,12 +162,28 @@ static void main_panel(const report *r, FILE *fp, int inset)
               "lc (i+1) title word(titles, i+1)\n", fp);
 }
 
+/* A tic step of 1, 2 or 5 times a power of ten giving 3-6 tics. */
+static double tic_step(const report *r)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < r->n; i++) {
+        lo = fmin(lo, r->points[i].param);
+        hi = fmax(hi, r->points[i].param);
+    }
+    double span = hi > lo ? hi - lo : fabs(hi) + 1e-300;
+    double unit = pow(10.0, floor(log10(span / 4.0)));
+    double step = span / 4.0 / unit;
+    return unit * (step < 1.5 ? 1.0 : step < 3.5 ? 2.0 : 5.0);
+}
+
 static void inset_panel(const report *r, FILE *fp)
 {
     double ref = scene_real(r->sc, "figure", "inset_reference");
-    fputs("unset logscale\nunset title\nset origin 0.69, 0.22\nset size 0.31, 0.62\n"
+    fputs("unset logscale\nunset title\nset format x \"% g\"\nset format y \"% g\"\n", fp);
+    fprintf(fp, "set xtics %.17g\n", tic_step(r));
+    fputs("set origin 0.67, 0.2\nset size 0.33, 0.66\n"
           "set key inside bottom right spacing 1.0 font \",10\"\nset mxtics\nset mytics\n", fp);
-    fprintf(fp, "set xlabel \"%s\"\nset ylabel ", r->param_name);
+    fprintf(fp, "set xlabel \"%s\"\nset ylabel ", display_name(r));
     gp_string(fp, analysis_label(r->sc));
     fputs("\nset offsets graph 0.08, graph 0.08, graph 0.15, graph 0.15\n", fp);
     fputs("plot \"inset.tsv\" using 1:2 with points pt 6 ps 1.3 lc rgb \"black\" title \"theory\", \\\n"
