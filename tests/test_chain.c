@@ -331,6 +331,27 @@ static void test_overflow(void **state)
     assert_int_not_equal(err.status, TAPER_OK);
 }
 
+/* Addressable but absurd sizes: the allocation fails at once with
+ * TAPER_ENOMEM (the mass-range check once looped over all N granules
+ * first: hours for N = 1e12).  8e12 bytes per array exceed any machine and
+ * Linux's overcommit heuristic, so malloc reliably says no. */
+static void test_absurd_size(void **state)
+{
+    (void)state;
+    const int profiles[] = {TAPER_MONODISPERSE, TAPER_BACKWARD_LINEAR, TAPER_FORWARD_EXPONENTIAL};
+    for (size_t i = 0; i < 3; i++) {
+        taper_chain_spec sp = spec_of(profiles[i], (size_t)1e12, 1e-9, 1e-15);
+        taper_error err;
+        taper_chain *c = taper_chain_alloc(&sp, &err);
+        assert_null(c);
+        assert_int_equal(err.status, TAPER_ENOMEM);
+        assert_non_null(strstr(err.message, "allocate"));
+    }
+    /* Out of mass range long before the end: named in O(log N) steps. */
+    taper_chain_spec sp = spec_of(TAPER_BACKWARD_EXPONENTIAL, (size_t)1e15, 0, 0.5);
+    expect_fail(&sp, TAPER_ERANGE, "granule 334");
+}
+
 static void test_names(void **state)
 {
     (void)state;
@@ -360,6 +381,7 @@ int main(void)
         cmocka_unit_test(test_invalid),
         cmocka_unit_test(test_invalid_custom),
         cmocka_unit_test(test_overflow),
+        cmocka_unit_test(test_absurd_size),
         cmocka_unit_test(test_names),
     };
     return cmocka_run_group_tests_name("chain", tests, NULL, NULL);
