@@ -193,7 +193,10 @@ typedef void (*taper_log_fn)(int level, const char *message, void *user);
 typedef struct taper_solver_spec {
     int method;             /* taper_method                                    */
     double rtol;            /* relative tolerance                              */
-    double atol;            /* absolute tolerance (velocities, compressions)   */
+    double atol;            /* absolute tolerance, in units of each granule's
+                               binary-collision scale (its velocity v_k and
+                               maximum compression): relative to the pulse
+                               wherever it is, however strong the taper       */
     size_t last_granule;    /* stop once every observable of granules
                                1..last_granule is known; 0: the whole chain   */
     int window;             /* non-zero: integrate only the granules that can
@@ -233,7 +236,8 @@ typedef struct taper_stats {
     size_t granule_reached; /* highest k with t_pass(k) known                 */
     double t_final;         /* time the run ended                             */
     double energy_error;    /* |E(t_final) - E(0)| / E(0)                     */
-    double momentum_error;  /* |P(t_final) - P(0)| / P(0)                     */
+    double momentum_error;  /* |P(t_final) - P(0)| / max(P(0), sum m_k |v_k|):
+                               relative to the momentum in motion            */
     int complete;           /* 1 when every requested observable is known     */
 } taper_stats;
 

@@ -47,6 +47,12 @@ struct taper_sim {
     double *x_free, *v_free, *gap_watch;
     double energy_free, momentum_free;
 
+    /* Absolute-tolerance scale of each granule's velocity and compression:
+     * the binary collision values v_k and z_max(k), so that atol is relative
+     * to the pulse wherever it is (it decays by 1e-60 over a strongly
+     * tapered backward chain). */
+    double *v_scale, *z_scale;
+
     /* CVODE */
     SUNContext ctx;
     void *cvode;

@@ -12,7 +12,8 @@
  *             a component, so CVODE is re-initialised (rare).
  *
  * Criterion 1, exact free flight (the clean case, e.g. backward chains): the
- * gaps on both sides of lo are open by more than GAP_MIN and not closing
+ * gaps on both sides of lo are open by more than GAP_MIN (in units of the
+ * granule's compression scale z_scale) and not closing
  * (v_{lo-1} <= v_lo <= v_{lo+1}).  Granule lo then moves at constant velocity
  * for ever unless the window pushes granule lo+1 back into it, which the gap
  * slot watches at compression 0 (gap_watch = 0): take-back is exact.
@@ -23,9 +24,11 @@
  * 1e-12 .. 1e-10 for rtol 2e-11), which criterion 1 rejects for ever, so the
  * window would span the whole chain behind the front (O(N^2) cost).  With
  * the error scales of the pulse
- *     v_eps = REST_FACTOR (rtol v_ref + atol),  z_eps = REST_FACTOR (rtol z_ref + atol)
+ *     v_eps = REST_FACTOR (rtol v_ref + atol v_scale),
+ *     z_eps = REST_FACTOR (rtol z_ref + atol z_scale)
  * (v_ref, z_ref: velocity of granule k+1 and compression z_k at the last pass
- * event, the pulse's largest), granule lo may leave, flying ballistically at
+ * event, the pulse's largest; v_scale, z_scale: the granule's own binary
+ * collision scales that make atol relative, see solve.c), granule lo may leave, flying ballistically at
  * its velocity, when
  *     |v_lo| <= v_eps,  |z_lo| <= z_eps,
  *     z_{lo-1} <= z_eps and v_{lo-1} <= v_lo + v_eps   (lo > 1),
@@ -48,8 +51,9 @@
 
 #include <math.h>
 
-/* A gap must be open by more than this (in units of R_1) before the granule
- * behind it may leave in free flight; avoids leaving and returning at once. */
+/* A gap must be open by more than this (in units of the granule's
+ * binary-collision compression scale) before the granule behind it may leave
+ * in free flight; avoids leaving and returning at once. */
 #define GAP_MIN 1e-9
 /* Criterion 2: leave within REST_FACTOR error units of rest, come back
  * beyond WATCH_FACTOR units of compression. */
@@ -84,13 +88,17 @@ static int can_leave(const taper_sim *sim, const double *y, size_t j, double *wa
     const double z = taper_dyn_z(d, y, j);
     const double z_back = j > 1 ? y[0] : -INFINITY; /* gap z_{j-1} */
     const double v_back = j > 1 ? d->v_left : -INFINITY;
-    if (z < -GAP_MIN && v <= v_next && z_back < -GAP_MIN && v_back <= v) {
+    /* open gaps, in units of the granules' compression scale (tiny far down
+     * a backward exponential chain) */
+    const double gap_j = GAP_MIN * sim->z_scale[j - 1];
+    const double gap_back = j > 1 ? GAP_MIN * sim->z_scale[j - 2] : 0.0;
+    if (z < -gap_j && v <= v_next && z_back < -gap_back && v_back <= v) {
         *watch = 0.0;
         return 1;
     }
     const double rtol = sim->spec.rtol, atol = sim->spec.atol;
-    const double v_eps = REST_FACTOR * (rtol * fabs(sim->v_ref) + atol);
-    const double z_eps = REST_FACTOR * (rtol * fabs(sim->z_ref) + atol);
+    const double v_eps = REST_FACTOR * (rtol * fabs(sim->v_ref) + atol * sim->v_scale[j - 1]);
+    const double z_eps = REST_FACTOR * (rtol * fabs(sim->z_ref) + atol * sim->z_scale[j - 1]);
     if (fabs(v) <= v_eps && fabs(z) <= z_eps && z_back <= z_eps && v_back <= v + v_eps) {
         *watch = WATCH_FACTOR / REST_FACTOR * z_eps;
         return 2;

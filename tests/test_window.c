@@ -12,7 +12,7 @@
  * approximations differ by at most the sum of their errors, so:
  *
  *  - window vs whole chain, same tolerance: <= AGREE error units
- *    (300: 6e-9 relative at the default rtol 2e-11);
+ *    (300: 3e-8 relative at the default rtol 1e-10);
  *  - the window is not less accurate than the whole chain: its distance to
  *    the reference is at most its whole-chain counterpart's plus SLACK units.
  *
@@ -102,25 +102,31 @@ static void same_trajectory(int profile, size_t n, double param)
         assert_true(err_w <= err_full + SLACK);
     }
 
-    /* The dropped granules: the final state agrees with the whole chain's
-     * (positions after correcting for the slightly different end times),
-     * and energy and momentum are conserved as well as by the whole chain. */
-    taper_stats sw, sf;
+    /* The dropped granules: the final state agrees with the 100x tighter
+     * reference's (positions corrected for the slightly different end
+     * times).  The reference, not the whole chain: at equal rtol the whole
+     * chain is the less accurate run (its WRMS norm is diluted by the idle
+     * granules; measured on backward linear S = 0.5: v_1 off by 3e-8 against
+     * the window's 7e-10). */
+    taper_stats sw, sf, sr;
     taper_sim_stats(w, &sw);
     taper_sim_stats(full, &sf);
+    taper_sim_stats(ref, &sr);
     double *xw = malloc(4 * n * sizeof(double));
     assert_non_null(xw);
-    double *vw = xw + n, *xf = xw + 2 * n, *vf = xw + 3 * n;
+    double *vw = xw + n, *xr = xw + 2 * n, *vr = xw + 3 * n;
     assert_int_equal(taper_sim_state(w, xw, vw, NULL), TAPER_OK);
-    assert_int_equal(taper_sim_state(full, xf, vf, NULL), TAPER_OK);
+    assert_int_equal(taper_sim_state(ref, xr, vr, NULL), TAPER_OK);
     /* Velocity scale: the largest velocity ever, at least the impulse's 1;
      * position errors are velocity errors accumulated over the run. */
     double vmax = 1.0, xmax = 0.0;
-    for (size_t k = 0; k < n; k++) vmax = fmax(vmax, fabs(vf[k])), xmax = fmax(xmax, fabs(xf[k]));
-    const double dt = sw.t_final - sf.t_final;
+    for (size_t k = 0; k < n; k++) vmax = fmax(vmax, fabs(vr[k])), xmax = fmax(xmax, fabs(xr[k]));
+    const double dt = sw.t_final - sr.t_final;
+    taper_solver_spec d;
+    taper_solver_spec_init(&d);
     for (size_t k = 0; k < n; k++) {
-        assert_double_abs(vw[k], vf[k], AGREE * (2e-11 * vmax + 1e-14));
-        assert_double_abs(xw[k], xf[k] + vf[k] * dt, AGREE * 2e-11 * (xmax + vmax * sf.t_final));
+        assert_double_abs(vw[k], vr[k], AGREE * (d.rtol * vmax + d.atol));
+        assert_double_abs(xw[k], xr[k] + vr[k] * dt, AGREE * d.rtol * (xmax + vmax * sr.t_final));
     }
     free(xw);
     /* Documented bound (docs/window.md): 1e-7 relative, both runs. */
@@ -167,7 +173,9 @@ static void criteria(void **state)
     double *x = malloc(n * sizeof(double));
     assert_non_null(x);
     assert_int_equal(taper_sim_state(sim, x, NULL, NULL), TAPER_OK);
-    const double eps = 100.0 * (2e-11 + 1e-14);
+    taper_solver_spec d;
+    taper_solver_spec_init(&d);
+    const double eps = 100.0 * (d.rtol + d.atol); /* monodisperse: scales are 1 */
     for (size_t k = 1; k + 1 < sim->dyn.lo; k++) assert_true(x[k - 1] - x[k] <= eps * (1.0 + 2.0 * sim->t));
     free(x);
     taper_sim_free(sim);
