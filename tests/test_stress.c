@@ -1,0 +1,488 @@
+/*
+ * test_stress.c -- the stability stress matrix (issue 7, docs/robustness.md).
+ *
+ * Every run of taper_sim_run over profiles, tapering parameters, chain
+ * lengths, contact exponents and tolerances must end in one of two ways:
+ *
+ *   - TAPER_OK: complete, every pass time of granules 1..N-1 finite,
+ *     positive and increasing, every peak velocity finite and positive,
+ *     energy conserved to ENERGY_BOUND(rtol), and (on the convergence
+ *     cases) pass times that converge as rtol is refined;
+ *   - a clear stop: TAPER_ELIMIT / TAPER_ESOLVER / TAPER_EINTERRUPTED with a
+ *     message naming the granule and the time, complete == 0, the pass
+ *     times found finite and every later one NaN (nothing passed off), or
+ *     the chain rejected up front (TAPER_EINVAL / TAPER_ERANGE with a
+ *     message).
+ *
+ * Guards keep every run bounded: max_steps, t_max (a multiple of the
+ * binary-collision time to cross the chain) and a wall-clock limit through
+ * the monitor.  Cases that hit a known, already reported limitation are
+ * marked KNOWN: they may stop (cleanly) or lose accuracy without failing
+ * the suite; a KNOWN case that crashes, hangs or passes off NaN still fails.
+ *
+ *   test_stress             the quick matrix (suite 'stress', < 60 s)
+ *   test_stress --full      the long matrix of docs/robustness.md
+ *                           (N up to 1e5; add --nmax N to cap it)
+ *
+ * Prints one line per run and closes with "N passed, N failed".
+ */
+#include "taper.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* Relative energy error allowed for a complete run at tolerance rtol and
+ * contact exponent n (docs/robustness.md).  Measured: up to ~7 rtol at loose
+ * tolerances, a floor near 2e-10 at tight ones (n = 5/2), and a floor that
+ * grows as the contact force r z^(n-1) loses smoothness at z = 0: 3e-8 for
+ * n = 2, 1.5e-6 for n = 3/2 at the default tolerance.  Bound: 1e3 rtol plus
+ * 1e-9 for n >= 5/2, 10^(-9 + 4 (5/2 - n)) below (1e-7 at n = 2, 1e-5 at
+ * n = 3/2). */
+static double energy_bound(double rtol, double n)
+{
+    double floor = n >= 2.5 ? 1e-9 : pow(10.0, -9.0 + 4.0 * (2.5 - n));
+    return 1e3 * rtol + floor;
+}
+
+/* Pass times converge: the error against a reference at 1e-3 of the
+ * tolerance is below CONV_FACTOR * rtol. */
+#define CONV_FACTOR 1e2
+
+typedef struct stress_case {
+    int profile;
+    double param;      /* s or q                                           */
+    size_t n;
+    double exponent;
+    double rtol, atol; /* atol 0: rtol * 1e-3                              */
+    int method;
+    const char *known; /* non-NULL: a known limitation, why                */
+} stress_case;
+
+typedef struct outcome {
+    int status;
+    char message[TAPER_MESSAGE_SIZE];
+    taper_stats stats;
+    double seconds;
+    double *t_pass;    /* copy, length n (NULL if the chain was rejected)  */
+    double *v_peak;
+    size_t n;
+} outcome;
+
+static long g_max_steps = 400000;
+static double g_wall_limit = 20.0;   /* seconds per run                  */
+static int g_verbose = 1;
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+typedef struct wall {
+    double start, limit;
+} wall;
+
+static int wall_monitor(const taper_progress *p, void *user)
+{
+    (void)p;
+    const wall *w = user;
+    return now() - w->start > w->limit;
+}
+
+static const char *profile_label(int profile)
+{
+    static const char *const short_names[] = {"mono", "BL", "FL", "BE", "FE", "custom"};
+    return profile >= 0 && profile <= 5 ? short_names[profile] : "?";
+}
+
+static void outcome_free(outcome *o)
+{
+    free(o->t_pass);
+    free(o->v_peak);
+    memset(o, 0, sizeof *o);
+}
+
+/* Runs one case with the guards. */
+static void run_case(const stress_case *c, double rtol, outcome *o)
+{
+    memset(o, 0, sizeof *o);
+    taper_chain_spec cs;
+    taper_chain_spec_init(&cs);
+    cs.profile = c->profile;
+    cs.n_granules = c->n;
+    cs.s = cs.q = c->param;
+    if (c->profile == TAPER_MONODISPERSE) cs.s = cs.q = 0.0;
+    cs.exponent = c->exponent;
+    taper_error err = {0};
+    double t0 = now();
+    taper_chain *chain = taper_chain_alloc(&cs, &err);
+    if (!chain) {
+        o->status = err.status;
+        snprintf(o->message, sizeof o->message, "%s", err.message);
+        o->seconds = now() - t0;
+        return;
+    }
+    /* t_max: 1000 times the theory's time to cross the chain (the theory
+     * is within a factor ~2 of the dynamics on every profile). */
+    double *T = malloc(c->n * sizeof *T);
+    double t_max = 0.0;
+    if (T && taper_theory_compute(chain, NULL, NULL, NULL, T, NULL) == TAPER_OK && c->n >= 2)
+        t_max = 1e3 * T[c->n - 2];
+    free(T);
+    if (!(t_max > 0.0) || !isfinite(t_max) || t_max > 1e300) t_max = 0.0;
+
+    taper_solver_spec ss;
+    taper_solver_spec_init(&ss);
+    ss.method = c->method;
+    ss.rtol = rtol;
+    ss.atol = c->atol > 0.0 ? c->atol * (rtol / c->rtol) : rtol * 1e-3;
+    if (ss.atol >= 1.0) ss.atol = 0.5;
+    ss.t_max = t_max;
+    ss.max_steps = g_max_steps;
+    wall w = {now(), g_wall_limit};
+    ss.monitor = wall_monitor;
+    ss.monitor_data = &w;
+    taper_sim *sim = taper_sim_alloc(chain, &ss, &err);
+    if (!sim) {
+        o->status = err.status;
+        snprintf(o->message, sizeof o->message, "%s", err.message);
+        taper_chain_free(chain);
+        o->seconds = now() - t0;
+        return;
+    }
+    o->status = taper_sim_run(sim, &err);
+    snprintf(o->message, sizeof o->message, "%s", o->status ? err.message : "");
+    taper_sim_stats(sim, &o->stats);
+    o->n = c->n;
+    o->t_pass = malloc(c->n * sizeof *o->t_pass);
+    o->v_peak = malloc(c->n * sizeof *o->v_peak);
+    if (o->t_pass && o->v_peak) {
+        memcpy(o->t_pass, taper_sim_observable(sim, TAPER_T_PASS), c->n * sizeof(double));
+        memcpy(o->v_peak, taper_sim_observable(sim, TAPER_V_PEAK), c->n * sizeof(double));
+    }
+    taper_sim_free(sim);
+    taper_chain_free(chain);
+    o->seconds = now() - t0;
+}
+
+/* The contract of a run's outcome (see the top).  Returns NULL when it
+ * holds, else what is wrong.  energy: also check the energy bound. */
+static const char *contract(const outcome *o, double rtol, double exponent, int *ok_run)
+{
+    static char why[TAPER_MESSAGE_SIZE + 128];
+    *ok_run = 0;
+    if (o->status == TAPER_EINVAL || o->status == TAPER_ERANGE)
+        return o->message[0] ? NULL : "rejected without a message";
+    if (!o->t_pass || !o->v_peak) return "out of memory in the test";
+    size_t n = o->n;
+    if (o->status == TAPER_OK) {
+        if (!o->stats.complete) return "TAPER_OK but stats.complete == 0";
+        for (size_t k = 0; k + 1 < n; k++) {
+            if (!(o->t_pass[k] > 0.0) || !isfinite(o->t_pass[k])) {
+                snprintf(why, sizeof why, "TAPER_OK with t_pass(%zu) = %g", k + 1, o->t_pass[k]);
+                return why;
+            }
+            if (k > 0 && !(o->t_pass[k] > o->t_pass[k - 1])) {
+                snprintf(why, sizeof why, "t_pass not increasing at granule %zu", k + 1);
+                return why;
+            }
+        }
+        for (size_t k = 0; k < n; k++)
+            if (!isnan(o->v_peak[k]) && !(o->v_peak[k] > 0.0 && isfinite(o->v_peak[k]))) {
+                snprintf(why, sizeof why, "v_peak(%zu) = %g", k + 1, o->v_peak[k]);
+                return why;
+            }
+        if (!isfinite(o->stats.energy_error)) return "energy error is not finite";
+        *ok_run = 1;
+        if (!(o->stats.energy_error <= energy_bound(rtol, exponent))) {
+            snprintf(why, sizeof why, "energy error %.3g > bound %.3g", o->stats.energy_error,
+                     energy_bound(rtol, exponent));
+            return why;
+        }
+        return NULL;
+    }
+    if (o->status != TAPER_ELIMIT && o->status != TAPER_ESOLVER && o->status != TAPER_EINTERRUPTED) {
+        snprintf(why, sizeof why, "unexpected status %d (%s)", o->status, o->message);
+        return why;
+    }
+    if (o->stats.complete) return "a stopped run claims to be complete";
+    if (!strstr(o->message, "granule") || !strstr(o->message, "t = "))
+        return "the stop message names no granule or time";
+    /* Pass times found are finite; beyond the pulse, NaN: nothing passed off. */
+    size_t reached = o->stats.granule_reached;
+    for (size_t k = 0; k + 1 < n; k++) {
+        int known = k + 1 <= reached;
+        if (known && !(isfinite(o->t_pass[k]) && o->t_pass[k] > 0.0)) {
+            snprintf(why, sizeof why, "granule_reached = %zu but t_pass(%zu) = %g", reached, k + 1,
+                     o->t_pass[k]);
+            return why;
+        }
+        if (!known && !isnan(o->t_pass[k])) {
+            snprintf(why, sizeof why, "granule_reached = %zu but t_pass(%zu) = %g is not NaN",
+                     reached, k + 1, o->t_pass[k]);
+            return why;
+        }
+    }
+    return NULL;
+}
+
+static double max_rel_diff(const double *a, const double *b, size_t n)
+{
+    double m = 0.0;
+    for (size_t k = 0; k < n; k++) {
+        if (isnan(a[k]) && isnan(b[k])) continue;
+        double scale = fmax(fabs(a[k]), fabs(b[k]));
+        double d = scale > 0.0 ? fabs(a[k] - b[k]) / scale : 0.0;
+        if (!(d <= m)) m = d;
+    }
+    return m;
+}
+
+static int g_passed, g_failed, g_known;
+
+static void case_label(const stress_case *c, double rtol, char *buf, size_t size)
+{
+    snprintf(buf, size, "%-6s %s=%-8.3g N=%-6zu n=%-4.3g rtol=%-7.1e %s", profile_label(c->profile),
+             c->profile == TAPER_BACKWARD_EXPONENTIAL || c->profile == TAPER_FORWARD_EXPONENTIAL ? "q"
+                                                                                                 : "S",
+             c->param, c->n, c->exponent, rtol, c->method == TAPER_BDF ? "bdf" : "adams");
+}
+
+static void verdict(const stress_case *c, double rtol, const outcome *o, const char *problem,
+                    const char *extra)
+{
+    char label[160];
+    case_label(c, rtol, label, sizeof label);
+    const char *tag;
+    if (!problem) {
+        tag = "ok";
+        g_passed++;
+    } else if (c->known) {
+        tag = "KNOWN";
+        g_known++;
+    } else {
+        tag = "FAIL";
+        g_failed++;
+    }
+    if (g_verbose || (problem && !c->known))
+        printf("%-5s %s  status=%d steps=%ld E=%.1e reached=%zu %.2fs%s%s%s%s%s\n", tag, label,
+               o->status, o->stats.steps, o->stats.energy_error, o->stats.granule_reached,
+               o->seconds, extra ? "  " : "", extra ? extra : "", problem ? "  [" : "",
+               problem ? problem : "", problem ? "]" : "");
+    if (o->status && g_verbose) printf("        message: %s\n", o->message);
+    if (problem && c->known && g_verbose) printf("        known: %s\n", c->known);
+    fflush(stdout);
+}
+
+/* One case at one tolerance. */
+static void check_case(const stress_case *c)
+{
+    outcome o;
+    run_case(c, c->rtol, &o);
+    int ok_run;
+    const char *problem = contract(&o, c->rtol, c->exponent, &ok_run);
+    verdict(c, c->rtol, &o, problem, NULL);
+    outcome_free(&o);
+}
+
+/* Convergence: runs at rtol, rtol/1e3 and a reference at rtol/1e6 (at
+ * least 1e-13): every run meets the contract, and the pass-time error
+ * shrinks with the tolerance and stays below CONV_FACTOR * rtol. */
+static void check_convergence(const stress_case *c)
+{
+    double r_ref = fmax(c->rtol * 1e-6, 1e-13);
+    double r_mid = fmax(c->rtol * 1e-3, 1e-13);
+    outcome ref, lo, mid;
+    run_case(c, r_ref, &ref);
+    run_case(c, c->rtol, &lo);
+    run_case(c, r_mid, &mid);
+    int ok_ref, ok_lo, ok_mid;
+    const char *problem = contract(&ref, r_ref, c->exponent, &ok_ref);
+    if (!problem) problem = contract(&lo, c->rtol, c->exponent, &ok_lo);
+    if (!problem) problem = contract(&mid, r_mid, c->exponent, &ok_mid);
+    char extra[160] = "";
+    static char why[200];
+    if (!problem && ok_ref && ok_lo && ok_mid) {
+        double e_lo = max_rel_diff(lo.t_pass, ref.t_pass, c->n);
+        double e_mid = max_rel_diff(mid.t_pass, ref.t_pass, c->n);
+        snprintf(extra, sizeof extra, "t_pass err %.1e (rtol) %.1e (rtol/1e3)", e_lo, e_mid);
+        if (!(e_lo <= CONV_FACTOR * c->rtol)) {
+            snprintf(why, sizeof why, "t_pass error %.3g > %g rtol", e_lo, CONV_FACTOR);
+            problem = why;
+        } else if (!(e_mid <= fmax(CONV_FACTOR * r_mid, 1e-9)) || !(e_mid <= e_lo || e_lo < 1e-10)) {
+            snprintf(why, sizeof why, "t_pass does not converge: %.3g at rtol/1e3 vs %.3g at rtol",
+                     e_mid, e_lo);
+            problem = why;
+        }
+    } else if (!problem) {
+        problem = "a convergence run stopped early";
+    }
+    verdict(c, c->rtol, &lo, problem, extra);
+    outcome_free(&ref);
+    outcome_free(&lo);
+    outcome_free(&mid);
+}
+
+/* ---- the matrices ---------------------------------------------------------- */
+
+static const char *const KNOWN_ATOL =
+    "known issue (1): atol is not scaled to the pulse; backward exponential q >= 0.3 "
+    "loses accuracy once v_pulse < atol";
+static const char *const KNOWN_MULTISCALE =
+    "known issue (4): forward exponential q >= 0.3 is multiscale, Adams needs millions of "
+    "steps (use method = 'bdf')";
+
+/* The last valid S of a forward linear chain of N granules: N < 1 + 1/S. */
+static double last_valid_s(size_t n) { return nextafter(1.0 / (double)(n - 1), 0.0); }
+
+static const char *const KNOWN_ORDER =
+    "finding A (reported, docs/robustness.md): in strongly forward-tapered chains granule k+1 "
+    "overtakes k before k overtakes k-1; the pass event of a granule outside the ring of armed "
+    "slots is missed and the run never completes (stops at t_max)";
+
+static const char *known_for(int profile, double param, size_t n)
+{
+    if (profile == TAPER_BACKWARD_EXPONENTIAL && param >= 0.3 && n > 20) return KNOWN_ATOL;
+    if (profile == TAPER_FORWARD_EXPONENTIAL && param >= 0.3 && n > 20) return KNOWN_MULTISCALE;
+    /* R_N / R_1 below ~1e-3 (forward exponential (1+q)^(1-N), forward
+     * linear near its last valid S): passes out of order. */
+    if (profile == TAPER_FORWARD_EXPONENTIAL && (double)(n - 1) * log1p(param) > 7.0) return KNOWN_ORDER;
+    if (profile == TAPER_FORWARD_LINEAR && 1.0 - param * (double)(n - 1) < 0.05) return KNOWN_ORDER;
+    return NULL;
+}
+
+static void quick_matrix(void)
+{
+    const int A = TAPER_ADAMS;
+    /* Parameter ranges at moderate N and the default tolerance. */
+    const double S_values[] = {1e-4, 0.1, 1.0, 10.0};
+    const double q_values[] = {1e-4, 0.1, 0.5};
+    for (size_t i = 0; i < sizeof S_values / sizeof *S_values; i++)
+        check_case(&(stress_case){TAPER_BACKWARD_LINEAR, S_values[i], 100, 2.5, 2e-11, 1e-14, A, NULL});
+    for (size_t i = 0; i < sizeof q_values / sizeof *q_values; i++) {
+        double q = q_values[i];
+        check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, q, 60, 2.5, 2e-11, 1e-14, A,
+                                  known_for(TAPER_BACKWARD_EXPONENTIAL, q, 60)});
+        size_t n_fe = q >= 0.3 ? 30 : 60;
+        check_case(&(stress_case){TAPER_FORWARD_EXPONENTIAL, q, n_fe, 2.5, 2e-11, 1e-14, A,
+                                  known_for(TAPER_FORWARD_EXPONENTIAL, q, n_fe)});
+        if (q >= 0.3) /* what known issue (4) suggests */
+            check_case(&(stress_case){TAPER_FORWARD_EXPONENTIAL, q, n_fe, 2.5, 2e-11, 1e-14, TAPER_BDF,
+                                      known_for(TAPER_FORWARD_EXPONENTIAL, q, n_fe)});
+    }
+    /* Forward linear up to the last valid S. */
+    const size_t fl_n[] = {2, 10, 50};
+    for (size_t i = 0; i < sizeof fl_n / sizeof *fl_n; i++) {
+        check_case(&(stress_case){TAPER_FORWARD_LINEAR, 0.5 / (double)(fl_n[i] - 1), fl_n[i], 2.5, 2e-11, 1e-14, A, NULL});
+        check_case(&(stress_case){TAPER_FORWARD_LINEAR, last_valid_s(fl_n[i]), fl_n[i], 2.5, 2e-11, 1e-14, A,
+                                  known_for(TAPER_FORWARD_LINEAR, last_valid_s(fl_n[i]), fl_n[i])});
+    }
+    /* Beyond the last valid S: rejected with a message. */
+    check_case(&(stress_case){TAPER_FORWARD_LINEAR, 1.0 / 9.0, 10, 2.5, 2e-11, 1e-14, A, NULL});
+    check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 1.0, 10, 2.5, 2e-11, 1e-14, A, NULL});
+    /* Chain lengths. */
+    const size_t ns[] = {2, 3, 10, 1000};
+    for (size_t i = 0; i < sizeof ns / sizeof *ns; i++) {
+        check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, ns[i], 2.5, 2e-11, 1e-14, A, NULL});
+        check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, ns[i], 2.5, 2e-11, 1e-14, A, NULL});
+    }
+    /* Contact exponents. */
+    const double exps[] = {1.5, 2.0, 3.0, 4.0};
+    for (size_t i = 0; i < sizeof exps / sizeof *exps; i++) {
+        check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, 50, exps[i], 2e-11, 1e-14, A, NULL});
+        check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 50, exps[i], 2e-11, 1e-14, A, NULL});
+        check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 0.1, 50, exps[i], 2e-11, 1e-14, A, NULL});
+    }
+    /* Tolerances from 1e-3 to 1e-13: the contract, and convergence. */
+    const double tols[] = {1e-3, 1e-6, 1e-9};
+    for (size_t i = 0; i < sizeof tols / sizeof *tols; i++) {
+        check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 40, 2.5, tols[i], 0.0, A, NULL});
+        check_convergence(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, 40, 2.5, tols[i], 0.0, A, NULL});
+        check_convergence(&(stress_case){TAPER_MONODISPERSE, 0.0, 40, 2.5, tols[i], 0.0, TAPER_BDF, NULL});
+    }
+    check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 100, 2.5, 1e-13, 1e-16, A, NULL});
+    check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 40, 1.5, 1e-6, 0.0, A, NULL});
+    check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 40, 4.0, 1e-6, 0.0, A, NULL});
+    /* Guards: a step limit and a time limit stop cleanly, nothing passed off. */
+    {
+        stress_case c = {TAPER_BACKWARD_LINEAR, 0.5, 200, 2.5, 2e-11, 1e-14, A, NULL};
+        long saved = g_max_steps;
+        g_max_steps = 500;
+        check_case(&c);
+        g_max_steps = saved;
+    }
+}
+
+static void full_matrix(size_t n_max)
+{
+    const int A = TAPER_ADAMS;
+    const size_t ns[] = {2, 10, 100, 1000, 10000, 100000};
+    const double S_values[] = {1e-4, 1e-2, 0.1, 0.5, 1.0, 3.0, 10.0};
+    const double q_values[] = {1e-4, 1e-3, 1e-2, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5};
+    const double exps[] = {1.5, 2.0, 2.5, 3.0, 4.0};
+    const double tols[] = {1e-3, 1e-5, 1e-7, 1e-9, 1e-11};
+    for (size_t a = 0; a < sizeof ns / sizeof *ns; a++) {
+        size_t n = ns[a];
+        if (n > n_max) continue;
+        check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, n, 2.5, 2e-11, 1e-14, A, NULL});
+        for (size_t i = 0; i < sizeof S_values / sizeof *S_values; i++)
+            check_case(&(stress_case){TAPER_BACKWARD_LINEAR, S_values[i], n, 2.5, 2e-11, 1e-14, A, NULL});
+        for (size_t i = 0; i < sizeof q_values / sizeof *q_values; i++) {
+            double q = q_values[i];
+            check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, q, n, 2.5, 2e-11, 1e-14, A,
+                                      known_for(TAPER_BACKWARD_EXPONENTIAL, q, n)});
+            check_case(&(stress_case){TAPER_FORWARD_EXPONENTIAL, q, n, 2.5, 2e-11, 1e-14, A,
+                                      known_for(TAPER_FORWARD_EXPONENTIAL, q, n)});
+        }
+        if (n >= 2) {
+            check_case(&(stress_case){TAPER_FORWARD_LINEAR, 0.5 / (double)(n - 1), n, 2.5, 2e-11, 1e-14, A, NULL});
+            check_case(&(stress_case){TAPER_FORWARD_LINEAR, 0.9 / (double)(n - 1), n, 2.5, 2e-11, 1e-14, A,
+                                      known_for(TAPER_FORWARD_LINEAR, 0.9 / (double)(n - 1), n)});
+            check_case(&(stress_case){TAPER_FORWARD_LINEAR, last_valid_s(n), n, 2.5, 2e-11, 1e-14, A,
+                                      known_for(TAPER_FORWARD_LINEAR, last_valid_s(n), n)});
+        }
+        if (n <= 1000)
+            for (size_t i = 0; i < sizeof exps / sizeof *exps; i++) {
+                check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, n, exps[i], 2e-11, 1e-14, A, NULL});
+                check_case(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, n, exps[i], 2e-11, 1e-14, A, NULL});
+            }
+        if (n <= 1000)
+            for (size_t i = 0; i < sizeof tols / sizeof *tols; i++) {
+                check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, n, 2.5, tols[i], 0.0, A, NULL});
+                check_convergence(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 0.1, n, 2.5, tols[i], 0.0, A, NULL});
+                check_convergence(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, n, 2.5, tols[i], 0.0, A, NULL});
+            }
+    }
+}
+
+int main(int argc, char **argv)
+{
+    int full = 0;
+    size_t n_max = 100000;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--full") == 0) {
+            full = 1;
+        } else if (strcmp(argv[i], "--nmax") == 0 && i + 1 < argc) {
+            n_max = (size_t)strtoull(argv[++i], NULL, 10);
+        } else if (strcmp(argv[i], "--quiet") == 0) {
+            g_verbose = 0;
+        } else {
+            fprintf(stderr, "usage: test_stress [--full [--nmax N]] [--quiet]\n");
+            return 2;
+        }
+    }
+    if (full) {
+        g_max_steps = 20000000;
+        g_wall_limit = 60.0;
+        full_matrix(n_max);
+    } else {
+        quick_matrix();
+    }
+    printf("%d passed, %d failed, %d known\n", g_passed, g_failed, g_known);
+    return g_failed != 0;
+}
