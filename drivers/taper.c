@@ -169,6 +169,13 @@ static int compute_theory(run *r)
     return EXIT_FAILED;
 }
 
+/* The library's warnings (level 1) go to stderr, named by scene; its
+ * information messages (level 0) are not shown. */
+static void report_warning(int level, const char *message, void *user)
+{
+    if (level >= 1) fprintf(stderr, "%s: warning: %s\n", (const char *)user, message);
+}
+
 static int simulate(run *r)
 {
     progress_state ps = {0};
@@ -179,6 +186,8 @@ static int simulate(run *r)
     scene_solver_spec(r->sc, &spec);
     spec.monitor = monitor;
     spec.monitor_data = &ps;
+    spec.log = report_warning;
+    spec.log_data = (void *)r->sc->path;
     if (!(r->sim = taper_sim_alloc(r->chain, &spec, &r->err))) {
         snprintf(r->message, sizeof r->message, "%s: %s", r->sc->path, r->err.message);
         return EXIT_FAILED;

@@ -184,10 +184,10 @@ typedef struct taper_progress {
  * keeping what was found).  Called from the thread running the simulation. */
 typedef int (*taper_monitor_fn)(const taper_progress *progress, void *user);
 
-/* Diagnostics the library would otherwise have printed (level 0: info,
- * 1: warning).  Optional; called from the thread running the simulation.
- * Note: version 0.1.0 has no such diagnostics yet and never calls it
- * (failures are reported through taper_error). */
+/* Diagnostics the library would otherwise have printed, called from the
+ * thread running the simulation: level 1 (warning) for CVODE's own messages
+ * and for peaks declared absent, level 0 (information) for window restarts.
+ * Optional: failures are reported through taper_error in any case. */
 typedef void (*taper_log_fn)(int level, const char *message, void *user);
 
 typedef struct taper_solver_spec {

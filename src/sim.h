@@ -84,6 +84,10 @@ void taper_events_record(taper_sim *sim, const int *roots_found, int *grow, int 
 int taper_events_complete(const taper_sim *sim);
 int taper_events_passes_complete(const taper_sim *sim);
 
+/* solve.c: hand a message to the caller's taper_log_fn, if any
+ * (level 0: information, 1: warning). */
+void taper_sim_log(const taper_sim *sim, int level, const char *fmt, ...) TAPER_PRINTF(3, 4);
+
 /* solve.c: re-initialise CVODE at the current state (counters are kept). */
 int taper_solver_restart(taper_sim *sim, taper_error *err);
 

@@ -16,6 +16,8 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -235,10 +237,24 @@ static int error_weights(N_Vector yv, N_Vector wv, void *user)
     return 0;
 }
 
+void taper_sim_log(const taper_sim *sim, int level, const char *fmt, ...)
+{
+    if (!sim->spec.log) return;
+    char text[TAPER_MESSAGE_SIZE];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    sim->spec.log(level, text, sim->spec.log_data);
+}
+
+/* CVODE's errors and warnings: kept for the error message of a failed run
+ * and passed on to the caller's log. */
 static void keep_solver_message(const char *message, void *user)
 {
     taper_sim *sim = user;
     strncpy(sim->solver_message, message, sizeof sim->solver_message - 1);
+    taper_sim_log(sim, 1, "%s", message);
 }
 
 /* ---- set-up ------------------------------------------------------------ */
@@ -435,6 +451,11 @@ static int integrate(taper_sim *sim, taper_error *err)
         if (status != TAPER_OK) return status;
         if (grace && sim->t >= tout && sim->t > t_before) break;
     }
+    if (sim->next_peak <= sim->target)
+        taper_sim_log(sim, 1,
+                      "no forward velocity maximum of granule %zu (nor of later ones up to %zu) "
+                      "within %g residence times after the last pass: their v_peak is nan",
+                      sim->next_peak, sim->target, PEAK_GRACE);
     return TAPER_OK;
 }
 

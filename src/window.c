@@ -153,6 +153,7 @@ int taper_window_take_back(taper_sim *sim, taper_error *err)
     d->v_left = j > 1 ? sim->v_free[j - 2] : 0.0;
     int status = apply_range(sim, err);
     if (status != TAPER_OK) return status;
+    taper_sim_log(sim, 0, "granule %zu rejoins the window at t = %.17g (its gap closed)", j, sim->t);
     double *y = taper_sim_data(sim, sim->y);
     y[taper_idx_v(j) - taper_dyn_begin(d)] = v;
     if (j > 1) y[0] = free_position(sim, j - 1) - free_position(sim, j);

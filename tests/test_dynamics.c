@@ -342,6 +342,40 @@ static void other_exponents(void **state)
     }
 }
 
+/* The log callback receives CVODE's own text on a solver failure, as a
+ * warning, while the run reports the failure through its status. */
+typedef struct {
+    int warnings;
+    char last[TAPER_MESSAGE_SIZE];
+} log_record;
+
+static void record_log(int level, const char *message, void *user)
+{
+    log_record *r = user;
+    if (level >= 1) r->warnings++;
+    snprintf(r->last, sizeof r->last, "%s", message);
+}
+
+static void log_receives_solver_messages(void **state)
+{
+    (void)state;
+    taper_chain *c = make_chain(TAPER_MONODISPERSE, 20, 0.0, NULL);
+    taper_solver_spec spec;
+    taper_solver_spec_init(&spec);
+    spec.rtol = 2.3e-15; /* a tolerance CVODE cannot meet */
+    spec.atol = 1e-300;
+    log_record rec = {0, ""};
+    spec.log = record_log;
+    spec.log_data = &rec;
+    taper_sim *sim = taper_sim_alloc(c, &spec, NULL);
+    taper_error err;
+    assert_int_equal(taper_sim_run(sim, &err), TAPER_ESOLVER);
+    assert_true(rec.warnings >= 1);
+    assert_non_null(strstr(rec.last, "CVODE"));
+    taper_sim_free(sim);
+    taper_chain_free(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -359,6 +393,7 @@ int main(void)
         cmocka_unit_test(limits_keep_partial_results),
         cmocka_unit_test(monitor_interrupts),
         cmocka_unit_test(bad_solver_specs_rejected),
+        cmocka_unit_test(log_receives_solver_messages),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
