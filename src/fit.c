@@ -270,15 +270,17 @@ static int run_solver(const model *m, const double th0[3], const taper_fit_spec 
 {
     const size_t n = m->pt->n, np = m->np;
     gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
+    /* The covariance and start vector are views of stack arrays: a failed
+     * gsl_*_alloc would call GSL's error handler (abort) before returning
+     * NULL.  The workspace (O(n np) doubles, the size of the points we
+     * already hold) is the one allocation left to GSL. */
+    double cov_data[9], th_data[3];
+    gsl_matrix_view cov_view = gsl_matrix_view_array(cov_data, np, np);
+    gsl_vector_view th_view = gsl_vector_view_array(th_data, np);
+    gsl_matrix *cov = &cov_view.matrix;
+    gsl_vector *th = &th_view.vector;
     gsl_multifit_nlinear_workspace *w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &par, n, np);
-    gsl_matrix *cov = gsl_matrix_alloc(np, np);
-    gsl_vector *th = gsl_vector_alloc(np);
-    if (!w || !cov || !th) {
-        gsl_multifit_nlinear_free(w);
-        gsl_matrix_free(cov);
-        gsl_vector_free(th);
-        return taper_fail(err, TAPER_ENOMEM, "fit: cannot allocate the nonlinear solver");
-    }
+    if (!w) return taper_fail(err, TAPER_ENOMEM, "fit: cannot allocate the nonlinear solver");
     for (size_t j = 0; j < np; j++) gsl_vector_set(th, j, th0[j]);
     gsl_multifit_nlinear_fdf fdf = {model_f, model_df, NULL, n, np, (void *)m, 0, 0, 0};
     int info = 0, status = gsl_multifit_nlinear_init(th, &fdf, w);
@@ -304,8 +306,6 @@ static int run_solver(const model *m, const double th0[3], const taper_fit_spec 
         out->iterations = gsl_multifit_nlinear_niter(w);
     }
     gsl_multifit_nlinear_free(w);
-    gsl_matrix_free(cov);
-    gsl_vector_free(th);
     return status;
 }
 
