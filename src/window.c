@@ -11,32 +11,35 @@
  *             returns with its ballistic state; this changes the history of
  *             a component, so CVODE is re-initialised (rare).
  *
+ * Error scales (from the tolerance):
+ *     v_eps = REST_FACTOR (rtol v_ref + atol v_scale),
+ *     z_eps = REST_FACTOR (rtol z_ref + atol z_scale)
+ * (v_ref, z_ref: velocity of granule k+1 and compression z_k at the last pass
+ * event, the pulse's largest; v_scale, z_scale: the granule's own binary
+ * collision scales that make atol relative, see solve.c).
+ *
  * Criterion 1, exact free flight (the clean case, e.g. backward chains): the
- * gaps on both sides of lo are open by more than GAP_MIN (in units of the
- * granule's compression scale z_scale) and not closing
+ * gaps on both sides of lo are open by more than z_eps and not closing
  * (v_{lo-1} <= v_lo <= v_{lo+1}).  Granule lo then moves at constant velocity
  * for ever unless the window pushes granule lo+1 back into it, which the gap
  * slot watches at compression 0 (gap_watch = 0): take-back is exact.
  *
  * Criterion 2, at rest within the tolerance (monodisperse chains, the tails
  * of forward chains): behind the pulse granules are left with velocities and
- * compressions of either sign at the level of the solver's error (about
- * 1e-12 .. 1e-10 for rtol 2e-11), which criterion 1 rejects for ever, so the
- * window would span the whole chain behind the front (O(N^2) cost).  With
- * the error scales of the pulse
- *     v_eps = REST_FACTOR (rtol v_ref + atol v_scale),
- *     z_eps = REST_FACTOR (rtol z_ref + atol z_scale)
- * (v_ref, z_ref: velocity of granule k+1 and compression z_k at the last pass
- * event, the pulse's largest; v_scale, z_scale: the granule's own binary
- * collision scales that make atol relative, see solve.c), granule lo may leave, flying ballistically at
- * its velocity, when
- *     |v_lo| <= v_eps,  |z_lo| <= z_eps,
+ * compressions of either sign at the level of the solver's error, or drifting
+ * as a block at that level, which criterion 1 rejects for ever, so the
+ * window would span the whole chain behind the front (O(N^2) cost).  Granule
+ * lo may leave, flying ballistically at its velocity, when
+ *     |v_lo| <= v_eps,  z_lo <= z_eps,
  *     z_{lo-1} <= z_eps and v_{lo-1} <= v_lo + v_eps   (lo > 1),
- * i.e. when its velocity and both contacts are within REST_FACTOR error units
- * of rest.  Why this is harmless: the gap z_lo it leaves behind is watched
+ * i.e. when its velocity is within REST_FACTOR error units of rest and its
+ * contacts are open or compressed by less than REST_FACTOR error units (an
+ * open gap exerts no force, whatever its size; requiring |z| small would
+ * strand granules whose gaps open at noise-level speed).  Why this is
+ * harmless: the gap z_lo it leaves behind is watched
  * with gap_watch = WATCH_FACTOR / REST_FACTOR * z_eps, so while lo is out the
  * one-sided force the window feels from it is at most r z_watch^(n-1), a
- * fraction (WATCH_FACTOR rtol)^(n-1) (3e-12 for n = 5/2 and the default rtol)
+ * fraction (WATCH_FACTOR rtol)^(n-1) (3e-11 for n = 5/2 and the default rtol)
  * of the pulse force r z_ref^(n-1): below what the tolerance resolves.  A
  * compression beyond z_watch (a real signal) takes the granule back exactly
  * as in criterion 1; the factor WATCH_FACTOR / REST_FACTOR = 10 between
@@ -51,10 +54,6 @@
 
 #include <math.h>
 
-/* A gap must be open by more than this (in units of the granule's
- * binary-collision compression scale) before the granule behind it may leave
- * in free flight; avoids leaving and returning at once. */
-#define GAP_MIN 1e-9
 /* Criterion 2: leave within REST_FACTOR error units of rest, come back
  * beyond WATCH_FACTOR units of compression. */
 #define REST_FACTOR 100.0
@@ -88,18 +87,18 @@ static int can_leave(const taper_sim *sim, const double *y, size_t j, double *wa
     const double z = taper_dyn_z(d, y, j);
     const double z_back = j > 1 ? y[0] : -INFINITY; /* gap z_{j-1} */
     const double v_back = j > 1 ? d->v_left : -INFINITY;
-    /* open gaps, in units of the granules' compression scale (tiny far down
-     * a backward exponential chain) */
-    const double gap_j = GAP_MIN * sim->z_scale[j - 1];
-    const double gap_back = j > 1 ? GAP_MIN * sim->z_scale[j - 2] : 0.0;
-    if (z < -gap_j && v <= v_next && z_back < -gap_back && v_back <= v) {
-        *watch = 0.0;
-        return 1;
-    }
     const double rtol = sim->spec.rtol, atol = sim->spec.atol;
     const double v_eps = REST_FACTOR * (rtol * fabs(sim->v_ref) + atol * sim->v_scale[j - 1]);
     const double z_eps = REST_FACTOR * (rtol * fabs(sim->z_ref) + atol * sim->z_scale[j - 1]);
-    if (fabs(v) <= v_eps && fabs(z) <= z_eps && z_back <= z_eps && v_back <= v + v_eps) {
+    const double z_eps_back = j > 1 ? REST_FACTOR * (rtol * fabs(sim->z_ref) + atol * sim->z_scale[j - 2]) : 0.0;
+    /* Criterion 1: gaps open beyond the tolerance's compression and not closing. */
+    if (z < -z_eps && v <= v_next && z_back < -z_eps_back && v_back <= v) {
+        *watch = 0.0;
+        return 1;
+    }
+    /* Criterion 2: at rest within the tolerance; open gaps of any size are
+     * harmless (no force), only compressions are bounded. */
+    if (fabs(v) <= v_eps && z <= z_eps && z_back <= z_eps && v_back <= v + v_eps) {
         *watch = WATCH_FACTOR / REST_FACTOR * z_eps;
         return 2;
     }
