@@ -7,6 +7,7 @@
  * X0 = S k^2 + 2k(1-S) + S - 2; eq. pos-kth: (2-q)/q ((1-q)^(1-k) - 1)),
  * and every invalid parameter rejected with a message.
  */
+#include "test_chains.h"
 #include "test_util.h"
 
 #include "taper.h"
@@ -19,18 +20,7 @@
 
 static taper_chain *make(int profile, size_t n, double s, double q)
 {
-    taper_chain_spec spec;
-    taper_chain_spec_init(&spec);
-    spec.profile = profile;
-    spec.n_granules = n;
-    spec.s = s;
-    spec.q = q;
-    taper_error err;
-    taper_chain *c = taper_chain_alloc(&spec, &err);
-    if (!c) print_error("unexpected failure: %s\n", err.message);
-    assert_non_null(c);
-    assert_int_equal(err.status, TAPER_OK);
-    return c;
+    return test_chain(profile, n, s, q, 2.5, NULL);
 }
 
 /* r_k = sqrt(2 a b / (a + b)), written out independently of chain.c. */

@@ -4,6 +4,7 @@
  * tolerance refinement, the monodisperse solitary wave, and the run's
  * behaviour at its edges (early stop, limits, interruption, bad specs).
  */
+#include "test_chains.h"
 #include "test_util.h"
 #include "taper.h"
 
@@ -12,18 +13,7 @@
 
 static taper_chain *make_chain(int profile, size_t n, double param, const double *radii)
 {
-    taper_chain_spec spec;
-    taper_chain_spec_init(&spec);
-    spec.profile = profile;
-    spec.n_granules = n;
-    spec.s = param;
-    spec.q = param;
-    spec.radii = radii;
-    taper_error err;
-    taper_chain *c = taper_chain_alloc(&spec, &err);
-    if (!c) print_error("chain: %s\n", err.message);
-    assert_non_null(c);
-    return c;
+    return test_chain(profile, n, param, param, 2.5, radii);
 }
 
 static taper_sim *run(const taper_chain *c, double rtol, double atol, int method, int window,

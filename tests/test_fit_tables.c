@@ -5,6 +5,7 @@
  * wrong, with the correct value; see docs/paper.md, "Discrepancies found in
  * the paper".  Each row is printed (param, our value, the paper's).
  */
+#include "test_chains.h"
 #include "test_util.h"
 
 #include "taper.h"
@@ -19,13 +20,7 @@ typedef struct exact {
 
 static exact exact_theory(int profile, size_t n, double s, double q)
 {
-    taper_chain_spec spec;
-    taper_chain_spec_init(&spec);
-    spec.profile = profile;
-    spec.n_granules = n;
-    spec.s = s;
-    spec.q = q;
-    exact e = {taper_chain_alloc(&spec, NULL), n, malloc(n * sizeof(double)),
+    exact e = {test_chain(profile, n, s, q, 2.5, NULL), n, malloc(n * sizeof(double)),
                malloc(n * sizeof(double)), malloc(n * sizeof(double)), malloc(n * sizeof(double))};
     assert_non_null(e.chain);
     assert_int_equal(taper_theory_compute(e.chain, e.v, NULL, NULL, e.t, NULL), TAPER_OK);

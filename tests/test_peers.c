@@ -10,6 +10,7 @@
  *    (the library's default solver) agree on every t_pass and v_peak to 1e-8,
  *    and Verlet at a fine step to its O(dt^2) error.
  */
+#include "test_chains.h"
 #include "test_util.h"
 
 #include "peers.h"
@@ -20,15 +21,7 @@
 
 static taper_chain *make(int profile, size_t n, double s, double q)
 {
-    taper_chain_spec spec;
-    taper_chain_spec_init(&spec);
-    spec.profile = profile;
-    spec.n_granules = n;
-    spec.s = s;
-    spec.q = q;
-    taper_chain *c = taper_chain_alloc(&spec, NULL);
-    assert_non_null(c);
-    return c;
+    return test_chain(profile, n, s, q, 2.5, NULL);
 }
 
 static double theory_T1(const taper_chain *c)

@@ -8,6 +8,7 @@
  * several contact exponents, and the formula-only theory columns of the
  * paper's Tables II (ln A(q)) and III (f(q)).
  */
+#include "test_chains.h"
 #include "test_util.h"
 
 #include "taper.h"
@@ -24,18 +25,7 @@ typedef struct theory {
 
 static taper_chain *make(int profile, size_t n, double s, double q, double expo)
 {
-    taper_chain_spec spec;
-    taper_chain_spec_init(&spec);
-    spec.profile = profile;
-    spec.n_granules = n;
-    spec.s = s;
-    spec.q = q;
-    spec.exponent = expo;
-    taper_error err;
-    taper_chain *c = taper_chain_alloc(&spec, &err);
-    if (!c) print_error("%s\n", err.message);
-    assert_non_null(c);
-    return c;
+    return test_chain(profile, n, s, q, expo, NULL);
 }
 
 static theory compute(const taper_chain *c)

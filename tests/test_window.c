@@ -20,6 +20,7 @@
  * all 2N components, most of them idle, which loosens the effective tolerance
  * of the few that move; the window measures its error over the moving ones.
  */
+#include "test_chains.h"
 #include "test_util.h"
 #include "taper.h"
 #include "sim.h"
@@ -31,17 +32,7 @@
 
 static taper_chain *make_chain(int profile, size_t n, double param)
 {
-    taper_chain_spec spec;
-    taper_chain_spec_init(&spec);
-    spec.profile = profile;
-    spec.n_granules = n;
-    spec.s = param;
-    spec.q = param;
-    taper_error err;
-    taper_chain *c = taper_chain_alloc(&spec, &err);
-    if (!c) print_error("chain: %s\n", err.message);
-    assert_non_null(c);
-    return c;
+    return test_chain(profile, n, param, param, 2.5, NULL);
 }
 
 static taper_sim *run(const taper_chain *c, int window, double tighten)
