@@ -35,22 +35,31 @@
 #include <string.h>
 #include <time.h>
 
-/* Relative energy error allowed for a complete run at tolerance rtol and
- * contact exponent n (docs/robustness.md).  Measured: up to ~7 rtol at loose
- * tolerances, a floor near 2e-10 at tight ones (n = 5/2), and a floor that
- * grows as the contact force r z^(n-1) loses smoothness at z = 0: 3e-8 for
- * n = 2, 1.5e-6 for n = 3/2 at the default tolerance.  Bound: 1e3 rtol plus
+/* Relative energy error allowed for a complete run of `steps` internal
+ * steps at tolerance rtol and contact exponent n (docs/robustness.md).
+ * Measured: up to ~7 rtol at loose tolerances, a floor near 2e-10 at tight
+ * ones (n = 5/2), a drift that grows with the number of steps (1.1e-7 after
+ * 1e6 steps at rtol 2e-11, N = 1e4), and a floor that grows as the contact
+ * force r z^(n-1) loses smoothness at z = 0: 3e-8 for n = 2, 1.5e-6 for
+ * n = 3/2 at the default tolerance.  Bound: (1e3 + 0.01 steps) rtol plus
  * 1e-9 for n >= 5/2, 10^(-9 + 4 (5/2 - n)) below (1e-7 at n = 2, 1e-5 at
  * n = 3/2). */
-static double energy_bound(double rtol, double n)
+static double energy_bound(double rtol, double n, long steps)
 {
     double floor = n >= 2.5 ? 1e-9 : pow(10.0, -9.0 + 4.0 * (2.5 - n));
-    return 1e3 * rtol + floor;
+    return (1e3 + 0.01 * (double)steps) * rtol + floor;
 }
 
 /* Pass times converge: the error against a reference at 1e-3 of the
  * tolerance is below CONV_FACTOR * rtol. */
 #define CONV_FACTOR 1e2
+
+static const char *const KNOWN_ATOL =
+    "known issue (1): atol is not scaled to the pulse; backward exponential chains "
+    "(q >= 0.3, or long ones) lose accuracy once v_pulse < atol";
+static const char *const KNOWN_MULTISCALE =
+    "known issue (4): forward exponential q >= 0.3 is multiscale, Adams needs millions of "
+    "steps (use method = 'bdf')";
 
 typedef struct stress_case {
     int profile;
@@ -172,7 +181,7 @@ static void run_case(const stress_case *c, double rtol, outcome *o)
 
 /* The contract of a run's outcome (see the top).  Returns NULL when it
  * holds, else what is wrong.  energy: also check the energy bound. */
-static const char *contract(const outcome *o, double rtol, double exponent, int *ok_run)
+static const char *contract(const outcome *o, double rtol, double exponent, int forward, int *ok_run)
 {
     static char why[TAPER_MESSAGE_SIZE + 128];
     *ok_run = 0;
@@ -187,7 +196,9 @@ static const char *contract(const outcome *o, double rtol, double exponent, int 
                 snprintf(why, sizeof why, "TAPER_OK with t_pass(%zu) = %g", k + 1, o->t_pass[k]);
                 return why;
             }
-            if (k > 0 && !(o->t_pass[k] > o->t_pass[k - 1])) {
+            /* Forward chains: granule k+1 may overtake k before k overtakes
+             * k-1 (finding A in docs/robustness.md): order not required. */
+            if (!forward && k > 0 && !(o->t_pass[k] > o->t_pass[k - 1])) {
                 snprintf(why, sizeof why, "t_pass not increasing at granule %zu", k + 1);
                 return why;
             }
@@ -199,9 +210,9 @@ static const char *contract(const outcome *o, double rtol, double exponent, int 
             }
         if (!isfinite(o->stats.energy_error)) return "energy error is not finite";
         *ok_run = 1;
-        if (!(o->stats.energy_error <= energy_bound(rtol, exponent))) {
-            snprintf(why, sizeof why, "energy error %.3g > bound %.3g", o->stats.energy_error,
-                     energy_bound(rtol, exponent));
+        double bound = energy_bound(rtol, exponent, o->stats.steps);
+        if (!(o->stats.energy_error <= bound)) {
+            snprintf(why, sizeof why, "energy error %.3g > bound %.3g", o->stats.energy_error, bound);
             return why;
         }
         return NULL;
@@ -213,7 +224,8 @@ static const char *contract(const outcome *o, double rtol, double exponent, int 
     if (o->stats.complete) return "a stopped run claims to be complete";
     if (!strstr(o->message, "granule") || !strstr(o->message, "t = "))
         return "the stop message names no granule or time";
-    /* Pass times found are finite; beyond the pulse, NaN: nothing passed off. */
+    /* Pass times up to the pulse are finite; beyond it each is NaN (not
+     * found) or a pass found out of order (forward chains), never garbage. */
     size_t reached = o->stats.granule_reached;
     for (size_t k = 0; k + 1 < n; k++) {
         int known = k + 1 <= reached;
@@ -222,9 +234,10 @@ static const char *contract(const outcome *o, double rtol, double exponent, int 
                      o->t_pass[k]);
             return why;
         }
-        if (!known && !isnan(o->t_pass[k])) {
-            snprintf(why, sizeof why, "granule_reached = %zu but t_pass(%zu) = %g is not NaN",
-                     reached, k + 1, o->t_pass[k]);
+        if (!known && !isnan(o->t_pass[k]) &&
+            !(forward && isfinite(o->t_pass[k]) && o->t_pass[k] > 0.0 && o->t_pass[k] <= o->stats.t_final)) {
+            snprintf(why, sizeof why, "granule_reached = %zu but t_pass(%zu) = %g", reached, k + 1,
+                     o->t_pass[k]);
             return why;
         }
     }
@@ -244,6 +257,11 @@ static double max_rel_diff(const double *a, const double *b, size_t n)
 }
 
 static int g_passed, g_failed, g_known;
+
+static int is_forward(const stress_case *c)
+{
+    return c->profile == TAPER_FORWARD_LINEAR || c->profile == TAPER_FORWARD_EXPONENTIAL;
+}
 
 static void case_label(const stress_case *c, double rtol, char *buf, size_t size)
 {
@@ -279,13 +297,50 @@ static void verdict(const stress_case *c, double rtol, const outcome *o, const c
     fflush(stdout);
 }
 
-/* One case at one tolerance. */
-static void check_case(const stress_case *c)
+static const char *const KNOWN_RESOLUTION =
+    "finding C (reported, docs/robustness.md): forward chains pile their pass times up below "
+    "a finite time; once the residence time T_k < 1e-15 t_k (binary-collision theory) "
+    "successive pass times are equal to rounding, out of order, and the run may never complete";
+
+/* The first granule whose theoretical residence time is below the
+ * double-precision resolution of its pass time (0: none in the chain);
+ * with v_limit > 0, the first whose theoretical velocity is below it. */
+static size_t theory_limit(const stress_case *c, double v_limit)
 {
+    taper_chain_spec cs;
+    taper_chain_spec_init(&cs);
+    cs.profile = c->profile;
+    cs.n_granules = c->n;
+    cs.s = cs.q = c->param;
+    cs.exponent = c->exponent;
+    taper_chain *chain = taper_chain_alloc(&cs, NULL);
+    double *T = malloc(c->n * sizeof *T), *t = malloc(c->n * sizeof *t);
+    double *v = malloc(c->n * sizeof *v);
+    size_t limit = 0;
+    if (chain && T && t && v && taper_theory_compute(chain, v, NULL, T, t, NULL) == TAPER_OK)
+        for (size_t k = 0; k + 1 < c->n && !limit; k++)
+            if (v_limit > 0.0 ? v[k] < v_limit : T[k] < 1e-15 * t[k]) limit = k + 1;
+    free(T);
+    free(t);
+    free(v);
+    taper_chain_free(chain);
+    return limit;
+}
+
+/* One case at one tolerance. */
+static void check_case(const stress_case *in)
+{
+    stress_case copy = *in;
+    const stress_case *c = &copy;
+    if (!copy.known && is_forward(c) && theory_limit(c, 0.0)) copy.known = KNOWN_RESOLUTION;
+    /* Known issue (1) wherever the pulse velocity falls below atol. */
+    double atol = c->atol > 0.0 ? c->atol : c->rtol * 1e-3;
+    if (!copy.known && c->profile == TAPER_BACKWARD_EXPONENTIAL && theory_limit(c, atol))
+        copy.known = KNOWN_ATOL;
     outcome o;
     run_case(c, c->rtol, &o);
     int ok_run;
-    const char *problem = contract(&o, c->rtol, c->exponent, &ok_run);
+    const char *problem = contract(&o, c->rtol, c->exponent, is_forward(c), &ok_run);
     verdict(c, c->rtol, &o, problem, NULL);
     outcome_free(&o);
 }
@@ -302,9 +357,10 @@ static void check_convergence(const stress_case *c)
     run_case(c, c->rtol, &lo);
     run_case(c, r_mid, &mid);
     int ok_ref, ok_lo, ok_mid;
-    const char *problem = contract(&ref, r_ref, c->exponent, &ok_ref);
-    if (!problem) problem = contract(&lo, c->rtol, c->exponent, &ok_lo);
-    if (!problem) problem = contract(&mid, r_mid, c->exponent, &ok_mid);
+    int fw = is_forward(c);
+    const char *problem = contract(&ref, r_ref, c->exponent, fw, &ok_ref);
+    if (!problem) problem = contract(&lo, c->rtol, c->exponent, fw, &ok_lo);
+    if (!problem) problem = contract(&mid, r_mid, c->exponent, fw, &ok_mid);
     char extra[160] = "";
     static char why[200];
     if (!problem && ok_ref && ok_lo && ok_mid) {
@@ -330,29 +386,22 @@ static void check_convergence(const stress_case *c)
 
 /* ---- the matrices ---------------------------------------------------------- */
 
-static const char *const KNOWN_ATOL =
-    "known issue (1): atol is not scaled to the pulse; backward exponential q >= 0.3 "
-    "loses accuracy once v_pulse < atol";
-static const char *const KNOWN_MULTISCALE =
-    "known issue (4): forward exponential q >= 0.3 is multiscale, Adams needs millions of "
-    "steps (use method = 'bdf')";
-
 /* The last valid S of a forward linear chain of N granules: N < 1 + 1/S. */
 static double last_valid_s(size_t n) { return nextafter(1.0 / (double)(n - 1), 0.0); }
 
 static const char *const KNOWN_ORDER =
-    "finding A (reported, docs/robustness.md): in strongly forward-tapered chains granule k+1 "
-    "overtakes k before k overtakes k-1; the pass event of a granule outside the ring of armed "
-    "slots is missed and the run never completes (stops at t_max)";
+    "finding A (reported, docs/robustness.md): where successive radii shrink by more than ~1.3 "
+    "granule k+1 overtakes k before k overtakes k-1; a pass outside the ring of armed slots is "
+    "missed and the run never completes (stops at t_max)";
 
 static const char *known_for(int profile, double param, size_t n)
 {
     if (profile == TAPER_BACKWARD_EXPONENTIAL && param >= 0.3 && n > 20) return KNOWN_ATOL;
-    if (profile == TAPER_FORWARD_EXPONENTIAL && param >= 0.3 && n > 20) return KNOWN_MULTISCALE;
-    /* R_N / R_1 below ~1e-3 (forward exponential (1+q)^(1-N), forward
-     * linear near its last valid S): passes out of order. */
-    if (profile == TAPER_FORWARD_EXPONENTIAL && (double)(n - 1) * log1p(param) > 7.0) return KNOWN_ORDER;
-    if (profile == TAPER_FORWARD_LINEAR && 1.0 - param * (double)(n - 1) < 0.05) return KNOWN_ORDER;
+    if (profile == TAPER_FORWARD_EXPONENTIAL && param >= 0.3) return n > 20 ? KNOWN_MULTISCALE : KNOWN_ORDER;
+    /* Forward linear: the last step R_{N-1} / R_N = 1 + S / (1 - S (N-1)). */
+    if (profile == TAPER_FORWARD_LINEAR && n >= 2 &&
+        !(param < 0.3 * (1.0 - param * (double)(n - 1))))
+        return KNOWN_ORDER;
     return NULL;
 }
 
