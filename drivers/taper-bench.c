@@ -243,8 +243,10 @@ static int add_row(study *s, const row *r)
 static size_t sweep(int m, int quick, const taper_chain *chain, double *tol)
 {
     size_t k = 0;
-    if (m == M_DEFAULT) {
-        tol[k++] = 2e-11;
+    if (m == M_DEFAULT) { /* the shipped defaults: the row's tol is their rtol */
+        taper_solver_spec d;
+        taper_solver_spec_init(&d);
+        tol[k++] = d.rtol;
         return k;
     }
     if (m == M_VERLET) {
