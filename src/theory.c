@@ -11,6 +11,7 @@
  */
 #include "taper_internal.h"
 
+#include <float.h>
 #include <gsl/gsl_sf_gamma.h>
 #include <math.h>
 
@@ -38,7 +39,15 @@ int taper_theory_compute(const taper_chain *chain, double *v, double *mu, double
     double log_v = 0.0; /* v_1 = 1 */
     double elapsed = 0.0;
     for (size_t k = 1; k <= n; k++) {
-        if (v) v[k - 1] = exp(log_v);
+        /* A custom chain whose masses go up and down by large factors loses
+         * velocity at every step up and at most doubles it at a step down:
+         * v_k can leave double precision long before the masses do. */
+        double vk = exp(log_v);
+        if (!(vk >= DBL_MIN && vk <= DBL_MAX))
+            return taper_fail(err, TAPER_ERANGE,
+                              "theory: velocity of granule %zu is exp(%g), outside double precision",
+                              k, log_v);
+        if (v) v[k - 1] = vk;
         if (k == n) break;
         double ratio = m[k] / m[k - 1];          /* m_{k+1} / m_k */
         double log_mu = log(m[k - 1]) - log1p(m[k - 1] / m[k]); /* m_k m_{k+1}/(m_k+m_{k+1}) */

@@ -286,6 +286,23 @@ static void test_errors(void **state)
     taper_chain *c = make(TAPER_BACKWARD_LINEAR, 10, 0.5, 0, 2.5);
     assert_int_equal(taper_theory_compute(c, NULL, NULL, NULL, NULL, NULL), TAPER_OK);
     taper_chain_free(c);
+
+    /* Masses up and down by 1e135 (each in range): v_k loses 1e135 per
+     * step up and at most doubles per step down, so v_6 ~ 1e-404 would
+     * underflow to 0.  Found by tests/fuzz: theory_v = 0 was returned with
+     * TAPER_OK.  Now TAPER_ERANGE naming the granule. */
+    const double radii[] = {1.0, 1e45, 1.0, 1e45, 1.0, 1e45, 1.0};
+    taper_chain_spec spec;
+    taper_chain_spec_init(&spec);
+    spec.profile = TAPER_CUSTOM;
+    spec.n_granules = 7;
+    spec.radii = radii;
+    c = taper_chain_alloc(&spec, &err);
+    assert_non_null(c);
+    double v[7];
+    assert_int_equal(taper_theory_compute(c, v, NULL, NULL, NULL, &err), TAPER_ERANGE);
+    assert_non_null(strstr(err.message, "granule 6"));
+    taper_chain_free(c);
 }
 
 int main(void)
