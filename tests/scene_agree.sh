@@ -2,9 +2,11 @@
 # scene_agree.sh TAPER_NML SCENE_DUMP SCENES_DIR -- every shipped scene is a
 # real Fortran namelist: gfortran's namelist READ (taper_nml --dump) and our
 # C parser (scene_dump) resolve it to the same values, bit for bit (see the
-# canonical form in tests/scene_dump.c).  Also checks that both list the
-# same variables, so a variable added to src/scene.c's table without the
-# Fortran driver learning it fails here.
+# canonical form in tests/scene_dump.c), in every group: &chain, &solver,
+# &output, and the analysis groups &fit, &table, &figure of the paper scenes.
+# Also checks that both list the same variables, so a variable (or a group)
+# added to src/scene.c's table without the Fortran driver learning it fails
+# here.
 set -eu
 fortran=$1
 cdump=$2

@@ -6,14 +6,16 @@
  *
  *     group.name = VALUE
  *
- * strings verbatim, integers in decimal, logicals T/F, reals (and each
- * element of a list) as the 16 hex digits of their IEEE bits, preceded by
- * the number of elements for lists and sweeps.  Bits, not decimal text: the
- * two readers must agree on the double, not on a way of printing it.
+ * strings without trailing blanks (a Fortran character variable cannot tell
+ * them apart), integers in decimal, logicals T/F, reals (and each element of
+ * a list) as the 16 hex digits of their IEEE bits, preceded by the number of
+ * elements for lists and sweeps; a real without a default that the file
+ * leaves out prints nothing after " =".  Bits, not decimal text: the two
+ * readers must agree on the double, not on a way of printing it.
  *
- * Only the groups the Fortran driver runs (&chain, &solver, &output) are
- * printed: every variable of the table in these groups, so that a variable
- * added there without taper_nml.f90 learning it fails the comparison.
+ * Every variable of the table is printed, in every group (&chain, &solver,
+ * &output, &fit, &table, &figure), so that a variable -- or a group -- added
+ * to the table without taper_nml.f90 learning it fails the comparison.
  */
 #include "scene.h"
 
@@ -46,12 +48,15 @@ int main(int argc, char **argv)
     for (size_t i = 0; i < scene_var_count(); i++) {
         const scene_var *var = scene_var_at(i);
         const scene_value *v = &sc->values[i];
-        if (strcmp(var->group, "chain") != 0 && strcmp(var->group, "solver") != 0 &&
-            strcmp(var->group, "output") != 0)
-            continue;
         printf("%s.%s =", var->group, var->name);
         switch (var->type) {
-        case SCENE_STRING: printf(" %s", v->str ? v->str : ""); break;
+        case SCENE_STRING: {
+            const char *str = v->str ? v->str : "";
+            size_t n = strlen(str);
+            while (n > 0 && str[n - 1] == ' ') n--;
+            printf(" %.*s", (int)n, str);
+            break;
+        }
         case SCENE_INTEGER: printf(" %lld", v->ival); break;
         case SCENE_LOGICAL: printf(" %c", v->bval ? 'T' : 'F'); break;
         case SCENE_REAL:

@@ -5,14 +5,19 @@
 !                                 tests/scene_dump.c) and stop
 !
 ! Our scene files (share/scenes/*.nml, docs/scene.md) are standard Fortran
-! namelists with the groups &chain, &solver and &output; this program reads
-! them with READ(unit, NML=...) and hands the values to libtaper through the
+! namelists with the groups &chain, &solver, &output, &fit, &table and &figure;
+! this program reads them with READ(unit, NML=...) and hands the values of the
+! first three to libtaper through the
 ! iso_c_binding module `taper` (share/fortran/taper.f90).  The variables and
 ! their defaults are those of the table in src/scene.c; the solver defaults
 ! come from the library itself (taper_solver_spec_init), as in the C driver.
-! A list of values for s or q is a sweep: each value is run in turn.  Other
-! groups of a scene (&fit, &table, &figure: the C driver's analysis) are
-! skipped by the namelist READ, as Fortran does for groups it is not asked for.
+! A list of values for s or q is a sweep: each value is run in turn.  The
+! analysis groups &fit, &table and &figure (the C driver's fits, tables and
+! figures) are read too, so that --dump proves every group of a scene is a
+! real Fortran namelist and resolves as in the C parser; the runs here do not
+! use them.  Their variables share names across groups (x, y, k_max, name),
+! which one scoping unit cannot hold twice: each of these groups is read in
+! its own internal subroutine (read_fit, read_table, read_figure).
 !
 ! Exit status: 0 complete, 1 library failure, 2 bad input, 3 partial result.
 program taper_nml
@@ -38,6 +43,31 @@ program taper_nml
   character(len=LEN_STR) :: dir
   logical :: progress
   integer(int64) :: threads      ! parallel sweeps of the C driver; unused here
+  ! &fit, &table, &figure (read by read_fit, read_table, read_figure; the
+  ! group's prefix added to each name)
+  character(len=LEN_STR) :: fit_model, fit_x, fit_y, fit_report, fit_label, fit_theory
+  integer(int64) :: fit_k_min, fit_k_max
+  real(c_double) :: fit_p, fit_factor
+  character(len=LEN_STR) :: table_name, table_caption
+  integer(int64) :: table_digits
+  real(c_double) :: table_paper_theory(MAX_SWEEP), table_paper_numerics(MAX_SWEEP)
+  character(len=LEN_STR) :: figure_name, figure_title, figure_x, figure_y, figure_curves, &
+       figure_x_label, figure_y_label
+  logical :: figure_log_x, figure_log_y, figure_inset
+  integer(int64) :: figure_every, figure_k_max
+  real(c_double) :: figure_inset_reference
+
+  ! Allowed strings (src/scene.c); the C parser stores their canonical spelling.
+  character(len=*), parameter :: PROFILES(6) = [character(len=20) :: "monodisperse", &
+       "backward_linear", "forward_linear", "backward_exponential", "forward_exponential", "custom"]
+  character(len=*), parameter :: METHODS(2) = [character(len=5) :: "adams", "bdf"]
+  character(len=*), parameter :: FIT_MODELS(6) = [character(len=12) :: "none", "power", &
+       "exponential", "divergence_b", "divergence_c", "divergence_m"]
+  character(len=*), parameter :: QUANTITIES(6) = [character(len=7) :: "k", "v", "T_res", "t", &
+       "t_reach", "t_peak"]
+  character(len=*), parameter :: FIT_PARAMS(6) = [character(len=1) :: "a", "b", "c", "m", "p", "f"]
+  character(len=*), parameter :: THEORIES(4) = [character(len=4) :: "fit", "rate", "f", "b"]
+  character(len=*), parameter :: CURVES(3) = [character(len=8) :: "both", "theory", "numerics"]
 
   namelist /chain/ profile, n_granules, s, q, exponent, radii
   namelist /solver/ method, rtol, atol, window, last_granule, t_max, max_steps, numerics
@@ -89,7 +119,21 @@ program taper_nml
   progress = .true.
   threads = 0
 
+  ! Defaults of &fit, &table and &figure: set by read_fit, read_table and
+  ! read_figure, which read_scene calls.
   call read_scene(path)
+
+  ! Allowed strings in their canonical spelling, as the C parser stores them.
+  profile = canonical(profile, PROFILES)
+  method = canonical(method, METHODS)
+  fit_model = canonical(fit_model, FIT_MODELS)
+  fit_x = canonical(fit_x, QUANTITIES)
+  fit_y = canonical(fit_y, QUANTITIES)
+  fit_report = canonical(fit_report, FIT_PARAMS)
+  fit_theory = canonical(fit_theory, THEORIES)
+  figure_x = canonical(figure_x, QUANTITIES)
+  figure_y = canonical(figure_y, QUANTITIES)
+  figure_curves = canonical(figure_curves, CURVES)
 
   ! Resolve: a sweep is the list given; nothing given is the default 0.
   n_s = count_given(s)
@@ -151,24 +195,184 @@ contains
     end if
     ! Each group is optional: rewind and look for it; end of file = absent.
     read (unit, nml=chain, iostat=ios, iomsg=msg)
-    call check_read(file, "chain", ios, msg)
+    call check_read(file, unit, "chain", ios, msg)
     rewind (unit)
     read (unit, nml=solver, iostat=ios, iomsg=msg)
-    call check_read(file, "solver", ios, msg)
+    call check_read(file, unit, "solver", ios, msg)
     rewind (unit)
     read (unit, nml=output, iostat=ios, iomsg=msg)
-    call check_read(file, "output", ios, msg)
+    call check_read(file, unit, "output", ios, msg)
+    rewind (unit)
+    call read_fit(file, unit)
+    rewind (unit)
+    call read_table(file, unit)
+    rewind (unit)
+    call read_figure(file, unit)
     close (unit)
   end subroutine read_scene
 
-  subroutine check_read(file, group, ios, msg)
+  ! &fit with its table defaults, if the file has it; copied to fit_*.
+  subroutine read_fit(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    character(len=LEN_STR) :: model, x, y, report, label, theory
+    integer(int64) :: k_min, k_max
+    real(c_double) :: p, factor
+    namelist /fit/ model, x, y, k_min, k_max, p, report, factor, label, theory
+    integer :: ios
+    character(len=512) :: msg
+    model = "none"
+    x = "k"
+    y = "v"
+    k_min = 1
+    k_max = 0
+    p = nan                  ! no default: left out
+    report = "b"
+    factor = 1
+    label = ""
+    theory = "fit"
+    read (unit, nml=fit, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "fit", ios, msg)
+    fit_model = model
+    fit_x = x
+    fit_y = y
+    fit_k_min = k_min
+    fit_k_max = k_max
+    fit_p = p
+    fit_report = report
+    fit_factor = factor
+    fit_label = label
+    fit_theory = theory
+  end subroutine read_fit
+
+  ! &table with its table defaults, if the file has it; copied to table_*.
+  subroutine read_table(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    character(len=LEN_STR) :: name, caption
+    integer(int64) :: digits
+    real(c_double) :: paper_theory(MAX_SWEEP), paper_numerics(MAX_SWEEP)
+    namelist /table/ name, caption, digits, paper_theory, paper_numerics
+    integer :: ios
+    character(len=512) :: msg
+    name = ""
+    caption = ""
+    digits = 4
+    paper_theory = nan       ! no default: empty lists
+    paper_numerics = nan
+    read (unit, nml=table, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "table", ios, msg)
+    table_name = name
+    table_caption = caption
+    table_digits = digits
+    table_paper_theory = paper_theory
+    table_paper_numerics = paper_numerics
+  end subroutine read_table
+
+  ! &figure with its table defaults, if the file has it; copied to figure_*.
+  subroutine read_figure(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    character(len=LEN_STR) :: name, title, x, y, curves, x_label, y_label
+    logical :: log_x, log_y, inset
+    integer(int64) :: every, k_max
+    real(c_double) :: inset_reference
+    namelist /figure/ name, title, x, y, curves, log_x, log_y, every, k_max, x_label, &
+         y_label, inset, inset_reference
+    integer :: ios
+    character(len=512) :: msg
+    name = ""
+    title = ""
+    x = "k"
+    y = "v"
+    curves = "both"
+    log_x = .false.
+    log_y = .false.
+    every = 1
+    k_max = 0
+    x_label = ""
+    y_label = ""
+    inset = .false.
+    inset_reference = nan    ! no default: no line
+    read (unit, nml=figure, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "figure", ios, msg)
+    figure_name = name
+    figure_title = title
+    figure_x = x
+    figure_y = y
+    figure_curves = curves
+    figure_log_x = log_x
+    figure_log_y = log_y
+    figure_every = every
+    figure_k_max = k_max
+    figure_x_label = x_label
+    figure_y_label = y_label
+    figure_inset = inset
+    figure_inset_reference = inset_reference
+  end subroutine read_figure
+
+  ! The allowed string that str spells (case-insensitive), or str itself.
+  function canonical(str, choices) result(c)
+    character(len=*), intent(in) :: str
+    character(len=*), intent(in) :: choices(:)
+    character(len=len(str)) :: c
+    integer :: k
+    c = str
+    do k = 1, size(choices)
+       if (lower(str) == lower(choices(k))) then
+          c = choices(k)
+          return
+       end if
+    end do
+  end function canonical
+
+  ! After READ(unit, NML=group): a syntax error fails with the file name; end
+  ! of file means the group is absent -- unless the file has the group's
+  ! header, then the file ended inside it (an unterminated string, a missing
+  ! '/'), which is an error too.
+  subroutine check_read(file, unit, group, ios, msg)
     character(len=*), intent(in) :: file, group, msg
-    integer, intent(in) :: ios
+    integer, intent(in) :: unit, ios
     if (ios > 0) then
        write (error_unit, '(a)') trim(file)//": &"//group//": "//trim(msg)
        error stop 2
     end if
+    if (ios < 0) then
+       if (has_group(unit, group)) then
+          write (error_unit, '(a)') trim(file)//": &"//group//": end of file inside the group "// &
+               "(a string not closed, or no '/' at its end?): "//trim(msg)
+          error stop 2
+       end if
+    end if
   end subroutine check_read
+
+  ! Whether the file has a header &group (or $group), as gfortran looks for
+  ! one: '&' or '$' outside comments, the name in any case, then a separator.
+  logical function has_group(unit, group)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: group
+    character(len=LEN_STR) :: line
+    integer :: ios, k, n, e
+    has_group = .false.
+    rewind (unit)
+    do
+       read (unit, '(a)', iostat=ios) line
+       if (ios /= 0) exit
+       n = index(line, "!") - 1
+       if (n < 0) n = len_trim(line)
+       do k = 1, n
+          if (line(k:k) /= "&" .and. line(k:k) /= "$") cycle
+          e = k + len(group)
+          if (e > n) cycle
+          if (lower(line(k + 1:e)) /= lower(group)) cycle
+          if (e < n) then     ! the name must end there
+             if (index(" ,/;"//achar(9), line(e + 1:e + 1)) == 0) cycle
+          end if
+          has_group = .true.
+          return
+       end do
+    end do
+  end function has_group
 
   ! Leading entries of a NaN-initialised namelist array that the file set.
   integer function count_given(a)
@@ -220,6 +424,15 @@ contains
     write (output_unit, '()')
   end subroutine print_real
 
+  ! A real without a default: nothing after " =" when left out (NaN).
+  subroutine print_optional(name, x)
+    character(len=*), intent(in) :: name
+    real(c_double), intent(in) :: x
+    write (output_unit, '(a)', advance="no") name//" ="
+    if (.not. ieee_is_nan(x)) call print_bits(x)
+    write (output_unit, '()')
+  end subroutine print_optional
+
   subroutine print_list(name, a, n)
     character(len=*), intent(in) :: name
     real(c_double), intent(in) :: a(:)
@@ -251,6 +464,35 @@ contains
     write (output_unit, '(a)') "output.dir = "//trim(dir)
     write (output_unit, '(a,l1)') "output.progress = ", progress
     write (output_unit, '(a,i0)') "output.threads = ", threads
+    write (output_unit, '(a)') "fit.model = "//trim(fit_model)
+    write (output_unit, '(a)') "fit.x = "//trim(fit_x)
+    write (output_unit, '(a)') "fit.y = "//trim(fit_y)
+    write (output_unit, '(a,i0)') "fit.k_min = ", fit_k_min
+    write (output_unit, '(a,i0)') "fit.k_max = ", fit_k_max
+    call print_optional("fit.p", fit_p)
+    write (output_unit, '(a)') "fit.report = "//trim(fit_report)
+    call print_real("fit.factor", fit_factor)
+    write (output_unit, '(a)') "fit.label = "//trim(fit_label)
+    write (output_unit, '(a)') "fit.theory = "//trim(fit_theory)
+    write (output_unit, '(a)') "table.name = "//trim(table_name)
+    write (output_unit, '(a)') "table.caption = "//trim(table_caption)
+    write (output_unit, '(a,i0)') "table.digits = ", table_digits
+    call print_list("table.paper_theory", table_paper_theory, count_given(table_paper_theory))
+    call print_list("table.paper_numerics", table_paper_numerics, &
+         count_given(table_paper_numerics))
+    write (output_unit, '(a)') "figure.name = "//trim(figure_name)
+    write (output_unit, '(a)') "figure.title = "//trim(figure_title)
+    write (output_unit, '(a)') "figure.x = "//trim(figure_x)
+    write (output_unit, '(a)') "figure.y = "//trim(figure_y)
+    write (output_unit, '(a)') "figure.curves = "//trim(figure_curves)
+    write (output_unit, '(a,l1)') "figure.log_x = ", figure_log_x
+    write (output_unit, '(a,l1)') "figure.log_y = ", figure_log_y
+    write (output_unit, '(a,i0)') "figure.every = ", figure_every
+    write (output_unit, '(a,i0)') "figure.k_max = ", figure_k_max
+    write (output_unit, '(a)') "figure.x_label = "//trim(figure_x_label)
+    write (output_unit, '(a)') "figure.y_label = "//trim(figure_y_label)
+    write (output_unit, '(a,l1)') "figure.inset = ", figure_inset
+    call print_optional("figure.inset_reference", figure_inset_reference)
   end subroutine print_dump
 
   ! One point of the scene: chain, theory, dynamics; 0, 1 (failure) or 3 (partial).
