@@ -24,8 +24,9 @@
 /* Internal steps per CVode call: the monitor (progress, Ctrl-C) is consulted
  * at least this often.  CVODE's default of 500 would end long chains. */
 #define STEPS_PER_CALL 20000L
-/* Once every pass time is known, how long (in units of the last residence
- * time) to wait for the remaining peaks before declaring them absent. */
+/* Once every pass time is known, how long (in units of the longest
+ * residence time) to wait for the remaining peaks before declaring them
+ * absent. */
 #define PEAK_GRACE 20.0
 #define INITIAL_STEP 1e-4
 /* The end of time when no t_max is given (pass times of exponential chains
@@ -405,12 +406,17 @@ static int handle_roots(taper_sim *sim, taper_error *err)
 }
 
 /* The time after which missing peaks are declared absent. */
+/* The longest residence time so far is the scale: in forward chains the
+ * last granules are tiny and passed in 1e-3 time units (even out of order),
+ * while the train behind keeps pushing them for times of order the first
+ * residence times.  Called once per run: O(N) is fine. */
 static double grace_time(const taper_sim *sim)
 {
     const double *tp = sim->obs[TAPER_T_PASS];
-    size_t k = sim->pass_limit;
-    double last = tp[k - 1] - (k > 1 ? tp[k - 2] : 0.0);
-    return sim->t + PEAK_GRACE * fmax(last, 1e-3);
+    double longest = 0.0;
+    for (size_t k = 1; k <= sim->pass_limit; k++)
+        longest = fmax(longest, tp[k - 1] - (k > 1 ? tp[k - 2] : 0.0));
+    return sim->t + PEAK_GRACE * fmax(longest, 1e-3);
 }
 
 static int step_once(taper_sim *sim, double *tout, int *grace, taper_error *err)
@@ -451,11 +457,16 @@ static int integrate(taper_sim *sim, taper_error *err)
         if (status != TAPER_OK) return status;
         if (grace && sim->t >= tout && sim->t > t_before) break;
     }
-    if (sim->next_peak <= sim->target)
+    if (sim->next_peak <= sim->target) {
+        size_t missing = 0;
+        for (size_t k = sim->next_peak; k <= sim->target; k++)
+            missing += isnan(sim->obs[TAPER_T_PEAK][k - 1]);
         taper_sim_log(sim, 1,
-                      "no forward velocity maximum of granule %zu (nor of later ones up to %zu) "
-                      "within %g residence times after the last pass: their v_peak is nan",
-                      sim->next_peak, sim->target, PEAK_GRACE);
+                      "%zu of granules %zu..%zu reached no forward velocity maximum within %g "
+                      "times the longest residence time after the last pass (the run ended at "
+                      "t = %.6g): their v_peak is nan",
+                      missing, sim->next_peak, sim->target, PEAK_GRACE, sim->t);
+    }
     return TAPER_OK;
 }
 
