@@ -96,7 +96,7 @@ static char *scene_text(const scene *sc, size_t *len)
 static void library_defaults(taper_solver_spec *lib) { taper_solver_spec_init(lib); }
 
 /* Property 3: echo -> parse -> validate -> echo is a fixed point.
- *  2. (finding, docs/robustness.md) a valid list of up to 1e6 values
+ *  Finding B (docs/robustness.md): a valid list of up to 1e6 values
  *     (SCENE_MAX_LIST) echoes to more than the 8 MB a scene file may have
  *     (SCENE_MAX_FILE): the echo cannot be read back.  Only in strict mode:
  *     such lists are skipped (FUZZ_MAX_ECHO_VALUES). */
@@ -145,7 +145,7 @@ static void check_round_trip(const scene *sc)
 /* Findings reported to the owner of the file and not fixed yet
  * (docs/robustness.md, "Fuzzing"): skipped so that a long campaign goes on
  * finding new ones.  FUZZ_STRICT=1 in the environment turns them back on.
- *  1. src/scene.c accepts rtol in [1e-15, 0.1], taper_sim_alloc rejects
+ *  Finding D: src/scene.c accepts rtol in [1e-15, 0.1], taper_sim_alloc rejects
  *     rtol < 10 DBL_EPSILON = 2.2e-15: rtol = 1e-15 validates, then fails. */
 static int known_finding(const taper_solver_spec *ss)
 {
