@@ -65,10 +65,11 @@ static const scene_var table[] = {
 
     {"solver", "method", SCENE_STRING, SCENE_LIBDEF, NULL, 0, 0, methods,
      "integrator: 'adams' (Adams-Moulton, fixed point) or 'bdf' (BDF, banded Jacobian)"},
-    {"solver", "rtol", SCENE_REAL, SCENE_LIBDEF, NULL, 1e-15, 0.1, NULL,
-     "relative tolerance of the integrator"},
+    {"solver", "rtol", SCENE_REAL, SCENE_LIBDEF, NULL, 1e-14, 0.1, NULL,
+     "relative tolerance of the integrator (below 1e-14 double precision cannot follow)"},
     {"solver", "atol", SCENE_REAL, SCENE_LIBDEF | SCENE_LO_OPEN, NULL, 0, 0.1, NULL,
-     "absolute tolerance of the integrator (velocities and compressions)"},
+     "absolute tolerance, in units of each granule's binary-collision velocity and maximum "
+     "compression (relative to the pulse wherever it is)"},
     {"solver", "window", SCENE_LOGICAL, SCENE_LIBDEF, NULL, 0, 0, NULL,
      "integrate only the granules that can move (exact and faster); .false.: the whole chain"},
     {"solver", "last_granule", SCENE_INTEGER, 0, "0", 0, 1e7, NULL,
