@@ -18,7 +18,10 @@
  *   work-precision.gp    gnuplot script -> work-precision.png
  * Methods: adams (window, the default order; "default" is the shipped
  * taper_solver_spec_init setting), adams-nowin (whole chain), adams-q4,
- * adams-q12, bdf-band (banded analytic Jacobian, whole chain), rk8pd, verlet.
+ * adams-q12, bdf-band (banded analytic Jacobian, whole chain), rk8pd, verlet,
+ * and ARKODE ERKStep on the whole chain with ARKODE's root finder:
+ * erk-verner6 (ARKODE_VERNER_8_5_6, order 6(5)), erk-fehlberg8
+ * (ARKODE_FEHLBERG_13_7_8, order 8(7)), erk-dp5 (ARKODE_DORMAND_PRINCE_7_4_5).
  * Wall times are medians of R repetitions (default 3).
  */
 #include "peers.h"
@@ -54,9 +57,13 @@ static const chain_def quick_chains[] = {
     {"forward_exponential", TAPER_FORWARD_EXPONENTIAL, 40, 0, 0.05},
 };
 
-enum { M_ADAMS, M_DEFAULT, M_ADAMS_NOWIN, M_ADAMS_Q4, M_ADAMS_Q12, M_BDF, M_RK8PD, M_VERLET, N_METHODS };
+enum { M_ADAMS, M_DEFAULT, M_ADAMS_NOWIN, M_ADAMS_Q4, M_ADAMS_Q12, M_BDF, M_RK8PD, M_VERLET,
+       M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, N_METHODS };
 static const char *method_names[N_METHODS] = {"adams", "default", "adams-nowin", "adams-q4",
-                                              "adams-q12", "bdf-band", "rk8pd", "verlet"};
+                                              "adams-q12", "bdf-band", "rk8pd", "verlet",
+                                              "erk-verner6", "erk-fehlberg8", "erk-dp5"};
+
+static int is_erk(int m) { return m == M_ERK_VERNER6 || m == M_ERK_FEHLBERG8 || m == M_ERK_DP5; }
 
 /* One run's results. */
 typedef struct run {
@@ -107,10 +114,17 @@ static int run_once(const taper_chain *chain, int m, double tol, long max_steps,
     if (!out->t_pass || !out->v_peak) return TAPER_ENOMEM;
     taper_error err;
     double t0 = wall_seconds();
-    if (m == M_RK8PD || m == M_VERLET) {
+    if (m == M_RK8PD || m == M_VERLET || is_erk(m)) {
         taper_peer_result r;
-        int status = m == M_RK8PD ? taper_peer_rk8pd(chain, tol, tol * 1e-3, max_steps, &r, &err)
-                                  : taper_peer_verlet(chain, tol, max_steps, &r, &err);
+        int status;
+        if (m == M_RK8PD) status = taper_peer_rk8pd(chain, tol, tol * 1e-3, max_steps, &r, &err);
+        else if (m == M_VERLET) status = taper_peer_verlet(chain, tol, max_steps, &r, &err);
+        else {
+            taper_peer_erk_table table = m == M_ERK_VERNER6   ? TAPER_PEER_ERK_VERNER6
+                                         : m == M_ERK_FEHLBERG8 ? TAPER_PEER_ERK_FEHLBERG8
+                                                                : TAPER_PEER_ERK_DP5;
+            status = taper_peer_arkode(chain, table, tol, tol * 1e-3, max_steps, &r, &err);
+        }
         out->seconds = wall_seconds() - t0;
         out->status = status;
         if (status != TAPER_OK && status != TAPER_ELIMIT) {
@@ -265,6 +279,8 @@ static size_t sweep(int m, int quick, const taper_chain *chain, double *tol)
     }
     /* Adams below rtol 1e-11: the window stops shrinking (docs/benchmarks.md)
      * and monodisperse runs take minutes; the reference alone goes there. */
+    /* ARKODE ERK (whole chain, orders 5-8): 1e-11 and below take 10^5-10^6
+     * whole-chain steps on N = 1000, so its sweep ends at 1e-11 too. */
     double lo = m == M_BDF ? 1e-11 : (m == M_RK8PD ? 1e-13 : 1e-11);
     double hi = m == M_BDF ? 1e-4 : 1e-5;
     if (m == M_BDF && !quick) lo = 1e-10;
@@ -321,7 +337,7 @@ static int run_chain(study *s, size_t ci)
                 if (work > (s->quick ? 3e7 : 4e8)) continue;
                 max_steps = (long)(4.0 * t_end / tol[i]) + 1000;
             }
-            if (m == M_BDF || m == M_ADAMS_NOWIN || m == M_RK8PD) {
+            if (m == M_BDF || m == M_ADAMS_NOWIN || m == M_RK8PD || is_erk(m)) {
                 /* whole chain every step: skip what would take minutes */
                 max_steps = 2000000;
             }
@@ -503,7 +519,9 @@ static int write_results(const study *s, const char *dir)
     static const char *styles[N_METHODS] = {"lc rgb '#1f77b4' pt 7", "lc rgb '#000000' pt 3 ps 2.5",
                                             "lc rgb '#17becf' pt 5", "lc rgb '#9467bd' pt 9",
                                             "lc rgb '#8c564b' pt 11", "lc rgb '#2ca02c' pt 13",
-                                            "lc rgb '#ff7f0e' pt 4", "lc rgb '#d62728' pt 6"};
+                                            "lc rgb '#ff7f0e' pt 4", "lc rgb '#d62728' pt 6",
+                                            "lc rgb '#e377c2' pt 8", "lc rgb '#bcbd22' pt 10",
+                                            "lc rgb '#7f7f7f' pt 12"};
     for (size_t c = 0; c < s->n_chains; c++) {
         fprintf(f, "set title '%s N=%zu' noenhanced\nplot ", s->chains[c].name, s->chains[c].n);
         for (int m = 0; m < N_METHODS; m++)
@@ -568,6 +586,7 @@ static const char usage[] =
     "       taper-bench --single CHAIN METHOD TOL [N]\n"
     "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
     "Methods: adams default adams-nowin adams-q4 adams-q12 bdf-band rk8pd verlet\n"
+    "         erk-verner6 erk-fehlberg8 erk-dp5 (ARKODE ERKStep)\n"
     "Chains: monodisperse backward_linear backward_exponential forward_linear forward_exponential\n";
 
 static int single(int argc, char **argv, int i)

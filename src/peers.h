@@ -9,6 +9,13 @@
  *    linear interpolation of v_{k+1} - v_k between steps; the peak time by
  *    linear interpolation of the acceleration a_k and the peak value from
  *    the parabola v(t) that this linear a(t) integrates to.
+ *  - taper_peer_arkode: an ARKODE ERKStep explicit Runge-Kutta table
+ *    (Verner 6(5), Fehlberg 8(7) or Dormand-Prince 5(4);
+ *    ARKODE's names are NAME_stages_embedding_order), adaptive, WRMS error control
+ *    (rtol, atol), on taper_dyn_rhs over the whole chain; events by ARKODE's
+ *    root finder on its dense output, a ring of TAPER_PEER_SLOTS pass and
+ *    peak slots as in events.c.  src/peer_arkode.c is not part of the core
+ *    library (libtaper does not link ARKODE): link taper_peer_arkode_dep.
  *  - taper_peer_rk8pd: GSL odeiv2 rk8pd (Prince-Dormand 8(7)), adaptive,
  *    control_y_new(atol, rtol) (max norm), on taper_dyn_rhs over the whole
  *    chain (state layout of dynamics.h).  rk8pd has no dense output, so
@@ -60,6 +67,17 @@ int taper_peer_verlet(const taper_chain *chain, double dt, long max_steps,
  * TAPER_ENOMEM, TAPER_ESOLVER (GSL failed) or TAPER_ELIMIT. */
 int taper_peer_rk8pd(const taper_chain *chain, double rtol, double atol, long max_steps,
                      taper_peer_result *r, taper_error *err);
+
+/* Adaptive ARKODE ERKStep with the given table, tolerances rtol, atol.
+ * Returns TAPER_OK, TAPER_EINVAL, TAPER_ENOMEM, TAPER_ESOLVER (ARKODE failed)
+ * or TAPER_ELIMIT. */
+typedef enum taper_peer_erk_table {
+    TAPER_PEER_ERK_VERNER6,   /* ARKODE_VERNER_8_5_6: order 6(5), 8 stages    */
+    TAPER_PEER_ERK_FEHLBERG8, /* ARKODE_FEHLBERG_13_7_8: order 8(7), 13 stages */
+    TAPER_PEER_ERK_DP5        /* ARKODE_DORMAND_PRINCE_7_4_5: 5(4), 7 stages   */
+} taper_peer_erk_table;
+int taper_peer_arkode(const taper_chain *chain, taper_peer_erk_table table, double rtol,
+                      double atol, long max_steps, taper_peer_result *r, taper_error *err);
 
 /* ---- shared event bookkeeping (peer_common.c) ---- */
 typedef struct taper_peer_events {

@@ -19,6 +19,9 @@ typedef struct taper_solver_messages {
 int taper_sundials_context_new(SUNContext *ctx);          /* 0 on success */
 void taper_sundials_context_free(SUNContext *ctx);
 int taper_sundials_capture_errors(void *cvode_mem, taper_solver_messages *sink);
+/* The same for ARKODE's ERKStep memory; in sundials_compat_arkode.c, linked
+ * only into taper-bench and the peers test (not into libtaper). */
+int taper_sundials_capture_erk_errors(void *erk_mem, taper_solver_messages *sink);
 /* Library version as "6.4.1". */
 const char *taper_sundials_version(void);
 

@@ -9,6 +9,9 @@
  *  - A short backward linear chain: rk8pd at tight tolerance and CVODE
  *    (the library's default solver) agree on every t_pass and v_peak to 1e-8,
  *    and Verlet at a fine step to its O(dt^2) error.
+ *  - The ARKODE ERK peer (every table) reaches T_1 and v = 1 to 1e-10 on
+ *    N = 2 and CVODE to 1e-8 on the short chain, with events from ARKODE's
+ *    root finder.
  */
 #include "test_chains.h"
 #include "test_util.h"
@@ -100,6 +103,53 @@ static void test_peers_match_cvode(void **state)
     taper_chain_free(c);
 }
 
+static const taper_peer_erk_table erk_tables[] = {TAPER_PEER_ERK_VERNER6, TAPER_PEER_ERK_FEHLBERG8,
+                                                   TAPER_PEER_ERK_DP5};
+#define N_ERK (sizeof erk_tables / sizeof *erk_tables)
+
+static void test_arkode_binary_collision(void **state)
+{
+    (void)state;
+    taper_chain *c = make(TAPER_MONODISPERSE, 2, 0, 0);
+    const double T1 = theory_T1(c);
+    for (size_t i = 0; i < N_ERK; i++) {
+        taper_peer_result r;
+        taper_error err;
+        assert_int_equal(taper_peer_arkode(c, erk_tables[i], 1e-13, 1e-16, 0, &r, &err), TAPER_OK);
+        assert_true(r.complete);
+        assert_double_rel(r.t_pass[0], T1, 1e-10);
+        assert_double_rel(r.v_peak[1], 1.0, 1e-10);
+        assert_true(r.energy_drift < 1e-10);
+        assert_true(r.steps > 0 && r.rhs_evals > r.steps && r.event_evals > 0);
+        taper_peer_result_free(&r);
+    }
+    taper_chain_free(c);
+}
+
+static void test_arkode_matches_cvode(void **state)
+{
+    (void)state;
+    taper_chain *c = make(TAPER_BACKWARD_LINEAR, 20, 0.5, 0);
+    taper_sim *sim = taper_sim_alloc(c, NULL, NULL);
+    assert_non_null(sim);
+    assert_int_equal(taper_sim_run(sim, NULL), TAPER_OK);
+    const double *tp = taper_sim_observable(sim, TAPER_T_PASS);
+    const double *vp = taper_sim_observable(sim, TAPER_V_PEAK);
+    for (size_t i = 0; i < N_ERK; i++) {
+        taper_peer_result r;
+        assert_int_equal(taper_peer_arkode(c, erk_tables[i], 1e-13, 1e-16, 0, &r, NULL), TAPER_OK);
+        assert_true(r.complete);
+        for (size_t k = 0; k < 20; k++) {
+            if (k < 19) assert_double_rel(r.t_pass[k], tp[k], 1e-8);
+            assert_double_rel(r.v_peak[k], vp[k], 1e-8);
+        }
+        assert_true(isnan(r.t_pass[19]));
+        taper_peer_result_free(&r);
+    }
+    taper_sim_free(sim);
+    taper_chain_free(c);
+}
+
 static void test_invalid(void **state)
 {
     (void)state;
@@ -108,6 +158,10 @@ static void test_invalid(void **state)
     taper_error err;
     assert_int_equal(taper_peer_verlet(c, 0.0, 0, &r, &err), TAPER_EINVAL);
     assert_int_equal(taper_peer_rk8pd(c, 0.0, 1e-9, 0, &r, &err), TAPER_EINVAL);
+    assert_int_equal(taper_peer_arkode(c, TAPER_PEER_ERK_DP5, 1e-9, 0.0, 0, &r, &err), TAPER_EINVAL);
+    assert_int_equal(taper_peer_arkode(c, TAPER_PEER_ERK_DP5, 1e-6, 1e-9, 3, &r, &err), TAPER_ELIMIT);
+    assert_false(r.complete);
+    taper_peer_result_free(&r);
     assert_int_equal(taper_peer_verlet(c, 1e-3, 10, &r, &err), TAPER_ELIMIT);
     assert_false(r.complete);
     taper_peer_result_free(&r);
@@ -121,6 +175,8 @@ int main(void)
         cmocka_unit_test(test_verlet_order_two),
         cmocka_unit_test(test_rk8pd_binary_collision),
         cmocka_unit_test(test_peers_match_cvode),
+        cmocka_unit_test(test_arkode_binary_collision),
+        cmocka_unit_test(test_arkode_matches_cvode),
         cmocka_unit_test(test_invalid),
     };
     return cmocka_run_group_tests_name("peers", tests, NULL, NULL);
