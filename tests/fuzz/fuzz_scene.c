@@ -25,7 +25,6 @@
 #include "scene.h"
 #include "taper.h"
 
-#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -142,17 +141,6 @@ static void check_round_trip(const scene *sc)
     scene_free(again);
 }
 
-/* Findings reported to the owner of the file and not fixed yet
- * (docs/robustness.md, "Fuzzing"): skipped so that a long campaign goes on
- * finding new ones.  FUZZ_STRICT=1 in the environment turns them back on.
- *  Finding D: src/scene.c accepts rtol in [1e-15, 0.1], taper_sim_alloc rejects
- *     rtol < 10 DBL_EPSILON = 2.2e-15: rtol = 1e-15 validates, then fails. */
-static int known_finding(const taper_solver_spec *ss)
-{
-    if (strict_mode()) return 0;
-    return ss->rtol < 10.0 * DBL_EPSILON;
-}
-
 /* Property 4: the library accepts what validation accepted. */
 static void check_library(const scene *sc)
 {
@@ -188,8 +176,7 @@ static void check_library(const scene *sc)
         taper_sim *sim = taper_sim_alloc(chain, &ss, &err);
         if (!sim) {
             if (err.message[0] == '\0') fail("taper_sim_alloc failed without a message", NULL);
-            if (err.status == TAPER_EINVAL && !known_finding(&ss))
-                fail("validated scene rejected by taper_sim_alloc", err.message);
+            if (err.status == TAPER_EINVAL) fail("validated scene rejected by taper_sim_alloc", err.message);
         }
         taper_sim_free(sim);
         taper_chain_free(chain);
