@@ -40,20 +40,49 @@ static double velocity(const taper_sim *sim, const double *y, size_t k)
     return k <= d->hi ? taper_dyn_v(d, y, k) : 0.0;
 }
 
+/* A genuine root has g ~ 0 at the returned time; a slot armed while its
+ * event had already happened jumps from the "nothing yet" value to one of the
+ * other sign, which CVODE also reports.  Relative size of |g| that tells
+ * them apart (CVODE locates roots to ~1e-14 in time). */
+#define GENUINE_ROOT 1e-3
+
+static int known(const taper_sim *sim, size_t k, unsigned bit) { return sim->events[k - 1] & bit; }
+
+static int pass_armed(const taper_sim *sim, const double *y, size_t k)
+{
+    if (k > sim->pass_limit || k > sim->dyn.hi || known(sim, k, TAPER_EV_PASS)) return 0;
+    return k == sim->next_pass || velocity(sim, y, k) > ARM_FRACTION * sim->v_ref;
+}
+
 static double pass_function(const taper_sim *sim, const double *y, size_t k)
 {
-    if (k > sim->pass_limit || k > sim->dyn.hi || !isnan(sim->obs[TAPER_T_PASS][k - 1]))
-        return -1.0;
-    double v = velocity(sim, y, k);
-    if (k != sim->next_pass && !(v > ARM_FRACTION * sim->v_ref)) return -1.0;
-    return velocity(sim, y, k + 1) - v;
+    if (!pass_armed(sim, y, k)) return -1.0;
+    return velocity(sim, y, k + 1) - velocity(sim, y, k);
+}
+
+static int peak_armed(const taper_sim *sim, const double *y, size_t k)
+{
+    if (k > sim->target || k > sim->dyn.hi || known(sim, k, TAPER_EV_PEAK)) return 0;
+    return velocity(sim, y, k) > ARM_FRACTION * sim->v_ref;
 }
 
 static double peak_function(const taper_sim *sim, const double *y, size_t k)
 {
-    if (k > sim->target || k > sim->dyn.hi || !isnan(sim->obs[TAPER_T_PEAK][k - 1])) return 1.0;
-    if (!(velocity(sim, y, k) > ARM_FRACTION * sim->v_ref)) return 1.0;
+    if (!peak_armed(sim, y, k)) return 1.0;
     return taper_dyn_peak_function(&sim->dyn, y, k);
+}
+
+/* Whether the peak function's value at a root is a genuine zero: small
+ * against its present terms, or against their binary-collision size (the
+ * last granule peaks as its only contact opens, where both terms vanish). */
+static int genuine_peak_root(const taper_sim *sim, const double *y, size_t k)
+{
+    const taper_dyn *d = &sim->dyn;
+    double left = k > 1 ? d->rho[k - 2] * taper_dyn_z(d, y, k - 1) : 0.0;
+    double right = d->rho[k - 1] * taper_dyn_z(d, y, k);
+    double typical = (k > 1 ? d->rho[k - 2] * sim->z_scale[k - 2] : 0.0) + d->rho[k - 1] * sim->z_scale[k - 1];
+    double g = fabs(left - right);
+    return g <= GENUINE_ROOT * (fabs(left) + fabs(right)) || g <= 1e-9 * typical;
 }
 
 int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
@@ -67,7 +96,7 @@ int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
     for (size_t i = 0; i < TAPER_PEAK_SLOTS; i++)
         g[TAPER_PASS_SLOTS + i] =
             peak_function(sim, y, slot_granule(sim->next_peak, i, TAPER_PEAK_SLOTS));
-    g[TAPER_SLOT_GROW] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_threshold : -1.0;
+    g[TAPER_SLOT_GROW] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1] : -1.0;
     g[TAPER_SLOT_GAP] = d->lo > 1 ? y[0] - sim->gap_watch[d->lo - 2] : -1.0;
     return 0;
 }
@@ -81,6 +110,12 @@ void taper_events_directions(int *directions)
 static void record_pass(taper_sim *sim, const double *y, size_t k)
 {
     const taper_dyn *d = &sim->dyn;
+    sim->events[k - 1] |= TAPER_EV_PASS;
+    double g = velocity(sim, y, k + 1) - velocity(sim, y, k);
+    if (fabs(g) > GENUINE_ROOT * fmax(fabs(velocity(sim, y, k)), fabs(velocity(sim, y, k + 1)))) {
+        sim->untimed_passes++; /* passed before its slot was armed */
+        return;
+    }
     sim->obs[TAPER_T_PASS][k - 1] = sim->t;
     sim->obs[TAPER_X_PASS][k - 1] = sim->chain->rest[k - 1] + taper_dyn_position(d, y, k);
     double v = velocity(sim, y, k + 1);
@@ -93,8 +128,41 @@ static void record_peak(taper_sim *sim, const double *y, size_t k)
 {
     double v = velocity(sim, y, k);
     if (!(v > 0.0)) return; /* a maximum while moving backwards is no pulse peak */
+    sim->events[k - 1] |= TAPER_EV_PEAK;
+    if (!genuine_peak_root(sim, y, k)) {
+        sim->untimed_peaks++; /* peaked before its slot was armed */
+        return;
+    }
     sim->obs[TAPER_V_PEAK][k - 1] = v;
     sim->obs[TAPER_T_PEAK][k - 1] = sim->t;
+}
+
+/* Moves the rings past known events.  A granule that enters a ring with its
+ * event already behind it (v_{k+1} > v_k, or decelerating while moving
+ * forward, while armed) can never produce a sign change: it is marked known
+ * and untimed rather than waited for for ever (steep forward chains, where
+ * light granules overtake in the precursor). */
+static void advance_rings(taper_sim *sim, const double *y)
+{
+    for (int moved = 1; moved;) {
+        moved = 0;
+        while (sim->next_pass <= sim->pass_limit && known(sim, sim->next_pass, TAPER_EV_PASS))
+            sim->next_pass++;
+        while (sim->next_peak <= sim->target && known(sim, sim->next_peak, TAPER_EV_PEAK))
+            sim->next_peak++;
+        for (size_t k = sim->next_pass; k < sim->next_pass + TAPER_PASS_SLOTS; k++)
+            if (pass_armed(sim, y, k) && pass_function(sim, y, k) > 0.0) {
+                sim->events[k - 1] |= TAPER_EV_PASS;
+                sim->untimed_passes++;
+                moved = 1;
+            }
+        for (size_t k = sim->next_peak; k < sim->next_peak + TAPER_PEAK_SLOTS; k++)
+            if (peak_armed(sim, y, k) && peak_function(sim, y, k) < 0.0) {
+                sim->events[k - 1] |= TAPER_EV_PEAK;
+                sim->untimed_peaks++;
+                moved = 1;
+            }
+    }
 }
 
 void taper_events_record(taper_sim *sim, const int *roots_found, int *grow, int *gap_closed)
@@ -108,10 +176,7 @@ void taper_events_record(taper_sim *sim, const int *roots_found, int *grow, int 
     for (size_t k = sim->next_peak; k < sim->next_peak + TAPER_PEAK_SLOTS; k++)
         if (roots_found[TAPER_PASS_SLOTS + (k - 1) % TAPER_PEAK_SLOTS] < 0 && k <= sim->target)
             record_peak(sim, y, k);
-    while (sim->next_pass <= sim->pass_limit && !isnan(sim->obs[TAPER_T_PASS][sim->next_pass - 1]))
-        sim->next_pass++;
-    while (sim->next_peak <= sim->target && !isnan(sim->obs[TAPER_T_PEAK][sim->next_peak - 1]))
-        sim->next_peak++;
+    advance_rings(sim, y);
     *grow = roots_found[TAPER_SLOT_GROW] > 0;
     *gap_closed = roots_found[TAPER_SLOT_GAP] > 0;
 }

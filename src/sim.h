@@ -38,7 +38,10 @@ struct taper_sim {
     double z_ref;           /* compression z_k at the last pass event of k:
                                the pair's largest compression (dz_k/dt =
                                v_k - v_{k+1} = 0 there)                     */
-    double grow_threshold;  /* z_hi above which granule hi+1 joins          */
+    double *grow_z;         /* grow_z[k-1]: z_k above which granule k+1 joins
+                               the window (k = hi)                           */
+    unsigned char *events;  /* per granule: TAPER_EV_* bits                  */
+    size_t untimed_passes, untimed_peaks;
 
     /* granules that left the window: x_j(t) = x_free[j] + v_free[j] t;
      * gap_watch[j]: compression of the gap z_j above which granule j is taken
@@ -71,6 +74,11 @@ struct taper_sim {
     long counters_before_restart[6]; /* CVODE counters reset by CVodeReInit */
     long left_resting;      /* granules that left at rest within tolerance  */
 };
+
+/* Event bits of a granule: known (timed, or found to have happened before
+ * its root function could see it, "untimed": its value stays NaN). */
+#define TAPER_EV_PASS 1u
+#define TAPER_EV_PEAK 2u
 
 /* Pointer to the entry at absolute index taper_dyn_begin() of a state vector. */
 double *taper_sim_data(const taper_sim *sim, N_Vector v);

@@ -76,13 +76,22 @@ static int validate_spec(const taper_chain *chain, const taper_solver_spec *s, t
     return TAPER_OK;
 }
 
-/* z_hi at which the window grows: the neglected force r z^(n-1) is then
- * below 1e-40, far under any tolerance.  Clamped so that root values stay
- * clear of underflow. */
-static double growth_threshold(double exponent)
+/* z_k at which granule k+1 joins the window (k = hi): the neglected force
+ * r_k z^(n-1) then changes the velocity of the lighter of k, k+1 by less than
+ * 1e-40 of its binary-collision velocity per unit time, far under any
+ * tolerance.  Per granule because of the masses: the last granules of a
+ * steep forward chain weigh 1e-124, and a force of 1e-40 is not negligible
+ * there.  Clamped so that root values stay clear of underflow. */
+static void growth_thresholds(taper_sim *sim)
 {
-    double z = pow(10.0, -40.0 / (exponent - 1.0));
-    return fmin(fmax(z, 1e-150), 1e-8);
+    const taper_chain *c = sim->chain;
+    for (size_t k = 1; k < c->n; k++) {
+        double m = fmin(c->mass[k - 1], c->mass[k]);
+        double v = fmin(sim->v_scale[k - 1], sim->v_scale[k]);
+        double z = pow(1e-40 * m * v / c->contact[k - 1], 1.0 / (c->exponent - 1.0));
+        sim->grow_z[k - 1] = fmin(fmax(z, 1e-150), 1e-8);
+    }
+    sim->grow_z[c->n - 1] = INFINITY; /* nothing beyond the last granule */
 }
 
 static int alloc_arrays(taper_sim *sim)
@@ -96,6 +105,9 @@ static int alloc_arrays(taper_sim *sim)
     sim->x_free = calloc(n, sizeof(double));
     sim->v_free = calloc(n, sizeof(double));
     sim->gap_watch = calloc(n, sizeof(double));
+    sim->grow_z = malloc(n * sizeof(double));
+    sim->events = calloc(n, 1);
+    if (!sim->grow_z || !sim->events) return -1;
     sim->v_scale = malloc(n * sizeof(double));
     sim->z_scale = malloc(n * sizeof(double));
     if (!sim->x_free || !sim->v_free || !sim->gap_watch || !sim->v_scale || !sim->z_scale) return -1;
@@ -160,7 +172,8 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
     sim->obs[TAPER_T_PEAK][0] = 0.0;
     sim->v_ref = 1.0;
     sim->z_ref = 1.0;
-    sim->grow_threshold = growth_threshold(chain->exponent);
+    growth_thresholds(sim);
+    sim->events[0] |= TAPER_EV_PEAK;
     taper_ok(err);
     return sim;
 }
@@ -180,6 +193,8 @@ void taper_sim_free(taper_sim *sim)
     free(sim->x_free);
     free(sim->v_free);
     free(sim->gap_watch);
+    free(sim->grow_z);
+    free(sim->events);
     free(sim->v_scale);
     free(sim->z_scale);
     free(sim);
@@ -381,12 +396,25 @@ static int call_monitor(taper_sim *sim)
     return sim->spec.monitor(&p, sim->spec.monitor_data);
 }
 
+/* What a user can change when a run stops early. */
+static const char *advice(int status, const char *why)
+{
+    if (status == TAPER_EINTERRUPTED) return "";
+    if (strstr(why, "max_steps")) return "; raise max_steps (0: no limit)";
+    if (strstr(why, "1e300"))
+        return "; the pulse cannot cross this chain in finite double-precision time: fewer "
+               "granules or a weaker taper";
+    if (strstr(why, "t_max")) return "; raise t_max (0: no limit)";
+    return "; try a looser rtol, method 'bdf' (strongly forward-tapered chains, whose lightest "
+           "granules collide on tiny time scales), or fewer granules";
+}
+
 static int stop(taper_sim *sim, taper_error *err, int status, const char *why)
 {
     return taper_fail(err, status,
                       "%s at t = %.17g with the pulse past granule %zu of %zu "
-                      "(observables found so far are kept)",
-                      why, sim->t, sim->next_pass - 1, sim->pass_limit);
+                      "(observables found so far are kept)%s",
+                      why, sim->t, sim->next_pass - 1, sim->pass_limit, advice(status, why));
 }
 
 static int handle_roots(taper_sim *sim, taper_error *err)
@@ -470,11 +498,49 @@ static int integrate(taper_sim *sim, taper_error *err)
     return TAPER_OK;
 }
 
+/* Relative resolution of a pass time, in units of rtol (measured t_pass
+ * errors reach ~12 rtol, docs/design.md). */
+#define PASS_TIME_RESOLUTION 100.0
+
+/* T_res(k) = t_pass(k) - t_pass(k-1), unless the difference is below what
+ * the pass times resolve (the last, tiny granules of forward chains are
+ * passed within 1e-15 of each other): then NaN, not a number that is noise. */
+static size_t residence_times(taper_sim *sim)
+{
+    const double *tp = sim->obs[TAPER_T_PASS];
+    double *tr = sim->obs[TAPER_T_RES];
+    size_t unresolved = 0;
+    for (size_t k = 1; k <= sim->chain->n; k++) {
+        double before = k > 1 ? tp[k - 2] : 0.0, T = tp[k - 1] - before;
+        if (fabs(T) < PASS_TIME_RESOLUTION * sim->spec.rtol * fabs(tp[k - 1])) {
+            T = NAN;
+            unresolved++;
+        }
+        tr[k - 1] = T;
+    }
+    return unresolved;
+}
+
+/* What the caller's log should know about values left NaN on purpose. */
+static void report_untimed(const taper_sim *sim, size_t unresolved_residences)
+{
+    if (sim->untimed_passes || sim->untimed_peaks)
+        taper_sim_log(sim, 1,
+                      "%zu pass times and %zu peaks happened before their root functions were "
+                      "armed (light granules overtaking in the precursor of a steeply tapered "
+                      "chain): written as nan, not guessed",
+                      sim->untimed_passes, sim->untimed_peaks);
+    if (unresolved_residences)
+        taper_sim_log(sim, 1,
+                      "%zu residence times are below the resolution of the pass times "
+                      "(%g rtol t): written as nan",
+                      unresolved_residences, PASS_TIME_RESOLUTION);
+}
+
 static void finish(taper_sim *sim, int status)
 {
     const taper_chain *c = sim->chain;
-    double *tp = sim->obs[TAPER_T_PASS], *tr = sim->obs[TAPER_T_RES];
-    for (size_t k = 1; k <= c->n; k++) tr[k - 1] = tp[k - 1] - (k > 1 ? tp[k - 2] : 0.0);
+    report_untimed(sim, residence_times(sim));
     long cnt[6];
     read_counters(sim, cnt);
     for (int i = 0; i < 6; i++) cnt[i] += sim->counters_before_restart[i];
