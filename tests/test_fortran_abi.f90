@@ -94,6 +94,8 @@ program test_fortran_abi
   if (c_associated(sim) .or. e%status /= TAPER_EINVAL .or. index(taper_message(e), "rtol") == 0) &
        call fail("error message: "//taper_message(e))
   call taper_chain_free(chain)
+  ! Main-program variables are implicitly SAVE'd: never deallocated for us.
+  deallocate (v, t)
 
   if (fails > 0) error stop 1
   print '(a)', "Fortran module: 7 struct layouts equal to C, calls and messages work"

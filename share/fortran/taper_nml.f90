@@ -164,6 +164,7 @@ program taper_nml
 
   if (dump) then
      call print_dump()
+     deallocate (radii)
      stop
   end if
 
@@ -173,6 +174,9 @@ program taper_nml
      status = run_point(min(i, n_s), min(i, n_q))
      worst = max(worst, status)
   end do
+  ! Main-program variables are implicitly SAVE'd: never deallocated for us
+  ! (LeakSanitizer and valgrind report them once MAIN__ has returned).
+  deallocate (radii)
   select case (worst)   ! F2008: STOP codes are constants
   case (1)
      error stop 1
