@@ -165,7 +165,8 @@ static int compute_theory(run *r)
     if (taper_theory_compute(r->chain, r->theory[0], r->theory[1], r->theory[2], r->theory[3],
                              &r->err) == TAPER_OK)
         return EXIT_COMPLETE;
-    snprintf(r->message, sizeof r->message, "%s: theory: %s", r->sc->path, r->err.message);
+    /* The library's theory messages name it already ("theory: velocity of ..."). */
+    snprintf(r->message, sizeof r->message, "%s: %s", r->sc->path, r->err.message);
     return EXIT_FAILED;
 }
 

@@ -535,7 +535,7 @@ contains
     allocate (v_th(n), t_th(n))
     if (taper_theory_compute(c, c_loc(v_th), c_null_ptr, c_null_ptr, c_loc(t_th), err) &
          /= TAPER_OK) then
-       write (error_unit, '(a)') trim(path)//": theory: "//taper_message(err)
+       write (error_unit, '(a)') trim(path)//": "//taper_message(err)   ! "theory: ..."
        call taper_chain_free(c)
        rc = 1
        return
