@@ -178,18 +178,41 @@ const char *scene_type_name(const scene_var *var)
     return names[var->type];
 }
 
+/* src into dst (size > 4) with every byte that is not printable ASCII
+ * (control bytes, UTF-8, Latin-1, ...) shown as \xNN, so that a message
+ * says exactly which bytes the file has; "..." ends a text cut short. */
+static void copy_escaped(char *dst, size_t size, const char *src)
+{
+    size_t o = 0;
+    for (const unsigned char *c = (const unsigned char *)src; *c; c++) {
+        int plain = *c >= 0x20 && *c < 0x7f;
+        size_t need = plain ? 1 : 4;
+        if (o + need > size - 1) {
+            memcpy(dst + (o <= size - 4 ? o : size - 4), "...", 4);
+            return;
+        }
+        if (plain)
+            dst[o++] = (char)*c;
+        else
+            o += (size_t)snprintf(dst + o, size - o, "\\x%02x", *c);
+    }
+    dst[o] = '\0';
+}
+
 void scene_error(scene *sc, int line, const char *group, const char *key, const char *fmt, ...)
 {
     sc->n_errors++;
     if (sc->n_diags >= SCENE_MAX_DIAGS) return;
     scene_diag *d = &sc->diags[sc->n_diags++];
     d->line = line;
-    snprintf(d->group, sizeof d->group, "%s", group ? group : "");
-    snprintf(d->key, sizeof d->key, "%s", key ? key : "");
+    copy_escaped(d->group, sizeof d->group, group ? group : "");
+    copy_escaped(d->key, sizeof d->key, key ? key : "");
+    char raw[SCENE_MSG_SIZE];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(d->message, sizeof d->message, fmt, ap);
+    vsnprintf(raw, sizeof raw, fmt, ap);
     va_end(ap);
+    copy_escaped(d->message, sizeof d->message, raw);
 }
 
 void scene_print_diags(const scene *sc, FILE *fp)

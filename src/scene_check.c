@@ -37,9 +37,12 @@ static void check_choice(scene *sc, const scene_var *var, scene_value *v)
             return;
         }
     }
-    char allowed[256], shown[64];
+    /* shown: at most 31 bytes, each up to 4 characters once scene_error
+     * writes non-ASCII as \xNN, so that the list of allowed values fits. */
+    char allowed[256], shown[32];
     scene_range_text(var, allowed, sizeof allowed);
-    snprintf(shown, sizeof shown, "%s", v->str);
+    if (snprintf(shown, sizeof shown, "%s", v->str) >= (int)sizeof shown)
+        memcpy(shown + sizeof shown - 4, "...", 4);
     scene_error(sc, v->line, var->group, var->name, "'%s' is not allowed: use one of %s", shown,
                 allowed);
 }

@@ -157,15 +157,14 @@ static void advance(parser *p)
     if (!p->failed && lex(p, &p->next) != 0) p->failed = 1;
 }
 
-/* Up to size-1 characters of a token, for messages (never unbounded). */
+/* Up to size-1 bytes of a token, for messages (never unbounded); bytes
+ * that are not printable ASCII are shown as \xNN by scene_error. */
 static const char *tok_text(const token *t, char *buf, size_t size)
 {
     if (t->kind == T_EOF) return "end of file";
     size_t n = t->len < size - 1 ? t->len : size - 1;
     memcpy(buf, t->text, n);
     buf[n] = '\0';
-    for (size_t i = 0; i < n; i++)
-        if (!isprint((unsigned char)buf[i])) buf[i] = '?';
     if (n < t->len && size > 4) memcpy(buf + size - 4, "...", 4);
     return buf;
 }
@@ -586,6 +585,12 @@ size_t scene_parse(scene *sc, const char *text, size_t len)
     size_t before = sc->n_errors;
     if (len > SCENE_MAX_FILE) {
         scene_error(sc, 0, NULL, NULL, "file larger than %u bytes: not a scene", SCENE_MAX_FILE);
+        return sc->n_errors - before;
+    }
+    if (len >= 3 && memcmp(text, "\xef\xbb\xbf", 3) == 0) {
+        scene_error(sc, 1, NULL, NULL,
+                    "the file starts with a UTF-8 byte-order mark: save it as plain "
+                    "ASCII/UTF-8 without BOM");
         return sc->n_errors - before;
     }
     if (screen(sc, text, len) != 0) return sc->n_errors - before;
