@@ -13,6 +13,28 @@
  * (local error O(theta^9), far below the step's own error).  It stops when
  * the bracket is below 4 eps t, or g is exactly zero, or after 60
  * iterations.  Every such trial step is counted in rhs_evals and event_evals.
+ *
+ * GSL errors.  GSL's default error handler aborts, and setting another one
+ * (gsl_set_error_handler_off) changes global state for the whole program,
+ * so this file never does; instead no GSL_ERROR path is reachable from a
+ * valid call, except a failed malloc inside GSL's allocators (GSL 2.7,
+ * ode-initval2/):
+ *  - gsl_odeiv2_step_alloc, gsl_odeiv2_evolve_alloc: GSL_ERROR_NULL only
+ *    when malloc fails.  Their sizes (dim doubles, a few times) cannot
+ *    overflow: n <= SIZE_MAX / (2 sizeof(double)) is checked first, and our
+ *    own buffers are allocated before them.  Out of memory there still goes
+ *    to GSL's handler: the peers are therefore not in libtaper.so
+ *    (src/meson.build), only in taper-bench and test_peers.
+ *  - gsl_odeiv2_control_y_new: GSL_ERROR_NULL when malloc fails (as above;
+ *    with a non-aborting handler it would then initialise a NULL control,
+ *    GSL 2.7 cstd.c), or for a negative tolerance: rtol, atol in (0, 1) are
+ *    checked first.
+ *  - gsl_odeiv2_evolve_apply: GSL_ERROR if the step and evolve dimensions
+ *    differ (both are c.dim) or if the step h and t1 - t have opposite
+ *    signs: h starts at 1e-4 and evolve only ever scales it by a factor in
+ *    [0.2, 5] (cstd.c), and the loop calls it only while t < t1.
+ *  - gsl_odeiv2_step_apply (rk8pd_apply), gsl_strerror: no GSL_ERROR; the
+ *    right-hand side always returns GSL_SUCCESS.
  */
 #include "dynamics.h"
 #include "peers.h"
@@ -23,6 +45,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -159,17 +182,24 @@ int taper_peer_rk8pd(const taper_chain *chain, double rtol, double atol, long ma
     if (!(rtol > 0.0 && rtol < 1.0) || !(atol > 0.0 && atol < 1.0))
         return taper_fail(err, TAPER_EINVAL, "rk8pd: rtol = %g, atol = %g must lie in (0, 1)", rtol, atol);
     size_t n = taper_chain_size(chain);
+    if (n > SIZE_MAX / (2 * sizeof(double)))
+        return taper_fail(err, TAPER_ENOMEM, "rk8pd: %zu granules: the state does not fit in memory", n);
     rk_ctx c;
     memset(&c, 0, sizeof c);
     if (taper_peer_result_init(r, n) != 0) return taper_fail(err, TAPER_ENOMEM, "rk8pd: out of memory");
     c.dim = 2 * n;
+    /* Ours first: if these fail, GSL's allocators are not reached. */
     double *buf = calloc(5 * c.dim, sizeof(double));
     int dyn_ok = taper_dyn_init(&c.dyn, n, taper_chain_exponent(chain), taper_chain_mass(chain),
                                 taper_chain_contact(chain)) == 0;
-    c.step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, c.dim);
-    gsl_odeiv2_control *control = gsl_odeiv2_control_y_new(atol, rtol);
-    gsl_odeiv2_evolve *evolve = gsl_odeiv2_evolve_alloc(c.dim);
+    gsl_odeiv2_control *control = NULL;
+    gsl_odeiv2_evolve *evolve = NULL;
     int status = TAPER_OK;
+    if (buf && dyn_ok) {
+        c.step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, c.dim);
+        control = gsl_odeiv2_control_y_new(atol, rtol);
+        evolve = gsl_odeiv2_evolve_alloc(c.dim);
+    }
     if (!buf || !dyn_ok || !c.step || !control || !evolve) {
         status = taper_fail(err, TAPER_ENOMEM, "rk8pd: out of memory");
         goto done;
@@ -192,6 +222,10 @@ int taper_peer_rk8pd(const taper_chain *chain, double rtol, double atol, long ma
         double t0 = t;
         memcpy(c.y0, c.y1, c.dim * sizeof(double));
         double t1 = isinf(ev.t_end) ? 1e300 : ev.t_end;
+        if (!(t < t1)) { /* evolve_apply needs t1 - t of the sign of h > 0 */
+            status = taper_fail(err, TAPER_ELIMIT, "rk8pd: t = %g reached with passes missing", t);
+            break;
+        }
         int gs = gsl_odeiv2_evolve_apply(evolve, control, c.step, &c.sys, &t, t1, &h, c.y1);
         if (gs != GSL_SUCCESS) {
             status = taper_fail(err, TAPER_ESOLVER, "rk8pd: GSL error %d (%s) at t = %g", gs,
