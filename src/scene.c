@@ -150,6 +150,16 @@ static const scene_var table[] = {
 };
 #define N_VARS (sizeof table / sizeof table[0])
 
+/* Every validated scene's echo must read back (docs/robustness.md, finding
+ * B).  The echo writes a list value in at most 32 bytes (24 for %.17g of a
+ * double, then ',' and at most a line break and 6 spaces); all lists of
+ * more than one value hold at most SCENE_MAX_LIST values together
+ * (scene_parse.c); every other variable is one line of at most
+ * SCENE_MAX_LINE characters (a string echoes as long as it was written)
+ * plus its name. */
+_Static_assert(32ull * SCENE_MAX_LIST + N_VARS * (SCENE_MAX_LINE + 128ull) <= SCENE_MAX_FILE,
+               "the echo of a valid scene may exceed SCENE_MAX_FILE");
+
 int scene_group_active(const scene *sc, const char *group)
 {
     if (strcmp(group, "fit") == 0) return strcmp(scene_str(sc, "fit", "model"), "none") != 0;

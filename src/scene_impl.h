@@ -15,7 +15,11 @@
 /* Limits that keep every buffer bounded whatever the input. */
 #define SCENE_MAX_FILE (8u << 20)      /* bytes in a scene file                */
 #define SCENE_MAX_LINE 4096            /* characters in one line               */
-#define SCENE_MAX_LIST 1000000         /* elements of one list (custom radii)  */
+/* Values in one list, and in all lists of more than one value together
+ * (custom radii, sweeps, table values): small enough that the echo of any
+ * valid scene, up to 32 bytes a value, fits SCENE_MAX_FILE and reads back
+ * (checked at compile time in scene.c). */
+#define SCENE_MAX_LIST 250000
 
 /* Records one error (line 0 / group or key NULL when unknown). */
 void scene_error(scene *sc, int line, const char *group, const char *key,

@@ -35,6 +35,7 @@ typedef struct parser {
     token tok;              /* current token                                 */
     token next;             /* one token of look-ahead                       */
     int failed;
+    size_t list_values;     /* values in lists of more than one value so far */
     int group_line[8];      /* line where each group was opened (0: not yet) */
 } parser;
 
@@ -303,6 +304,17 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
         scene_error(p->sc, line, var->group, var->name,
                     "expects one value, got %zu (only s and q take a list, to sweep them)", n);
         return -1;
+    }
+    if (n > 1) {
+        /* The echo repeats every value: all lists together are bounded so
+         * that it fits the file limit (scene.c). */
+        if (n > SCENE_MAX_LIST - p->list_values) {
+            scene_error(p->sc, line, var->group, var->name,
+                        "%zu values here and %zu in other lists: a scene's lists hold at most "
+                        "%d values in all", n, p->list_values, SCENE_MAX_LIST);
+            return -1;
+        }
+        p->list_values += n;
     }
     for (size_t i = 0; i < n; i++) {
         int k = el[i].kind;

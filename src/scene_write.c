@@ -15,10 +15,21 @@ void scene_format_real(double x, char *buf, size_t size)
 {
     /* Shortest representation that reads back exactly: tidy scenes, and
      * the echo re-parses to the same doubles. */
-    int prec = 1;
-    for (; prec < 17; prec++) {
-        snprintf(buf, size, "%.*g", prec, x);
-        if (strtod(buf, NULL) == x) break;
+    int prec = 15;
+    snprintf(buf, size, "%.*g", prec, x);
+    if (strtod(buf, NULL) == x) {
+        /* 15 digits suffice: the shortest from 1 up (tidy values are short) */
+        for (prec = 1; prec < 15; prec++) {
+            snprintf(buf, size, "%.*g", prec, x);
+            if (strtod(buf, NULL) == x) break;
+        }
+    } else {
+        /* a value with 16 or 17 significant digits (most computed ones):
+         * two tries rather than 17, so that long lists echo quickly */
+        for (prec = 16; prec < 17; prec++) {
+            snprintf(buf, size, "%.*g", prec, x);
+            if (strtod(buf, NULL) == x) break;
+        }
     }
     /* %g switches to an exponent once it has fewer digits than the integer
      * part: print 20 rather than 2e+01, keep 1e+06 and beyond short. */

@@ -348,6 +348,10 @@ static const bad_case bad_cases[] = {
     {"&chain profile='custom' radii = 3* /", 1, "chain", "radii", "repeat"},
     {"&chain profile='custom' radii = x*1 /", 1, "chain", "radii", "repeat"},
     {"&chain profile='custom' radii = 99999999999*1 /", 1, "chain", "radii", "longer than"},
+    {"&chain profile='custom' radii = 250001*1 /", 1, "chain", "radii", "longer than 250000"},
+    /* all lists together: the echo of a valid scene must fit the file limit */
+    {"&chain profile='custom' radii = 1, 199999*1.5\n s = 50001*0 /", 2, "chain", "s",
+     "200000 in other lists: a scene's lists hold at most 250000 values in all"},
     /* validation: ranges and allowed values */
     {"&chain n_granules = 1 /", 1, "chain", "n_granules", "[2, 1e+07]"},
     {"&chain n_granules = -5 /", 1, "chain", "n_granules", "out of range"},

@@ -27,7 +27,8 @@ program taper_nml
   use taper
   implicit none
 
-  integer, parameter :: MAX_SWEEP = 1000, MAX_RADII = 1000000, LEN_STR = 1024
+  ! MAX_RADII: SCENE_MAX_LIST of the C parser (src/scene_impl.h)
+  integer, parameter :: MAX_SWEEP = 1000, MAX_RADII = 250000, LEN_STR = 1024
 
   ! &chain
   character(len=LEN_STR) :: profile
