@@ -16,7 +16,7 @@ mkdir -p "$corpus" "$artifacts"
 cp share/scenes/*.nml share/scenes/paper/*.nml tests/scenes/bad/*.nml "$corpus"/
 cp tests/fuzz/regressions/* "$corpus"/ 2> /dev/null || true
 # Scenes are short text files: 64 kB inputs reach every limit of the parser
-# but the 8 MB file size (repeat counts still make lists of 1e6 values).
+# but the 8 MB file size (repeat counts still make lists of the longest, 250000 values).
 # The dictionary holds the namelist's keywords.
 # One fork at a time that goes on after a crash, a timeout or an OOM (each
 # written to fuzz-artifacts/), so a campaign lasts its full time.  Log:
