@@ -75,13 +75,20 @@ static void test_rk8pd_binary_collision(void **state)
     taper_chain_free(c);
 }
 
+/* The default CVODE run every peer is compared with. */
+static taper_sim *cvode_reference(const taper_chain *c)
+{
+    taper_sim *sim = taper_sim_alloc(c, NULL, NULL);
+    assert_non_null(sim);
+    assert_int_equal(taper_sim_run(sim, NULL), TAPER_OK);
+    return sim;
+}
+
 static void test_peers_match_cvode(void **state)
 {
     (void)state;
     taper_chain *c = make(TAPER_BACKWARD_LINEAR, 20, 0.5, 0);
-    taper_sim *sim = taper_sim_alloc(c, NULL, NULL);
-    assert_non_null(sim);
-    assert_int_equal(taper_sim_run(sim, NULL), TAPER_OK);
+    taper_sim *sim = cvode_reference(c);
     const double *tp = taper_sim_observable(sim, TAPER_T_PASS);
     const double *vp = taper_sim_observable(sim, TAPER_V_PEAK);
 
@@ -130,9 +137,7 @@ static void test_arkode_matches_cvode(void **state)
 {
     (void)state;
     taper_chain *c = make(TAPER_BACKWARD_LINEAR, 20, 0.5, 0);
-    taper_sim *sim = taper_sim_alloc(c, NULL, NULL);
-    assert_non_null(sim);
-    assert_int_equal(taper_sim_run(sim, NULL), TAPER_OK);
+    taper_sim *sim = cvode_reference(c);
     const double *tp = taper_sim_observable(sim, TAPER_T_PASS);
     const double *vp = taper_sim_observable(sim, TAPER_V_PEAK);
     for (size_t i = 0; i < N_ERK; i++) {
