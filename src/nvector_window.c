@@ -103,11 +103,23 @@ static sunindextype window_get_length(N_Vector v) { return (sunindextype)taper_w
 
 #define LOOP(v) for (size_t i = 0, n_ = taper_window_length(v); i < n_; i++)
 
+/* The predictor calls this q(q+1)/2 times per step with a = b = 1 and
+ * z = x (zn[j-1] += zn[j]): that case gets its own loop. */
 static void window_linear_sum(double a, N_Vector x, double b, N_Vector y, N_Vector z)
 {
-    const double *xd = taper_window_data(x), *yd = taper_window_data(y);
+    const size_t n = taper_window_length(z);
+    const double *yd = taper_window_data(y);
     double *zd = taper_window_data(z);
-    LOOP(z) zd[i] = a * xd[i] + b * yd[i];
+    if (a == 1.0 && x == z) {
+        if (b == 1.0) {
+            for (size_t i = 0; i < n; i++) zd[i] += yd[i];
+        } else {
+            for (size_t i = 0; i < n; i++) zd[i] += b * yd[i];
+        }
+        return;
+    }
+    const double *xd = taper_window_data(x);
+    for (size_t i = 0; i < n; i++) zd[i] = a * xd[i] + b * yd[i];
 }
 
 static void window_const(double c, N_Vector z)
@@ -283,6 +295,40 @@ static int window_scale_add_multi(int nv, double *a, N_Vector x, N_Vector *y, N_
     return 0;
 }
 
+static int window_scale_vector_array(int nv, double *c, N_Vector *x, N_Vector *z)
+{
+    const size_t n = taper_window_length(x[0]);
+    for (int j = 0; j < nv; j++) {
+        const double *xd = taper_window_data(x[j]);
+        double *zd = taper_window_data(z[j]);
+        for (size_t i = 0; i < n; i++) zd[i] = c[j] * xd[i];
+    }
+    return 0;
+}
+
+static int window_const_vector_array(int nv, double c, N_Vector *z)
+{
+    const size_t n = taper_window_length(z[0]);
+    for (int j = 0; j < nv; j++) {
+        double *zd = taper_window_data(z[j]);
+        for (size_t i = 0; i < n; i++) zd[i] = c;
+    }
+    return 0;
+}
+
+static int window_linear_sum_vector_array(int nv, double a, N_Vector *x, double b, N_Vector *y,
+                                          N_Vector *z)
+{
+    for (int j = 0; j < nv; j++) window_linear_sum(a, x[j], b, y[j], z[j]);
+    return 0;
+}
+
+static int window_wrms_vector_array(int nv, N_Vector *x, N_Vector *w, double *norms)
+{
+    for (int j = 0; j < nv; j++) norms[j] = window_wrms(x[j], w[j]);
+    return 0;
+}
+
 static void set_ops(N_Vector v)
 {
     struct _generic_N_Vector_Ops *o = v->ops;
@@ -314,6 +360,10 @@ static void set_ops(N_Vector v)
     o->nvminquotient = window_min_quotient;
     o->nvlinearcombination = window_linear_combination;
     o->nvscaleaddmulti = window_scale_add_multi;
+    o->nvscalevectorarray = window_scale_vector_array;
+    o->nvconstvectorarray = window_const_vector_array;
+    o->nvlinearsumvectorarray = window_linear_sum_vector_array;
+    o->nvwrmsnormvectorarray = window_wrms_vector_array;
 }
 
 /* ---- the window ------------------------------------------------------ */
