@@ -14,7 +14,7 @@
  *   orders.tsv           observed order: slope of -log err against log steps
  *   pareto.tsv           the non-dominated (seconds, err_t_pass) points
  *   speed-ratios.tsv     time of each method to reach 1e-6 and 1e-9
- *   scaling.tsv          default settings, N = 10^2 .. 10^4
+ *   scaling.tsv          default settings, N = 10^2 .. --scaling-max (10^4; 10^6 for issue 5)
  *   work-precision.gp    gnuplot script -> work-precision.png
  * Methods: adams (window, the default order; "default" is the shipped
  * taper_solver_spec_init setting), adams-nowin (whole chain), adams-q4,
@@ -34,6 +34,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
 
@@ -537,27 +538,50 @@ static int write_results(const study *s, const char *dir)
 }
 
 /* ---- scaling ----------------------------------------------------------- */
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Peak resident set of the process so far, in MB: the runs go in order of
+ * increasing N, so after the largest run it is that run's peak. */
+static double peak_rss_mb(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? (double)ru.ru_maxrss / 1024.0 : NAN;
+}
+
+/* Time per granule against N (issue 5): the three chains whose cost per
+ * granule should be flat.  Wall and CPU time, medians of `reps` runs (runs
+ * over 60 s: one).  The backward exponential chain stops where its masses
+ * leave double precision (q = 0.05: granule 4490; the chain module says so). */
 static int run_scaling(const char *dir, int reps, size_t n_max, int quick)
 {
     FILE *f = open_out(dir, "scaling.tsv");
     if (!f) return -1;
-    fprintf(f, "chain\tn_granules\tseconds\tseconds_per_granule\tsteps\trhs_evals\troot_evals\tmax_window\n");
+    fprintf(f, "chain\tn_granules\tseconds\tseconds_per_granule\tcpu_seconds\tsteps\trhs_evals\t"
+               "root_evals\tmax_window\tenergy_error\tpeak_rss_mb\n");
     const chain_def defs[] = {{"monodisperse", TAPER_MONODISPERSE, 0, 0, 0},
-                              {"backward_linear", TAPER_BACKWARD_LINEAR, 0, 0.5, 0}};
-    static const size_t ns[] = {100, 316, 1000, 3162, 10000, 31623, 100000};
-    for (size_t c = 0; c < 2; c++)
+                              {"backward_linear", TAPER_BACKWARD_LINEAR, 0, 0.5, 0},
+                              {"backward_exponential", TAPER_BACKWARD_EXPONENTIAL, 0, 0, 0.05}};
+    static const size_t ns[] = {100, 316, 1000, 3162, 4400, 10000, 31623, 100000, 316228, 1000000};
+    for (size_t c = 0; c < sizeof defs / sizeof *defs; c++)
         for (size_t i = 0; i < sizeof ns / sizeof *ns && ns[i] <= n_max; i++) {
+            if (ns[i] == 4400 && defs[c].profile != TAPER_BACKWARD_EXPONENTIAL) continue;
             taper_chain *chain = make_chain(&defs[c], ns[i]);
-            if (!chain) continue;
-            double times[16];
+            if (!chain) break; /* longer chains of this profile cannot exist either */
+            double times[16], cpu[16];
             int r_use = quick ? 1 : reps;
             taper_stats st = {0};
             int ok = 1;
             for (int r = 0; r < r_use && ok; r++) {
                 taper_sim *sim = taper_sim_alloc(chain, NULL, NULL);
-                double t0 = wall_seconds();
+                double t0 = wall_seconds(), c0 = cpu_seconds();
                 ok = sim && taper_sim_run(sim, NULL) == TAPER_OK;
                 times[r] = wall_seconds() - t0;
+                cpu[r] = cpu_seconds() - c0;
                 taper_sim_stats(sim, &st);
                 taper_sim_free(sim);
                 if (times[r] > 60.0) r_use = r + 1; /* long runs: one repetition */
@@ -568,12 +592,17 @@ static int run_scaling(const char *dir, int reps, size_t n_max, int quick)
                 continue;
             }
             qsort(times, (size_t)r_use, sizeof(double), cmp_double);
-            double t = times[r_use / 2];
-            fprintf(f, "%s\t%zu\t%.6f\t%.3e\t%ld\t%ld\t%ld\t%zu\n", defs[c].name, ns[i], t,
-                    t / (double)ns[i], st.steps, st.rhs_evals, st.root_evals, st.max_window);
+            qsort(cpu, (size_t)r_use, sizeof(double), cmp_double);
+            double t = times[r_use / 2], tc = cpu[r_use / 2], rss = peak_rss_mb();
+            fprintf(f, "%s\t%zu\t%.6f\t%.3e\t%.6f\t%ld\t%ld\t%ld\t%zu\t%.3e\t%.1f\n", defs[c].name,
+                    ns[i], t, t / (double)ns[i], tc, st.steps, st.rhs_evals, st.root_evals,
+                    st.max_window, st.energy_error, rss);
             fflush(f);
-            fprintf(stderr, "   scaling %-16s N=%-6zu %.3f s  %.2e s/granule  steps %ld  max window %zu\n",
-                    defs[c].name, ns[i], t, t / (double)ns[i], st.steps, st.max_window);
+            fprintf(stderr,
+                    "   scaling %-20s N=%-7zu %.3f s (cpu %.3f)  %.2e s/granule  steps/granule %.1f  "
+                    "max window %zu  energy error %.1e  peak RSS %.0f MB\n",
+                    defs[c].name, ns[i], t, tc, t / (double)ns[i], (double)st.steps / (double)ns[i],
+                    st.max_window, st.energy_error, rss);
         }
     fclose(f);
     return 0;
