@@ -593,7 +593,9 @@ static int run_scaling(const char *dir, int reps, size_t n_max, int quick)
             }
             qsort(times, (size_t)r_use, sizeof(double), cmp_double);
             qsort(cpu, (size_t)r_use, sizeof(double), cmp_double);
-            double t = times[r_use / 2], tc = cpu[r_use / 2], rss = peak_rss_mb();
+            /* ru_maxrss only grows: it measures a run of its own only for the
+             * first chain (monodisperse, largest N last); NaN after that. */
+            double t = times[r_use / 2], tc = cpu[r_use / 2], rss = c == 0 ? peak_rss_mb() : NAN;
             fprintf(f, "%s\t%zu\t%.6f\t%.3e\t%.6f\t%ld\t%ld\t%ld\t%zu\t%.3e\t%.1f\n", defs[c].name,
                     ns[i], t, t / (double)ns[i], tc, st.steps, st.rhs_evals, st.root_evals,
                     st.max_window, st.energy_error, rss);
