@@ -64,6 +64,9 @@
  * beyond WATCH_FACTOR units of compression. */
 #define REST_FACTOR 100.0
 #define WATCH_FACTOR 1000.0
+/* ... and leave compressions whose force is below this fraction of rtol
+ * times the pulse force (resting_compression). */
+#define FORCE_FRACTION 0.01
 
 static int apply_range(taper_sim *sim, taper_error *err)
 {
@@ -81,6 +84,23 @@ int taper_window_grow(taper_sim *sim, taper_error *err)
     if (sim->dyn.hi >= sim->dyn.n) return TAPER_OK;
     sim->dyn.hi++;
     return apply_range(sim, err);
+}
+
+/* The largest compression a contact may keep when granule j leaves at rest
+ * (criterion 2).  The window goes on feeling its force r z^(n-1) without the
+ * reaction on the departed granule: momentum leaks unless that force is a
+ * fraction below FORCE_FRACTION rtol of the pulse force r z_ref^(n-1), i.e.
+ * z <= (FORCE_FRACTION rtol)^(1/(n-1)) z_ref.  For n = 5/2 at rtol <= 1e-10
+ * that is looser than z_eps (which then decides); at looser tolerances
+ * z_eps = 100 rtol z_ref let monodisperse chains leak momentum at
+ * 2.8e-8 per granule at rtol 1e-6 (docs/window.md).  Never below one error
+ * unit: smaller compressions are noise, indistinguishable from zero. */
+static double resting_compression(const taper_sim *sim, size_t j, double z_eps)
+{
+    const double n = sim->chain->exponent, rtol = sim->spec.rtol;
+    const double unit = rtol * fabs(sim->z_ref) + sim->spec.atol * sim->z_scale[j - 1];
+    const double z_force = pow(FORCE_FRACTION * rtol, 1.0 / (n - 1.0)) * fabs(sim->z_ref);
+    return fmin(z_eps, fmax(unit, z_force));
 }
 
 /* How granule j may leave: 0 not at all, 1 exact free flight, 2 at rest
@@ -105,10 +125,12 @@ static int can_leave(const taper_sim *sim, const double *y, size_t j, double *wa
     /* Criterion 2: at rest within the tolerance, relative to the granule
      * behind (which left before and flies freely; rest itself for j = 1);
      * open gaps of any size are harmless (no force), only compressions are
-     * bounded. */
+     * bounded, so that the one-sided force they leave is below the
+     * tolerance. */
     const double v_rest = j > 1 ? v_back : 0.0;
-    if (fabs(v - v_rest) <= v_eps && z <= z_eps && z_back <= z_eps) {
-        *watch = WATCH_FACTOR / REST_FACTOR * z_eps;
+    const double z_rest = resting_compression(sim, j, z_eps);
+    if (fabs(v - v_rest) <= v_eps && z <= z_rest && z_back <= z_rest) {
+        *watch = WATCH_FACTOR / REST_FACTOR * z_rest;
         return 2;
     }
     return 0;
