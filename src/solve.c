@@ -15,6 +15,7 @@
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include <float.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -512,13 +513,22 @@ static int integrate(taper_sim *sim, taper_error *err)
     return TAPER_OK;
 }
 
-/* Relative resolution of a pass time, in units of rtol (measured t_pass
- * errors reach ~12 rtol, docs/design.md). */
-#define PASS_TIME_RESOLUTION 100.0
+/* Smallest residence time, relative to t_pass, that the pass times resolve.
+ * CVODE locates a root to within 100 uround (|t| + |h|) (cvRootfind's
+ * ttol), whatever rtol, so a difference of two pass times carries up to
+ * 200 uround t_pass of root-finding error; T_res is kept while that is
+ * below 1 % of it.  The integration error of T_res is relative to T_res
+ * itself, not to t_pass: both pass times share the error accumulated
+ * before them.  Measured (docs/design.md): forward exponential q = 0.05,
+ * N = 1000, against rtol 1e-13, the T_res error is ~1e-14 t_pass / T_res
+ * (7e-4 at T_res ~ 1e-12 t_pass); monodisperse at rtol 1e-6 to N = 20000,
+ * T_res ~ 6e-5 t_pass is good to 7e-5 (twice the t_pass error). */
+#define PASS_TIME_RESOLUTION (2e4 * DBL_EPSILON)
 
 /* T_res(k) = t_pass(k) - t_pass(k-1), unless the difference is below what
  * the pass times resolve (the last, tiny granules of forward chains are
- * passed within 1e-15 of each other): then NaN, not a number that is noise. */
+ * passed within 1e-15 t of each other): then NaN, not a number that is
+ * noise. */
 static size_t residence_times(taper_sim *sim)
 {
     const double *tp = sim->obs[TAPER_T_PASS];
@@ -526,7 +536,7 @@ static size_t residence_times(taper_sim *sim)
     size_t unresolved = 0;
     for (size_t k = 1; k <= sim->chain->n; k++) {
         double before = k > 1 ? tp[k - 2] : 0.0, T = tp[k - 1] - before;
-        if (fabs(T) < PASS_TIME_RESOLUTION * sim->spec.rtol * fabs(tp[k - 1])) {
+        if (fabs(T) < PASS_TIME_RESOLUTION * fabs(tp[k - 1])) {
             T = NAN;
             unresolved++;
         }
@@ -547,7 +557,7 @@ static void report_untimed(const taper_sim *sim, size_t unresolved_residences)
     if (unresolved_residences)
         taper_sim_log(sim, 1,
                       "%zu residence times are below the resolution of the pass times "
-                      "(%g rtol t): written as nan",
+                      "(%.1e t, set by CVODE's root finder): written as nan",
                       unresolved_residences, PASS_TIME_RESOLUTION);
 }
 
