@@ -25,6 +25,10 @@ static void forward_error(int code, const char *module, const char *function, ch
                           void *data)
 {
     (void)module;
+    /* solve.c asks for a bounded number of steps per CVode call, to call the
+     * progress monitor in between: "mxstep steps taken" is the normal end of
+     * such a call, not something to warn a user about. */
+    if (code == CV_TOO_MUCH_WORK) return;
     const taper_solver_messages *sink = data;
     char text[400];
     snprintf(text, sizeof text, "%s (CVODE %s, flag %d)", msg, function, code);
