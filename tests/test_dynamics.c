@@ -411,6 +411,39 @@ static void log_receives_solver_messages(void **state)
     taper_chain_free(c);
 }
 
+/* A long run at a loose tolerance drifts: the caller hears of it, while a
+ * run at the default tolerance stays silent. */
+static void log_warns_of_drift(void **state)
+{
+    (void)state;
+    taper_chain *c = make_chain(TAPER_MONODISPERSE, 2000, 0.0, NULL);
+    const double rtol[2] = {1e-4, 1e-10}; /* energy errors 2.9e-3 and ~3e-8 */
+    for (int i = 0; i < 2; i++) {
+        taper_solver_spec spec;
+        taper_solver_spec_init(&spec);
+        spec.rtol = rtol[i];
+        spec.atol = rtol[i] * 1e-3;
+        log_record rec = {0, ""};
+        spec.log = record_log;
+        spec.log_data = &rec;
+        taper_sim *sim = taper_sim_alloc(c, &spec, NULL);
+        taper_error err;
+        assert_int_equal(taper_sim_run(sim, &err), TAPER_OK);
+        taper_stats st;
+        taper_sim_stats(sim, &st);
+        if (i == 0) {
+            assert_true(st.energy_error > 1e-3);
+            assert_int_equal(rec.warnings, 1);
+            assert_non_null(strstr(rec.last, "drifted"));
+        } else {
+            assert_true(st.energy_error < 1e-6);
+            assert_int_equal(rec.warnings, 0);
+        }
+        taper_sim_free(sim);
+    }
+    taper_chain_free(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -431,6 +464,7 @@ int main(void)
         cmocka_unit_test(monitor_interrupts),
         cmocka_unit_test(bad_solver_specs_rejected),
         cmocka_unit_test(log_receives_solver_messages),
+        cmocka_unit_test(log_warns_of_drift),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
