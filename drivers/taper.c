@@ -247,6 +247,7 @@ static void write_stats_comment(const run *r, FILE *fp)
             s->steps, s->rhs_evals, s->root_evals, s->jac_evals);
     fprintf(fp, "# nonlin_iters = %ld\n# err_test_fails = %ld\n# window_changes = %ld\n",
             s->nonlin_iters, s->err_test_fails, s->window_changes);
+    fprintf(fp, "# restarts = %ld\n", s->restarts); /* granules taken back into the window */
     fprintf(fp, "# max_window = %zu\n# granule_reached = %zu\n", s->max_window, s->granule_reached);
     fprintf(fp, "# t_final = %.17g\n# energy_error = %.3e\n# momentum_error = %.3e\n", s->t_final,
             s->energy_error, s->momentum_error);
