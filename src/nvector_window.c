@@ -13,15 +13,6 @@ typedef struct {
     double *buf;   /* capacity entries; buf[i] is absolute index base + i */
 } window_content;
 
-/* The hottest loops run on 25-entry windows millions of times per second;
- * with GCC on x86-64 each gets an AVX2 clone, chosen at load time where the
- * CPU has it (elementwise, so bit-identical to the default clone; the
- * reductions are not reassociated).  -10 % wall time, docs/benchmarks.md. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define HOT __attribute__((target_clones("avx2", "default")))
-#else
-#define HOT
-#endif
 #define CONTENT(v) ((window_content *)(v)->content)
 
 double *taper_window_data(N_Vector v)
@@ -113,26 +104,21 @@ static sunindextype window_get_length(N_Vector v) { return (sunindextype)taper_w
 #define LOOP(v) for (size_t i = 0, n_ = taper_window_length(v); i < n_; i++)
 
 /* The predictor calls this q(q+1)/2 times per step with a = b = 1 and
- * z = x (zn[j-1] += zn[j]): that case gets its own loop.  Every vector of
- * the window shares its offset, computed once. */
-static void add_to(double *restrict zd, const double *restrict yd, size_t n)
+ * z = x (zn[j-1] += zn[j]): that case gets its own loop. */
+static void window_linear_sum(double a, N_Vector x, double b, N_Vector y, N_Vector z)
 {
-    for (size_t i = 0; i < n; i++) zd[i] += yd[i];
-}
-
-HOT static void window_linear_sum(double a, N_Vector x, double b, N_Vector y, N_Vector z)
-{
-    const window_content *cz = CONTENT(z);
-    const taper_window *w = cz->w;
-    const size_t n = w->end - w->begin, off = w->begin - w->base;
-    double *zd = cz->buf + off;
-    const double *yd = CONTENT(y)->buf + off;
-    if (a == 1.0 && x == z && y != z) {
-        if (b == 1.0) add_to(zd, yd, n);
-        else for (size_t i = 0; i < n; i++) zd[i] += b * yd[i];
+    const size_t n = taper_window_length(z);
+    const double *yd = taper_window_data(y);
+    double *zd = taper_window_data(z);
+    if (a == 1.0 && x == z) {
+        if (b == 1.0) {
+            for (size_t i = 0; i < n; i++) zd[i] += yd[i];
+        } else {
+            for (size_t i = 0; i < n; i++) zd[i] += b * yd[i];
+        }
         return;
     }
-    const double *xd = CONTENT(x)->buf + off;
+    const double *xd = taper_window_data(x);
     for (size_t i = 0; i < n; i++) zd[i] = a * xd[i] + b * yd[i];
 }
 
@@ -156,7 +142,7 @@ static void window_div(N_Vector x, N_Vector y, N_Vector z)
     LOOP(z) zd[i] = xd[i] / yd[i];
 }
 
-HOT static void window_scale(double c, N_Vector x, N_Vector z)
+static void window_scale(double c, N_Vector x, N_Vector z)
 {
     const double *xd = taper_window_data(x);
     double *zd = taper_window_data(z);
@@ -200,7 +186,7 @@ static double window_max_norm(N_Vector x)
     return m;
 }
 
-HOT static double window_wsqrsum(N_Vector x, N_Vector w)
+static double window_wsqrsum(N_Vector x, N_Vector w)
 {
     const double *xd = taper_window_data(x), *wd = taper_window_data(w);
     double s = 0.0;
@@ -284,7 +270,7 @@ static double window_min_quotient(N_Vector num, N_Vector denom)
 }
 
 /* ---- fused operations used by CVODE's predictor and interpolation ---- */
-HOT static int window_linear_combination(int nv, double *c, N_Vector *x, N_Vector z)
+static int window_linear_combination(int nv, double *c, N_Vector *x, N_Vector z)
 {
     double *zd = taper_window_data(z);
     size_t n = taper_window_length(z);
@@ -297,7 +283,7 @@ HOT static int window_linear_combination(int nv, double *c, N_Vector *x, N_Vecto
     return 0;
 }
 
-HOT static int window_scale_add_multi(int nv, double *a, N_Vector x, N_Vector *y, N_Vector *z)
+static int window_scale_add_multi(int nv, double *a, N_Vector x, N_Vector *y, N_Vector *z)
 {
     const double *xd = taper_window_data(x);
     size_t n = taper_window_length(x);
