@@ -50,6 +50,12 @@ with tempfile.TemporaryDirectory() as d:
     check(0.0 < table.get("t_pass", 0.0) < 1e-4, f"t_pass difference {table.get('t_pass')}")
     check(0.0 < table.get("v_peak", 0.0) < 1e-3, f"v_peak difference {table.get('v_peak')}")
     check("k = 30: t_pass" in text, "no line for --at 30")
+    status, table, text = compare(loose, tight, "--bins")
+    rows = [line.split("\t") for line in text.splitlines()]
+    decades = [r for r in rows if len(r) == 5 and r[0].lstrip("-").isdigit()]
+    check(status == 0 and decades, f"--bins printed no decades: {text}")
+    check(sum(int(r[1]) for r in decades) == 59, "--bins does not count granules 1..59")
+    check(all(0.0 < float(r[3]) < 1e-3 for r in decades), f"--bins T_res errors: {decades}")
     status, table, text = compare(tight, tight)
     check(status == 0 and table.get("t_pass") == 0.0, f"a run against itself: {text}")
     status, table, text = compare(loose, other)
