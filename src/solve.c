@@ -15,7 +15,6 @@
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include <float.h>
-#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>

@@ -93,7 +93,7 @@ int taper_window_grow(taper_sim *sim, taper_error *err)
  * z <= (FORCE_FRACTION rtol)^(1/(n-1)) z_ref.  For n = 5/2 at rtol <= 1e-10
  * that is looser than z_eps (which then decides); at looser tolerances
  * z_eps = 100 rtol z_ref let monodisperse chains leak momentum at
- * 2.8e-8 per granule at rtol 1e-6 (docs/window.md).  Never below one error
+ * 2.7e-8 per granule at rtol 1e-6 (docs/window.md).  Never below one error
  * unit: smaller compressions are noise, indistinguishable from zero. */
 static double resting_compression(const taper_sim *sim, size_t j, double z_eps)
 {
