@@ -1,6 +1,6 @@
 /*
  * fuzz_scene.c -- libFuzzer harness for the scene parser and validation
- * (src/scene*.c), and for what a valid scene feeds into the library.
+ * (drivers/taper/scene/scene*.c), and for what a valid scene feeds into the library.
  *
  * For every input:
  *   1. scene_parse: any bytes; errors must come with a message.
@@ -22,7 +22,7 @@
  *     `meson test --suite fuzz` over tests/fuzz/regressions and the seeds.
  * See docs/robustness.md.
  */
-#include "scene.h"
+#include "scene/scene.h"
 #include "taper.h"
 
 #include <math.h>

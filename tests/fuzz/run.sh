@@ -1,7 +1,7 @@
 #!/bin/sh
 # tests/fuzz/run.sh [SECONDS] [BUILD_DIR] -- fuzz the scene parser for
 # SECONDS (default 1800) at the lowest priority, one job.  The working corpus
-# grows in BUILD_DIR/fuzz-corpus (seeded from share/scenes, tests/scenes/bad
+# grows in BUILD_DIR/fuzz-corpus (seeded from share/scenes, tests/driver/scenes/bad
 # and tests/fuzz/regressions); crashes land in BUILD_DIR/fuzz-artifacts.
 # A crash: copy it to tests/fuzz/regressions/ (meson test --suite fuzz
 # replays them), fix, commit both.
@@ -13,7 +13,7 @@ fuzzer=$(sh tests/fuzz/build.sh "$build_dir")
 corpus=$build_dir/fuzz-corpus
 artifacts=$build_dir/fuzz-artifacts
 mkdir -p "$corpus" "$artifacts"
-cp share/scenes/*.nml share/scenes/paper/*.nml tests/scenes/bad/*.nml "$corpus"/
+cp share/scenes/*.nml share/scenes/paper/*.nml tests/driver/scenes/bad/*.nml "$corpus"/
 cp tests/fuzz/regressions/* "$corpus"/ 2> /dev/null || true
 # Scenes are short text files: 64 kB inputs reach every limit of the parser
 # but the 8 MB file size (repeat counts still make lists of the longest, 250000 values).

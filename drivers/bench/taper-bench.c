@@ -1,0 +1,703 @@
+/*
+ * taper-bench -- work-precision study of the pulse-propagation solvers.
+ *
+ *   taper-bench [--quick] [-o DIR] [--reps R] [--chain NAME]
+ *               [--no-scaling | --scaling-only] [--scaling-max N]
+ *   taper-bench --single CHAIN METHOD TOL     (one run, for profiling)
+ *
+ * For a fixed set of chains, runs each method over a sweep of tolerances
+ * (step sizes for Verlet), measures the error of t_pass and v_peak against
+ * a reference (CVODE Adams, rtol 1e-13, atol 1e-16, cross-checked with
+ * rk8pd at the same tolerances) and the cost, and writes into DIR:
+ *   work-precision.tsv   one row per (chain, method, tol)
+ *   references.tsv       agreement of the two references per chain
+ *   orders.tsv           observed order: slope of -log err against log steps
+ *   pareto.tsv           the non-dominated (seconds, err_t_pass) points
+ *   speed-ratios.tsv     time of each method to reach 1e-6 and 1e-9
+ *   scaling.tsv          default settings, N = 10^2 .. --scaling-max (10^4; 10^6 for issue 5)
+ *   work-precision.gp    gnuplot script -> work-precision.png
+ * Methods: adams (window, the default order; "default" is the shipped
+ * taper_solver_spec_init setting), adams-nowin (whole chain), adams-q4,
+ * adams-q12, bdf-band (banded analytic Jacobian, whole chain), rk8pd, verlet,
+ * and ARKODE ERKStep on the whole chain with ARKODE's root finder:
+ * erk-verner6 (ARKODE_VERNER_8_5_6, order 6(5)), erk-fehlberg8
+ * (ARKODE_FEHLBERG_13_7_8, order 8(7)), erk-dp5 (ARKODE_DORMAND_PRINCE_7_4_5).
+ * Wall times are medians of R repetitions (default 3).
+ */
+#include "peers/peers.h"
+#include "taper.h"
+
+#include <gsl/gsl_errno.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <time.h>
+
+typedef struct chain_def {
+    const char *name;
+    int profile;
+    size_t n;
+    double s, q;
+} chain_def;
+
+static const chain_def full_chains[] = {
+    {"monodisperse", TAPER_MONODISPERSE, 1000, 0, 0},
+    {"backward_linear", TAPER_BACKWARD_LINEAR, 400, 0.5, 0},
+    {"backward_exponential", TAPER_BACKWARD_EXPONENTIAL, 200, 0, 0.05},
+    {"forward_linear", TAPER_FORWARD_LINEAR, 100, 0.009, 0},
+    {"forward_exponential", TAPER_FORWARD_EXPONENTIAL, 100, 0, 0.05},
+};
+static const chain_def quick_chains[] = {
+    {"monodisperse", TAPER_MONODISPERSE, 100, 0, 0},
+    {"backward_linear", TAPER_BACKWARD_LINEAR, 60, 0.5, 0},
+    {"forward_exponential", TAPER_FORWARD_EXPONENTIAL, 40, 0, 0.05},
+};
+
+enum { M_ADAMS, M_DEFAULT, M_ADAMS_NOWIN, M_ADAMS_Q4, M_ADAMS_Q12, M_BDF, M_RK8PD, M_VERLET,
+       M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, N_METHODS };
+static const char *method_names[N_METHODS] = {"adams", "default", "adams-nowin", "adams-q4",
+                                              "adams-q12", "bdf-band", "rk8pd", "verlet",
+                                              "erk-verner6", "erk-fehlberg8", "erk-dp5"};
+
+static int is_erk(int m) { return m == M_ERK_VERNER6 || m == M_ERK_FEHLBERG8 || m == M_ERK_DP5; }
+
+/* One run's results. */
+typedef struct run {
+    size_t n;
+    double *t_pass, *v_peak;
+    double seconds, energy_drift;
+    long steps, rhs_evals, root_evals, jac_evals;
+    int status, complete;
+} run;
+
+static double wall_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static taper_chain *make_chain(const chain_def *c, size_t n)
+{
+    taper_chain_spec spec;
+    taper_chain_spec_init(&spec);
+    spec.profile = c->profile;
+    spec.n_granules = n ? n : c->n;
+    spec.s = c->s;
+    spec.q = c->q;
+    taper_error err;
+    taper_chain *chain = taper_chain_alloc(&spec, &err);
+    if (!chain) fprintf(stderr, "taper-bench: chain %s: %s\n", c->name, err.message);
+    return chain;
+}
+
+static void run_free(run *r)
+{
+    free(r->t_pass);
+    free(r->v_peak);
+    r->t_pass = r->v_peak = NULL;
+}
+
+/* Runs method m once with tolerance tol (rtol, or dt for Verlet); atol = rtol * 1e-3
+ * except for the default.  Keeps observables when keep != 0. */
+static int run_once(const taper_chain *chain, int m, double tol, long max_steps, run *out)
+{
+    size_t n = taper_chain_size(chain);
+    memset(out, 0, sizeof *out);
+    out->n = n;
+    out->t_pass = malloc(n * sizeof(double));
+    out->v_peak = malloc(n * sizeof(double));
+    if (!out->t_pass || !out->v_peak) return TAPER_ENOMEM;
+    taper_error err;
+    double t0 = wall_seconds();
+    if (m == M_RK8PD || m == M_VERLET || is_erk(m)) {
+        taper_peer_result r;
+        int status;
+        if (m == M_RK8PD) status = taper_peer_rk8pd(chain, tol, tol * 1e-3, max_steps, &r, &err);
+        else if (m == M_VERLET) status = taper_peer_verlet(chain, tol, max_steps, &r, &err);
+        else {
+            taper_peer_erk_table table = m == M_ERK_VERNER6   ? TAPER_PEER_ERK_VERNER6
+                                         : m == M_ERK_FEHLBERG8 ? TAPER_PEER_ERK_FEHLBERG8
+                                                                : TAPER_PEER_ERK_DP5;
+            status = taper_peer_arkode(chain, table, tol, tol * 1e-3, max_steps, &r, &err);
+        }
+        out->seconds = wall_seconds() - t0;
+        out->status = status;
+        if (status != TAPER_OK && status != TAPER_ELIMIT) {
+            fprintf(stderr, "taper-bench: %s: %s\n", method_names[m], err.message);
+            return status;
+        }
+        memcpy(out->t_pass, r.t_pass, n * sizeof(double));
+        memcpy(out->v_peak, r.v_peak, n * sizeof(double));
+        out->energy_drift = r.energy_drift;
+        out->steps = r.steps;
+        out->rhs_evals = r.rhs_evals;
+        out->root_evals = r.event_evals;
+        out->complete = r.complete;
+        taper_peer_result_free(&r);
+        return status;
+    }
+    taper_solver_spec spec;
+    taper_solver_spec_init(&spec);
+    if (m != M_DEFAULT) {
+        spec.rtol = tol;
+        spec.atol = tol * 1e-3;
+    }
+    if (m == M_ADAMS_NOWIN) spec.window = 0;
+    if (m == M_ADAMS_Q4) spec.max_order = 4;
+    if (m == M_ADAMS_Q12) spec.max_order = 12;
+    if (m == M_BDF) spec.method = TAPER_BDF, spec.window = 0;
+    spec.max_steps = max_steps;
+    taper_sim *sim = taper_sim_alloc(chain, &spec, &err);
+    if (!sim) {
+        fprintf(stderr, "taper-bench: %s: %s\n", method_names[m], err.message);
+        return err.status;
+    }
+    int status = taper_sim_run(sim, &err);
+    out->seconds = wall_seconds() - t0;
+    out->status = status;
+    if (status != TAPER_OK)
+        fprintf(stderr, "taper-bench: %s tol %g: %s\n", method_names[m], tol, err.message);
+    taper_stats st;
+    taper_sim_stats(sim, &st);
+    memcpy(out->t_pass, taper_sim_observable(sim, TAPER_T_PASS), n * sizeof(double));
+    memcpy(out->v_peak, taper_sim_observable(sim, TAPER_V_PEAK), n * sizeof(double));
+    out->energy_drift = st.energy_error;
+    out->steps = st.steps;
+    out->rhs_evals = st.rhs_evals;
+    out->root_evals = st.root_evals;
+    out->jac_evals = st.jac_evals;
+    out->complete = st.complete;
+    taper_sim_free(sim);
+    return status;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median wall time of reps runs; the first run's observables are kept. */
+static int run_median(const taper_chain *chain, int m, double tol, long max_steps, int reps, run *out,
+                      double *t_min, double *t_max)
+{
+    double times[16];
+    if (reps > 16) reps = 16;
+    int status = run_once(chain, m, tol, max_steps, out);
+    if (status != TAPER_OK && status != TAPER_ELIMIT) return status;
+    times[0] = out->seconds;
+    if (out->seconds > 5.0) reps = 1; /* slow points: one run (far off the front) */
+    for (int i = 1; i < reps; i++) {
+        run again;
+        run_once(chain, m, tol, max_steps, &again);
+        times[i] = again.seconds;
+        run_free(&again);
+    }
+    qsort(times, (size_t)reps, sizeof(double), cmp_double);
+    out->seconds = times[reps / 2];
+    *t_min = times[0];
+    *t_max = times[reps - 1];
+    return status;
+}
+
+/* Max relative difference over granules where the reference is finite;
+ * *missing counts those the run lacks. */
+static double max_rel_err(const double *x, const double *ref, size_t n, size_t *missing)
+{
+    double e = 0.0;
+    for (size_t k = 0; k < n; k++) {
+        if (!isfinite(ref[k]) || ref[k] == 0.0) continue;
+        if (!isfinite(x[k])) {
+            if (missing) (*missing)++;
+            continue;
+        }
+        double d = fabs(x[k] - ref[k]) / fabs(ref[k]);
+        if (d > e) e = d;
+    }
+    return e;
+}
+
+/* ---- sweeps ---------------------------------------------------------- */
+
+typedef struct row {
+    int chain, method;
+    double tol, err_t, err_v, drift, seconds, t_min, t_max;
+    long steps, rhs, roots, jacs;
+    size_t missing;
+    int complete;
+} row;
+
+typedef struct study {
+    const chain_def *chains;
+    size_t n_chains;
+    int quick, reps;
+    row *rows;
+    size_t n_rows, cap;
+    double ref_agree_t[8], ref_agree_v[8];
+} study;
+
+static int add_row(study *s, const row *r)
+{
+    if (s->n_rows == s->cap) {
+        size_t cap = s->cap ? 2 * s->cap : 256;
+        row *p = realloc(s->rows, cap * sizeof *p);
+        if (!p) return -1;
+        s->rows = p, s->cap = cap;
+    }
+    s->rows[s->n_rows++] = *r;
+    return 0;
+}
+
+/* Tolerance sweeps. */
+static size_t sweep(int m, int quick, const taper_chain *chain, double *tol)
+{
+    size_t k = 0;
+    if (m == M_DEFAULT) { /* the shipped defaults: the row's tol is their rtol */
+        taper_solver_spec d;
+        taper_solver_spec_init(&d);
+        tol[k++] = d.rtol;
+        return k;
+    }
+    if (m == M_VERLET) {
+        /* dt as fractions of the shortest binary-collision time of the chain */
+        size_t n = taper_chain_size(chain);
+        double *T = malloc(n * sizeof(double));
+        double tmin = INFINITY;
+        if (T && taper_theory_compute(chain, NULL, NULL, T, NULL, NULL) == TAPER_OK)
+            for (size_t i = 0; i + 1 < n; i++)
+                if (T[i] < tmin) tmin = T[i];
+        free(T);
+        if (!isfinite(tmin)) tmin = 1.0;
+        static const double frac[] = {0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 5e-4};
+        for (size_t i = 0; i < sizeof frac / sizeof *frac; i += quick ? 2 : 1) tol[k++] = frac[i] * tmin;
+        return k;
+    }
+    /* Adams below rtol 1e-11: the window stops shrinking (docs/benchmarks.md)
+     * and monodisperse runs take minutes; the reference alone goes there. */
+    /* ARKODE ERK (whole chain, orders 5-8): 1e-11 and below take 10^5-10^6
+     * whole-chain steps on N = 1000, so its sweep ends at 1e-11 too. */
+    double lo = m == M_BDF ? 1e-11 : (m == M_RK8PD ? 1e-13 : 1e-11);
+    double hi = m == M_BDF ? 1e-4 : 1e-5;
+    if (m == M_BDF && !quick) lo = 1e-10;
+    if (quick) lo = fmax(lo, 1e-11);
+    for (double t = hi; t >= lo * 0.99; t /= quick ? 100.0 : 10.0) tol[k++] = t;
+    return k;
+}
+
+/* Estimated full-chain work of a Verlet run: steps times granules. */
+static double verlet_work(const taper_chain *chain, double dt, double *t_end)
+{
+    size_t n = taper_chain_size(chain);
+    double *t = malloc(n * sizeof(double));
+    double te = 1e3;
+    if (t && taper_theory_compute(chain, NULL, NULL, NULL, t, NULL) == TAPER_OK && isfinite(t[n - 2]))
+        te = t[n - 2] * 1.5;
+    free(t);
+    if (t_end) *t_end = te;
+    return te / dt * (double)n;
+}
+
+static int run_chain(study *s, size_t ci)
+{
+    const chain_def *cd = &s->chains[ci];
+    taper_chain *chain = make_chain(cd, 0);
+    if (!chain) return -1;
+    size_t n = taper_chain_size(chain);
+    fprintf(stderr, "== %s N=%zu\n", cd->name, n);
+
+    /* references */
+    run ref, ref2;
+    if (run_once(chain, M_ADAMS, 1e-13, 0, &ref) != TAPER_OK) {
+        taper_chain_free(chain);
+        return -1;
+    }
+    /* run_once sets atol = 1e-3 rtol = 1e-16 */
+    double t_ref = ref.seconds;
+    int st2 = run_once(chain, M_RK8PD, 1e-13, 0, &ref2);
+    size_t miss_t = 0, miss_v = 0;
+    s->ref_agree_t[ci] = st2 == TAPER_OK ? max_rel_err(ref2.t_pass, ref.t_pass, n, &miss_t) : NAN;
+    s->ref_agree_v[ci] = st2 == TAPER_OK ? max_rel_err(ref2.v_peak, ref.v_peak, n, &miss_v) : NAN;
+    fprintf(stderr, "   reference adams 1e-13: %.2f s; rk8pd 1e-13: %.2f s; agree t_pass %.2e v_peak %.2e"
+            " (missing %zu %zu)\n", t_ref, ref2.seconds, s->ref_agree_t[ci], s->ref_agree_v[ci],
+            miss_t, miss_v);
+    run_free(&ref2);
+
+    for (int m = 0; m < N_METHODS; m++) {
+        double tol[16];
+        size_t nt = sweep(m, s->quick, chain, tol);
+        for (size_t i = 0; i < nt; i++) {
+            long max_steps = 0;
+            if (m == M_VERLET) {
+                double t_end, work = verlet_work(chain, tol[i], &t_end);
+                if (work > (s->quick ? 3e7 : 4e8)) continue;
+                max_steps = (long)(4.0 * t_end / tol[i]) + 1000;
+            }
+            if (m == M_BDF || m == M_ADAMS_NOWIN || m == M_RK8PD || is_erk(m)) {
+                /* whole chain every step: skip what would take minutes */
+                max_steps = 2000000;
+            }
+            run r;
+            row w = {.chain = (int)ci, .method = m, .tol = tol[i]};
+            int status = run_median(chain, m, tol[i], max_steps, s->reps, &r, &w.t_min, &w.t_max);
+            if (status != TAPER_OK && status != TAPER_ELIMIT) {
+                run_free(&r);
+                continue;
+            }
+            w.err_t = max_rel_err(r.t_pass, ref.t_pass, n, &w.missing);
+            w.err_v = max_rel_err(r.v_peak, ref.v_peak, n, &w.missing);
+            w.drift = r.energy_drift;
+            w.seconds = r.seconds;
+            w.steps = r.steps, w.rhs = r.rhs_evals, w.roots = r.root_evals, w.jacs = r.jac_evals;
+            w.complete = r.complete && w.missing == 0;
+            fprintf(stderr, "   %-12s tol %-9.3g err_t %.2e err_v %.2e drift %.1e  %.4f s  steps %ld%s\n",
+                    method_names[m], tol[i], w.err_t, w.err_v, w.drift, w.seconds, w.steps,
+                    w.complete ? "" : "  (incomplete)");
+            run_free(&r);
+            if (add_row(s, &w) != 0) break;
+        }
+    }
+    run_free(&ref);
+    taper_chain_free(chain);
+    return 0;
+}
+
+/* ---- analysis ----------------------------------------------------------- */
+
+/* Time for method m on chain ci to reach error `target` (err_t_pass), by
+ * log-log interpolation between the bracketing runs of the sweep.  NaN if
+ * no run reaches it; *lower then gets the time of the most accurate run. */
+static double time_to_reach(const study *s, int ci, int m, double target, double *best_err,
+                            double *best_time)
+{
+    double t_hit = NAN;
+    *best_err = INFINITY, *best_time = NAN;
+    const row *prev = NULL;
+    for (size_t i = 0; i < s->n_rows; i++) {
+        const row *r = &s->rows[i];
+        if (r->chain != ci || r->method != m || !r->complete) continue;
+        if (r->err_t < *best_err) *best_err = r->err_t, *best_time = r->seconds;
+        if (r->err_t <= target && isnan(t_hit)) {
+            if (prev && prev->err_t > target && r->err_t > 0) {
+                double a = log(prev->err_t), b = log(r->err_t), u = (log(target) - a) / (b - a);
+                t_hit = exp(log(prev->seconds) + u * (log(r->seconds) - log(prev->seconds)));
+            } else
+                t_hit = r->seconds;
+        }
+        prev = r;
+    }
+    return t_hit;
+}
+
+/* Least-squares slope of -log err against log steps over the runs whose
+ * error lies in [floor, 1e-2]: the observed order per step. */
+static double observed_order(const study *s, int ci, int m, double floor_err, int *npts)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int k = 0;
+    for (size_t i = 0; i < s->n_rows; i++) {
+        const row *r = &s->rows[i];
+        if (r->chain != ci || r->method != m || !r->complete) continue;
+        if (!(r->err_t > floor_err && r->err_t < 1e-2) || r->steps <= 0) continue;
+        double x = log((double)r->steps), y = -log(r->err_t);
+        sx += x, sy += y, sxx += x * x, sxy += x * y, k++;
+    }
+    *npts = k;
+    if (k < 2) return NAN;
+    double d = k * sxx - sx * sx;
+    return d > 0 ? (k * sxy - sx * sy) / d : NAN;
+}
+
+static FILE *open_out(const char *dir, const char *name)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    if (!f) fprintf(stderr, "taper-bench: cannot write %s: %s\n", path, strerror(errno));
+    return f;
+}
+
+static int write_results(const study *s, const char *dir)
+{
+    FILE *f = open_out(dir, "work-precision.tsv");
+    if (!f) return -1;
+    fprintf(f, "chain\tmethod\ttol\terr_t_pass\terr_v_peak\tenergy_drift\tseconds\tsteps\trhs_evals"
+               "\troot_evals\tjac_evals\tn_granules\tseconds_min\tseconds_max\tmissing\tcomplete\n");
+    for (size_t i = 0; i < s->n_rows; i++) {
+        const row *r = &s->rows[i];
+        fprintf(f, "%s\t%s\t%.3g\t%.3e\t%.3e\t%.3e\t%.6f\t%ld\t%ld\t%ld\t%ld\t%zu\t%.6f\t%.6f\t%zu\t%d\n",
+                s->chains[r->chain].name, method_names[r->method], r->tol, r->err_t, r->err_v, r->drift,
+                r->seconds, r->steps, r->rhs, r->roots, r->jacs, s->chains[r->chain].n, r->t_min,
+                r->t_max, r->missing, r->complete);
+    }
+    fclose(f);
+
+    f = open_out(dir, "references.tsv");
+    if (!f) return -1;
+    fprintf(f, "chain\tn_granules\tagree_t_pass\tagree_v_peak\n");
+    for (size_t c = 0; c < s->n_chains; c++)
+        fprintf(f, "%s\t%zu\t%.3e\t%.3e\n", s->chains[c].name, s->chains[c].n, s->ref_agree_t[c],
+                s->ref_agree_v[c]);
+    fclose(f);
+
+    f = open_out(dir, "orders.tsv");
+    if (!f) return -1;
+    fprintf(f, "chain\tmethod\torder_per_step\tpoints\n");
+    for (size_t c = 0; c < s->n_chains; c++)
+        for (int m = 0; m < N_METHODS; m++) {
+            if (m == M_DEFAULT) continue;
+            int np;
+            double floor_err = fmax(100.0 * s->ref_agree_t[c], 1e-12);
+            double p = observed_order(s, (int)c, m, floor_err, &np);
+            fprintf(f, "%s\t%s\t%.2f\t%d\n", s->chains[c].name, method_names[m], p, np);
+        }
+    fclose(f);
+
+    f = open_out(dir, "pareto.tsv");
+    if (!f) return -1;
+    fprintf(f, "chain\tmethod\ttol\terr_t_pass\tseconds\n");
+    for (size_t c = 0; c < s->n_chains; c++) {
+        /* sort this chain's complete rows by seconds, keep record-low errors */
+        size_t cnt = 0;
+        const row **p = malloc(s->n_rows * sizeof *p);
+        if (!p) break;
+        for (size_t i = 0; i < s->n_rows; i++)
+            if (s->rows[i].chain == (int)c && s->rows[i].complete) p[cnt++] = &s->rows[i];
+        for (size_t i = 1; i < cnt; i++)
+            for (size_t j = i; j > 0 && p[j]->seconds < p[j - 1]->seconds; j--) {
+                const row *t = p[j];
+                p[j] = p[j - 1], p[j - 1] = t;
+            }
+        double best = INFINITY;
+        for (size_t i = 0; i < cnt; i++)
+            if (p[i]->err_t < best) {
+                best = p[i]->err_t;
+                fprintf(f, "%s\t%s\t%.3g\t%.3e\t%.6f\n", s->chains[c].name, method_names[p[i]->method],
+                        p[i]->tol, p[i]->err_t, p[i]->seconds);
+            }
+        free(p);
+    }
+    fclose(f);
+
+    f = open_out(dir, "speed-ratios.tsv");
+    if (!f) return -1;
+    fprintf(f, "chain\ttarget\tadams_seconds\tmethod\tseconds\tratio\tnote\n");
+    static const double targets[] = {1e-6, 1e-8, 1e-9};
+    for (size_t c = 0; c < s->n_chains; c++)
+        for (size_t ti = 0; ti < 3; ti++) {
+            double be, bt;
+            double ta = time_to_reach(s, (int)c, M_ADAMS, targets[ti], &be, &bt);
+            for (int m = 0; m < N_METHODS; m++) {
+                if (m == M_ADAMS || m == M_DEFAULT) continue;
+                double tm = time_to_reach(s, (int)c, m, targets[ti], &be, &bt);
+                if (isnan(tm))
+                    fprintf(f, "%s\t%.0e\t%.6f\t%s\t>%.6f\t>%.3g\tnot reached (best err %.2e)\n",
+                            s->chains[c].name, targets[ti], ta, method_names[m], bt, bt / ta, be);
+                else
+                    fprintf(f, "%s\t%.0e\t%.6f\t%s\t%.6f\t%.3g\t\n", s->chains[c].name, targets[ti], ta,
+                            method_names[m], tm, tm / ta);
+            }
+        }
+    fclose(f);
+
+    f = open_out(dir, "work-precision.gp");
+    if (!f) return -1;
+    fprintf(f, "# gnuplot work-precision.gp  (run in this directory) -> work-precision.png\n"
+               "set terminal pngcairo size 1500,%d font ',9'\n"
+               "set output 'work-precision.png'\n"
+               "set datafile separator '\\t'\n"
+               "set logscale xy\n"
+               "set format x '10^{%%T}'\nset format y '10^{%%T}'\n"
+               "set xlabel 'wall time [s] (median)'\nset ylabel 'max rel. error of t_{pass}'\n"
+               "set key bottom left font ',8'\nset grid\n"
+               "set multiplot layout %zu,3 title 'taper work-precision (error vs time)'\n",
+            (int)(480 * ((s->n_chains + 2) / 3)), (s->n_chains + 2) / 3);
+    static const char *styles[N_METHODS] = {"lc rgb '#1f77b4' pt 7", "lc rgb '#000000' pt 3 ps 2.5",
+                                            "lc rgb '#17becf' pt 5", "lc rgb '#9467bd' pt 9",
+                                            "lc rgb '#8c564b' pt 11", "lc rgb '#2ca02c' pt 13",
+                                            "lc rgb '#ff7f0e' pt 4", "lc rgb '#d62728' pt 6",
+                                            "lc rgb '#e377c2' pt 8", "lc rgb '#bcbd22' pt 10",
+                                            "lc rgb '#7f7f7f' pt 12"};
+    for (size_t c = 0; c < s->n_chains; c++) {
+        fprintf(f, "set title '%s N=%zu' noenhanced\nplot ", s->chains[c].name, s->chains[c].n);
+        for (int m = 0; m < N_METHODS; m++)
+            fprintf(f, "%s'work-precision.tsv' using (strcol(1) eq '%s' && strcol(2) eq '%s' && $16 == 1 ? "
+                       "$7 : NaN):4 with linespoints %s title '%s'",
+                    m ? ", \\\n     " : "", s->chains[c].name, method_names[m], styles[m],
+                    method_names[m]);
+        fprintf(f, "\n");
+    }
+    fprintf(f, "unset multiplot\n");
+    fclose(f);
+    return 0;
+}
+
+/* ---- scaling ----------------------------------------------------------- */
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Peak resident set of the process so far, in MB: the runs go in order of
+ * increasing N, so after the largest run it is that run's peak. */
+static double peak_rss_mb(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? (double)ru.ru_maxrss / 1024.0 : NAN;
+}
+
+/* Time per granule against N (issue 5): the three chains whose cost per
+ * granule should be flat.  Wall and CPU time, medians of `reps` runs (runs
+ * over 60 s: one).  The backward exponential chain stops where its masses
+ * leave double precision (q = 0.05: granule 4490; the chain module says so). */
+static int run_scaling(const char *dir, int reps, size_t n_max, int quick)
+{
+    FILE *f = open_out(dir, "scaling.tsv");
+    if (!f) return -1;
+    fprintf(f, "chain\tn_granules\tseconds\tseconds_per_granule\tcpu_seconds\tsteps\trhs_evals\t"
+               "root_evals\tmax_window\tenergy_error\tpeak_rss_mb\n");
+    const chain_def defs[] = {{"monodisperse", TAPER_MONODISPERSE, 0, 0, 0},
+                              {"backward_linear", TAPER_BACKWARD_LINEAR, 0, 0.5, 0},
+                              {"backward_exponential", TAPER_BACKWARD_EXPONENTIAL, 0, 0, 0.05}};
+    static const size_t ns[] = {100, 316, 1000, 3162, 4400, 10000, 31623, 100000, 316228, 1000000};
+    for (size_t c = 0; c < sizeof defs / sizeof *defs; c++)
+        for (size_t i = 0; i < sizeof ns / sizeof *ns && ns[i] <= n_max; i++) {
+            if (ns[i] == 4400 && defs[c].profile != TAPER_BACKWARD_EXPONENTIAL) continue;
+            taper_chain *chain = make_chain(&defs[c], ns[i]);
+            if (!chain) break; /* longer chains of this profile cannot exist either */
+            double times[16], cpu[16];
+            int r_use = quick ? 1 : reps;
+            taper_stats st = {0};
+            int ok = 1;
+            for (int r = 0; r < r_use && ok; r++) {
+                taper_sim *sim = taper_sim_alloc(chain, NULL, NULL);
+                double t0 = wall_seconds(), c0 = cpu_seconds();
+                ok = sim && taper_sim_run(sim, NULL) == TAPER_OK;
+                times[r] = wall_seconds() - t0;
+                cpu[r] = cpu_seconds() - c0;
+                taper_sim_stats(sim, &st);
+                taper_sim_free(sim);
+                if (times[r] > 60.0) r_use = r + 1; /* long runs: one repetition */
+            }
+            taper_chain_free(chain);
+            if (!ok) {
+                fprintf(stderr, "   scaling %s N=%zu failed\n", defs[c].name, ns[i]);
+                continue;
+            }
+            qsort(times, (size_t)r_use, sizeof(double), cmp_double);
+            qsort(cpu, (size_t)r_use, sizeof(double), cmp_double);
+            /* ru_maxrss only grows: it measures a run of its own only for the
+             * first chain (monodisperse, largest N last); NaN after that. */
+            double t = times[r_use / 2], tc = cpu[r_use / 2], rss = c == 0 ? peak_rss_mb() : NAN;
+            fprintf(f, "%s\t%zu\t%.6f\t%.3e\t%.6f\t%ld\t%ld\t%ld\t%zu\t%.3e\t%.1f\n", defs[c].name,
+                    ns[i], t, t / (double)ns[i], tc, st.steps, st.rhs_evals, st.root_evals,
+                    st.max_window, st.energy_error, rss);
+            fflush(f);
+            fprintf(stderr,
+                    "   scaling %-20s N=%-7zu %.3f s (cpu %.3f)  %.2e s/granule  steps/granule %.1f  "
+                    "max window %zu  energy error %.1e  peak RSS %.0f MB\n",
+                    defs[c].name, ns[i], t, tc, t / (double)ns[i], (double)st.steps / (double)ns[i],
+                    st.max_window, st.energy_error, rss);
+        }
+    fclose(f);
+    return 0;
+}
+
+/* ---- main ------------------------------------------------------------- */
+static const char usage[] =
+    "usage: taper-bench [--quick] [-o DIR] [--reps R] [--chain NAME] [--no-scaling | --scaling-only]\n"
+    "                   [--scaling-max N]\n"
+    "       taper-bench --single CHAIN METHOD TOL [N]\n"
+    "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
+    "Methods: adams default adams-nowin adams-q4 adams-q12 bdf-band rk8pd verlet\n"
+    "         erk-verner6 erk-fehlberg8 erk-dp5 (ARKODE ERKStep)\n"
+    "Chains: monodisperse backward_linear backward_exponential forward_linear forward_exponential\n";
+
+static int single(int argc, char **argv, int i)
+{
+    if (i + 3 > argc) {
+        fputs(usage, stderr);
+        return 2;
+    }
+    const chain_def *cd = NULL;
+    for (size_t c = 0; c < sizeof full_chains / sizeof *full_chains; c++)
+        if (!strcmp(argv[i], full_chains[c].name)) cd = &full_chains[c];
+    int m = -1;
+    for (int k = 0; k < N_METHODS; k++)
+        if (!strcmp(argv[i + 1], method_names[k])) m = k;
+    if (!cd || m < 0) {
+        fputs(usage, stderr);
+        return 2;
+    }
+    double tol = atof(argv[i + 2]);
+    size_t n = i + 3 < argc ? (size_t)atol(argv[i + 3]) : 0;
+    taper_chain *chain = make_chain(cd, n);
+    if (!chain) return 1;
+    run r;
+    int status = run_once(chain, m, tol, 0, &r);
+    printf("%s N=%zu %s tol %g: %.4f s steps %ld rhs %ld roots %ld jac %ld drift %.2e t_pass(N-1) %.15g\n",
+           cd->name, taper_chain_size(chain), method_names[m], tol, r.seconds, r.steps, r.rhs_evals,
+           r.root_evals, r.jac_evals, r.energy_drift, r.t_pass[taper_chain_size(chain) - 2]);
+    run_free(&r);
+    taper_chain_free(chain);
+    return status == TAPER_OK ? 0 : 1;
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = "bench-out";
+    int quick = 0, reps = 3, scaling = 1;
+    const char *only = NULL; /* --chain NAME: just that chain of the set */
+    size_t scaling_max = 10000;
+    gsl_set_error_handler_off();
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--quick")) quick = 1;
+        else if (!strcmp(argv[i], "-o") && i + 1 < argc) dir = argv[++i];
+        else if (!strcmp(argv[i], "--reps") && i + 1 < argc) reps = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--no-scaling")) scaling = 0;
+        else if (!strcmp(argv[i], "--scaling-only")) scaling = 2;
+        else if (!strcmp(argv[i], "--chain") && i + 1 < argc) only = argv[++i];
+        else if (!strcmp(argv[i], "--scaling-max") && i + 1 < argc) scaling_max = (size_t)atol(argv[++i]);
+        else if (!strcmp(argv[i], "--single")) return single(argc, argv, i + 1);
+        else {
+            fputs(usage, !strcmp(argv[i], "--help") ? stdout : stderr);
+            return !strcmp(argv[i], "--help") ? 0 : 2;
+        }
+    }
+    if (reps < 1) reps = 1;
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "taper-bench: cannot create %s: %s\n", dir, strerror(errno));
+        return 2;
+    }
+    study s = {.quick = quick, .reps = reps};
+    s.chains = quick ? quick_chains : full_chains;
+    s.n_chains = quick ? sizeof quick_chains / sizeof *quick_chains : sizeof full_chains / sizeof *full_chains;
+    if (only) {
+        size_t c = 0;
+        while (c < s.n_chains && strcmp(s.chains[c].name, only)) c++;
+        if (c == s.n_chains) {
+            fprintf(stderr, "taper-bench: no chain %s in this set\n", only);
+            return 2;
+        }
+        s.chains += c, s.n_chains = 1;
+    }
+    double t0 = wall_seconds();
+    size_t n_chains = s.n_chains;
+    for (size_t c = 0; c < n_chains && scaling != 2; c++) {
+        s.n_chains = c + 1; /* the files describe the chains done so far */
+        run_chain(&s, c);
+        if (write_results(&s, dir) != 0) return 1; /* after every chain: partial results survive */
+    }
+    if (scaling) run_scaling(dir, reps, quick ? 1000 : scaling_max, quick);
+    free(s.rows);
+    fprintf(stderr, "taper-bench: %.1f s; results in %s/ (gnuplot work-precision.gp there)\n",
+            wall_seconds() - t0, dir);
+    return 0;
+}

@@ -1,0 +1,249 @@
+/*
+ * plot.c -- figure data, gnuplot script, rendering.
+ */
+#include "results/plot.h"
+
+#include "results/output.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+/* ---- data ----------------------------------------------------------------- */
+
+static void data_block(const report *r, const report_point *p, double *buf[4], FILE *fp)
+{
+    const char *qx = scene_str(r->sc, "figure", "x"), *qy = scene_str(r->sc, "figure", "y");
+    size_t n = p->src.n, every = (size_t)scene_int(r->sc, "figure", "every");
+    size_t last = (size_t)scene_int(r->sc, "figure", "k_max");
+    if (last == 0 || last > n) last = n;
+    int num = series_fill(&p->src, SERIES_NUMERICS, qx, buf[2]) == 0 &&
+              series_fill(&p->src, SERIES_NUMERICS, qy, buf[3]) == 0;
+    series_fill(&p->src, SERIES_THEORY, qx, buf[0]);
+    series_fill(&p->src, SERIES_THEORY, qy, buf[1]);
+    /* Log-log axes: about 40 points per decade of k instead of every n-th
+     * (which would leave the first decade nearly empty). */
+    int geometric = scene_bool(r->sc, "figure", "log_x") && scene_bool(r->sc, "figure", "log_y");
+    fprintf(fp, "# %s = %.17g\n", r->param_name, p->param);
+    for (size_t i = 0, kept = 0; i < last; i += geometric ? 1 : every) {
+        if (geometric && i > 0 && (double)(i + 1) < 1.06 * (double)kept) continue;
+        kept = i + 1;
+        out_cell(fp, p->param, 0);
+        fprintf(fp, "%zu\t", i + 1);
+        out_cell(fp, buf[0][i], 0);
+        out_cell(fp, buf[1][i], 0);
+        out_cell(fp, num ? buf[2][i] : NAN, 0);
+        out_cell(fp, num ? buf[3][i] : NAN, 1);
+    }
+    fputs("\n\n", fp); /* gnuplot: next index */
+}
+
+static int write_data(const report *r, char *msg, size_t size)
+{
+    out_file *f = out_open(r->dir, "figure.tsv", msg, size);
+    if (!f) return -1;
+    fprintf(f->fp, "# taper %s figure data: one block per run (gnuplot index i = run i)\n",
+            taper_version());
+    fprintf(f->fp, "# x = %s, y = %s for the theory and the numerics\n",
+            scene_str(r->sc, "figure", "x"), scene_str(r->sc, "figure", "y"));
+    fputs("param\tk\tx_theory\ty_theory\tx_numerics\ty_numerics\n", f->fp);
+    size_t n = r->n ? r->points[0].src.n : 0;
+    for (size_t i = 1; i < r->n; i++)
+        if (r->points[i].src.n > n) n = r->points[i].src.n;
+    double *buf[4] = {0};
+    int rc = 0;
+    for (int c = 0; c < 4; c++)
+        if (!(buf[c] = malloc((n ? n : 1) * sizeof(double)))) rc = -1;
+    for (size_t i = 0; rc == 0 && i < r->n; i++) data_block(r, &r->points[i], buf, f->fp);
+    for (int c = 0; c < 4; c++) free(buf[c]);
+    if (rc != 0) {
+        snprintf(msg, size, "%s/figure.tsv: out of memory", r->dir);
+        out_discard(f);
+        return -1;
+    }
+    return out_commit(f, msg, size);
+}
+
+static int write_inset(const report *r, char *msg, size_t size)
+{
+    out_file *f = out_open(r->dir, "inset.tsv", msg, size);
+    if (!f) return -1;
+    fprintf(f->fp, "# taper %s inset: %s of the fit against %s\n", taper_version(),
+            analysis_label(r->sc), r->param_name);
+    fputs("param\ttheory\ttheory_fit\ttheory_fit_stderr\tnumerics\tnumerics_stderr\n", f->fp);
+    for (size_t i = 0; i < r->n; i++) {
+        const report_point *p = &r->points[i];
+        double row[] = {p->param, p->theory, p->fit[0].value, p->fit[0].error, p->fit[1].value,
+                        p->fit[1].error};
+        for (int c = 0; c < 6; c++) out_cell(f->fp, row[c], c == 5);
+    }
+    return out_commit(f, msg, size);
+}
+
+/* ---- script ----------------------------------------------------------------- */
+
+/* A gnuplot string literal in double quotes ("enhanced" text kept). */
+static void gp_string(FILE *fp, const char *s)
+{
+    fputc('"', fp);
+    for (; *s; s++) {
+        if (*s == '"' || *s == '\\') fputc('\\', fp);
+        fputc(*s, fp);
+    }
+    fputc('"', fp);
+}
+
+/* The paper writes S and q. */
+static const char *display_name(const report *r)
+{
+    return strcmp(r->param_name, "s") == 0 ? "S" : r->param_name;
+}
+
+static const char *label_or(const report *r, const char *key, const char *quantity)
+{
+    const char *l = scene_str(r->sc, "figure", key);
+    return l[0] ? l : series_label(scene_str(r->sc, "figure", quantity));
+}
+
+static void script_head(const report *r, FILE *fp, int inset)
+{
+    fprintf(fp, "# taper %s: %s (scene %s)\n", taper_version(),
+            scene_str(r->sc, "figure", "name"), r->sc->path);
+    fputs("# Render: gnuplot figure.gp (in this directory) -> figure.png\n", fp);
+    fprintf(fp, "if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
+                "    set terminal pngcairo size %d,660 enhanced font \"Sans,12\"\n"
+                "} else {\n"
+                "    set terminal png size %d,660\n"
+                "}\n", inset ? 1300 : 900, inset ? 1300 : 900);
+    fputs("set output \"figure.png\"\nset datafile missing \"nan\"\n"
+          "set border lw 1.2\nset tics scale 1.2\n", fp);
+    /* Ten distinguishable colours, none black (black is the key's
+     * theory/numerics legend). */
+    static const char *const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
+                                          "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"};
+    for (int i = 0; i < 10; i++)
+        fprintf(fp, "set linetype %d lc rgb \"%s\"\n", i + 1, colours[i]);
+    fputs("set linetype cycle 10\n", fp);
+}
+
+static void main_panel(const report *r, FILE *fp, int inset)
+{
+    const char *curves = scene_str(r->sc, "figure", "curves");
+    int th = strcmp(curves, "numerics") != 0, nu = strcmp(curves, "theory") != 0;
+    if (inset) fputs("set multiplot\nset origin 0, 0\nset size 0.66, 1\n", fp);
+    fputs("set title ", fp);
+    char title[512];
+    snprintf(title, sizeof title, "%s  %s", scene_str(r->sc, "figure", "name"),
+             scene_str(r->sc, "figure", "title"));
+    gp_string(fp, title);
+    fputs("\nset xlabel ", fp);
+    gp_string(fp, label_or(r, "x_label", "x"));
+    fputs("\nset ylabel ", fp);
+    gp_string(fp, label_or(r, "y_label", "y"));
+    fputc('\n', fp);
+    if (scene_bool(r->sc, "figure", "log_x")) fputs("set logscale x\nset format x \"10^{%L}\"\n", fp);
+    if (scene_bool(r->sc, "figure", "log_y")) fputs("set logscale y\nset format y \"10^{%L}\"\n", fp);
+    fputs("set key outside right top spacing 1.1\nset mxtics\nset mytics\n", fp);
+    fprintf(fp, "n = %zu\ntitles = \"", r->n);
+    for (size_t i = 0; i < r->n; i++)
+        fprintf(fp, "%s%s=%g", i ? " " : "", display_name(r), r->points[i].param);
+    fputs("\"\nplot \\\n", fp);
+    if (th) fputs("  keyentry with points pt 6 ps 1.1 lc rgb \"black\" title \"theory\", \\\n", fp);
+    if (nu) fputs("  keyentry with points pt 7 ps 0.9 lc rgb \"black\" title \"numerics\", \\\n", fp);
+    if (th)
+        fprintf(fp, "  for [i=0:n-1] \"figure.tsv\" index i using 3:4 with points pt 6 ps 1.1 "
+                    "lc (i+1) %s%s\n", nu ? "notitle" : "title word(titles, i+1)",
+                nu ? ", \\" : "");
+    if (nu)
+        fputs("  for [i=0:n-1] \"figure.tsv\" index i using 5:6 with points pt 7 ps 0.8 "
+              "lc (i+1) title word(titles, i+1)\n", fp);
+}
+
+/* A tic step of 1, 2 or 5 times a power of ten giving 3-6 tics. */
+static double tic_step(const report *r)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < r->n; i++) {
+        lo = fmin(lo, r->points[i].param);
+        hi = fmax(hi, r->points[i].param);
+    }
+    double span = hi > lo ? hi - lo : fabs(hi) + 1e-300;
+    double unit = pow(10.0, floor(log10(span / 4.0)));
+    double step = span / 4.0 / unit;
+    return unit * (step < 1.5 ? 1.0 : step < 3.5 ? 2.0 : 5.0);
+}
+
+static void inset_panel(const report *r, FILE *fp)
+{
+    double ref = scene_real(r->sc, "figure", "inset_reference");
+    fputs("unset logscale\nunset title\nset format x \"% g\"\nset format y \"% g\"\n", fp);
+    fprintf(fp, "set xtics %.17g\n", tic_step(r));
+    fputs("set origin 0.67, 0.2\nset size 0.33, 0.66\n"
+          "set key inside bottom right spacing 1.0 font \",10\"\nset mxtics\nset mytics\n", fp);
+    fprintf(fp, "set xlabel \"%s\"\nset ylabel ", display_name(r));
+    gp_string(fp, analysis_label(r->sc));
+    fputs("\nset offsets graph 0.08, graph 0.08, graph 0.15, graph 0.15\n", fp);
+    fputs("plot \"inset.tsv\" using 1:2 with points pt 6 ps 1.3 lc rgb \"black\" title \"theory\", \\\n"
+          "     \"inset.tsv\" using 1:5:6 with yerrorbars pt 7 ps 0.9 lc rgb \"black\" title \"numerics\"",
+          fp);
+    if (!isnan(ref))
+        fprintf(fp, ", \\\n     %.17g with lines dt 2 lc rgb \"gray40\" title \"%.4g\"", ref, ref);
+    fputs("\nunset multiplot\n", fp);
+}
+
+static int write_script(const report *r, int inset, char *msg, size_t size)
+{
+    out_file *f = out_open(r->dir, "figure.gp", msg, size);
+    if (!f) return -1;
+    script_head(r, f->fp, inset);
+    main_panel(r, f->fp, inset);
+    if (inset) inset_panel(r, f->fp);
+    return out_commit(f, msg, size);
+}
+
+int plot_write(const report *r, char *msg, size_t size)
+{
+    int inset = scene_bool(r->sc, "figure", "inset");
+    if (write_data(r, msg, size) != 0) return -1;
+    if (inset && write_inset(r, msg, size) != 0) return -1;
+    if (write_script(r, inset, msg, size) != 0) return -1;
+    printf("! wrote %s/figure.tsv%s and %s/figure.gp\n", r->dir, inset ? ", inset.tsv" : "",
+           r->dir);
+    return 0;
+}
+
+/* ---- rendering ------------------------------------------------------------------ */
+
+int plot_render(const char *dir, char *msg, size_t size)
+{
+    const char *gp = getenv("TAPER_GNUPLOT");
+    if (!gp || !gp[0]) gp = "gnuplot";
+    if (strcmp(gp, "none") == 0) {
+        snprintf(msg, size, "rendering skipped (TAPER_GNUPLOT=none): cd %s && gnuplot figure.gp",
+                 dir);
+        return 1;
+    }
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0) {
+        snprintf(msg, size, "cannot start %s: %s", gp, strerror(errno));
+        return -1;
+    }
+    if (pid == 0) {
+        if (chdir(dir) == 0) execlp(gp, gp, "figure.gp", (char *)NULL);
+        _exit(127);
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return 0;
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+        snprintf(msg, size, "%s not found: figure not rendered (install gnuplot, then: cd %s && "
+                 "gnuplot figure.gp)", gp, dir);
+        return 1;
+    }
+    snprintf(msg, size, "%s failed on %s/figure.gp (status %d)", gp, dir, status);
+    return -1;
+}

@@ -1,0 +1,25 @@
+/*
+ * plot.h -- a scene's figure: DIR/figure.tsv (per-granule data, one gnuplot
+ * data block per run), DIR/inset.tsv (the fitted value against the swept
+ * variable), DIR/figure.gp (a gnuplot script in the paper's style: theory
+ * open circles, numerics filled circles, the inset as a second panel) and,
+ * with gnuplot installed, DIR/figure.png.
+ *
+ * Not part of libtaper.
+ */
+#ifndef TAPER_PLOT_H
+#define TAPER_PLOT_H
+
+#include "results/analysis.h"
+
+#include <stddef.h>
+
+/* Writes figure.tsv, inset.tsv (with an inset) and figure.gp.  0 or -1. */
+int plot_write(const report *r, char *msg, size_t size);
+
+/* Runs gnuplot on DIR/figure.gp in DIR ($TAPER_GNUPLOT, default gnuplot;
+ * "none" skips).  0: rendered; 1: gnuplot not available (msg says how to
+ * render later); -1: gnuplot failed (msg). */
+int plot_render(const char *dir, char *msg, size_t size);
+
+#endif

@@ -1,0 +1,600 @@
+! taper_nml -- run a taper scene file with Fortran's own namelist READ.
+!
+!   taper_nml SCENE.nml           run it: t_pass and v_peak next to the theory
+!   taper_nml --dump SCENE.nml    print the resolved values (canonical form of
+!                                 tests/bindings/scene_dump.c) and stop
+!
+! Our scene files (share/scenes/*.nml, docs/scene.md) are standard Fortran
+! namelists with the groups &chain, &solver, &output, &fit, &table and &figure;
+! this program reads them with READ(unit, NML=...) and hands the values of the
+! first three to libtaper through the
+! iso_c_binding module `taper` (share/fortran/taper.f90).  The variables and
+! their defaults are those of the table in drivers/taper/scene/scene.c; the solver defaults
+! come from the library itself (taper_solver_spec_init), as in the C driver.
+! A list of values for s or q is a sweep: each value is run in turn.  The
+! analysis groups &fit, &table and &figure (the C driver's fits, tables and
+! figures) are read too, so that --dump proves every group of a scene is a
+! real Fortran namelist and resolves as in the C parser; the runs here do not
+! use them.  Their variables share names across groups (x, y, k_max, name),
+! which one scoping unit cannot hold twice: each of these groups is read in
+! its own internal subroutine (read_fit, read_table, read_figure).
+!
+! Exit status: 0 complete, 1 library failure, 2 bad input, 3 partial result.
+program taper_nml
+  use, intrinsic :: iso_c_binding
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
+  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
+  use taper
+  implicit none
+
+  ! MAX_RADII: SCENE_MAX_LIST of the C parser (drivers/taper/scene/scene_impl.h)
+  integer, parameter :: MAX_SWEEP = 1000, MAX_RADII = 250000, LEN_STR = 1024
+
+  ! &chain
+  character(len=LEN_STR) :: profile
+  integer(int64) :: n_granules
+  real(c_double) :: s(MAX_SWEEP), q(MAX_SWEEP), exponent
+  real(c_double), allocatable, target :: radii(:)
+  ! &solver
+  character(len=LEN_STR) :: method
+  real(c_double) :: rtol, atol, t_max
+  logical :: window, numerics
+  integer(int64) :: last_granule, max_steps
+  ! &output
+  character(len=LEN_STR) :: dir
+  logical :: progress
+  integer(int64) :: threads      ! parallel sweeps of the C driver; unused here
+  ! &fit, &table, &figure (read by read_fit, read_table, read_figure; the
+  ! group's prefix added to each name)
+  character(len=LEN_STR) :: fit_model, fit_x, fit_y, fit_report, fit_label, fit_theory
+  integer(int64) :: fit_k_min, fit_k_max
+  real(c_double) :: fit_p, fit_factor
+  character(len=LEN_STR) :: table_name, table_caption
+  integer(int64) :: table_digits
+  real(c_double) :: table_paper_theory(MAX_SWEEP), table_paper_numerics(MAX_SWEEP)
+  character(len=LEN_STR) :: figure_name, figure_title, figure_x, figure_y, figure_curves, &
+       figure_x_label, figure_y_label
+  logical :: figure_log_x, figure_log_y, figure_inset
+  integer(int64) :: figure_every, figure_k_max
+  real(c_double) :: figure_inset_reference
+
+  ! Allowed strings (drivers/taper/scene/scene.c); the C parser stores their canonical spelling.
+  character(len=*), parameter :: PROFILES(6) = [character(len=20) :: "monodisperse", &
+       "backward_linear", "forward_linear", "backward_exponential", "forward_exponential", "custom"]
+  character(len=*), parameter :: METHODS(2) = [character(len=5) :: "adams", "bdf"]
+  character(len=*), parameter :: FIT_MODELS(6) = [character(len=12) :: "none", "power", &
+       "exponential", "divergence_b", "divergence_c", "divergence_m"]
+  character(len=*), parameter :: QUANTITIES(6) = [character(len=7) :: "k", "v", "T_res", "t", &
+       "t_reach", "t_peak"]
+  character(len=*), parameter :: FIT_PARAMS(6) = [character(len=1) :: "a", "b", "c", "m", "p", "f"]
+  character(len=*), parameter :: THEORIES(4) = [character(len=4) :: "fit", "rate", "f", "b"]
+  character(len=*), parameter :: CURVES(3) = [character(len=8) :: "both", "theory", "numerics"]
+
+  namelist /chain/ profile, n_granules, s, q, exponent, radii
+  namelist /solver/ method, rtol, atol, window, last_granule, t_max, max_steps, numerics
+  namelist /output/ dir, progress, threads
+
+  character(len=LEN_STR) :: path, arg
+  logical :: dump, n_given
+  integer :: n_s, n_q, n_radii, n_sweep, i, status, worst
+  real(c_double) :: nan
+  type(taper_solver_spec) :: defaults
+
+  dump = .false.
+  path = ""
+  do i = 1, command_argument_count()
+     call get_command_argument(i, arg)
+     if (arg == "--dump") then
+        dump = .true.
+     else if (arg == "-h" .or. arg == "--help") then
+        write (output_unit, '(a)') "usage: taper_nml [--dump] SCENE.nml"
+        stop
+     else
+        path = arg
+     end if
+  end do
+  if (path == "") then
+     write (error_unit, '(a)') "usage: taper_nml [--dump] SCENE.nml"
+     error stop 2
+  end if
+
+  ! Defaults: the table of drivers/taper/scene/scene.c; solver defaults from the library.
+  nan = ieee_value(nan, ieee_quiet_nan)
+  call taper_solver_spec_init(defaults)
+  profile = "monodisperse"
+  n_granules = -1            ! not given: 100, or the number of radii
+  s = nan
+  q = nan
+  exponent = 2.5_c_double
+  allocate (radii(MAX_RADII))
+  radii = nan
+  method = merge("bdf  ", "adams", defaults%method == TAPER_BDF)
+  rtol = defaults%rtol
+  atol = defaults%atol
+  window = defaults%window /= 0
+  last_granule = 0
+  t_max = 0
+  max_steps = 0
+  numerics = .true.
+  dir = default_dir(path)
+  progress = .true.
+  threads = 0
+
+  ! Defaults of &fit, &table and &figure: set by read_fit, read_table and
+  ! read_figure, which read_scene calls.
+  call read_scene(path)
+
+  ! Allowed strings in their canonical spelling, as the C parser stores them.
+  profile = canonical(profile, PROFILES)
+  method = canonical(method, METHODS)
+  fit_model = canonical(fit_model, FIT_MODELS)
+  fit_x = canonical(fit_x, QUANTITIES)
+  fit_y = canonical(fit_y, QUANTITIES)
+  fit_report = canonical(fit_report, FIT_PARAMS)
+  fit_theory = canonical(fit_theory, THEORIES)
+  figure_x = canonical(figure_x, QUANTITIES)
+  figure_y = canonical(figure_y, QUANTITIES)
+  figure_curves = canonical(figure_curves, CURVES)
+
+  ! Resolve: a sweep is the list given; nothing given is the default 0.
+  n_s = count_given(s)
+  n_q = count_given(q)
+  n_radii = count_given(radii)
+  if (n_s == 0) then
+     s(1) = 0
+     n_s = 1
+  end if
+  if (n_q == 0) then
+     q(1) = 0
+     n_q = 1
+  end if
+  n_given = n_granules >= 0
+  if (.not. n_given) n_granules = 100
+  if (lower(profile) == "custom" .and. n_radii > 0) then
+     if (n_given .and. n_granules /= n_radii) then
+        write (error_unit, '(a,i0,a,i0,a)') trim(path)//": n_granules = ", n_granules, &
+             " but ", n_radii, " radii are given"
+        error stop 2
+     end if
+     n_granules = n_radii
+  end if
+  if (n_s > 1 .and. n_q > 1) then
+     write (error_unit, '(a)') trim(path)//": only one of s and q may be swept"
+     error stop 2
+  end if
+
+  if (dump) then
+     call print_dump()
+     deallocate (radii)
+     stop
+  end if
+
+  n_sweep = max(n_s, n_q)
+  worst = 0
+  do i = 1, n_sweep
+     status = run_point(min(i, n_s), min(i, n_q))
+     worst = max(worst, status)
+  end do
+  ! Main-program variables are implicitly SAVE'd: never deallocated for us
+  ! (LeakSanitizer and valgrind report them once MAIN__ has returned).
+  deallocate (radii)
+  select case (worst)   ! F2008: STOP codes are constants
+  case (1)
+     error stop 1
+  case (2)
+     error stop 2
+  case (3)
+     error stop 3
+  end select
+
+contains
+
+  subroutine read_scene(file)
+    character(len=*), intent(in) :: file
+    integer :: unit, ios
+    character(len=512) :: msg
+    open (newunit=unit, file=file, status="old", action="read", iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+       write (error_unit, '(a)') trim(file)//": "//trim(msg)
+       error stop 2
+    end if
+    ! Each group is optional: rewind and look for it; end of file = absent.
+    read (unit, nml=chain, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "chain", ios, msg)
+    rewind (unit)
+    read (unit, nml=solver, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "solver", ios, msg)
+    rewind (unit)
+    read (unit, nml=output, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "output", ios, msg)
+    rewind (unit)
+    call read_fit(file, unit)
+    rewind (unit)
+    call read_table(file, unit)
+    rewind (unit)
+    call read_figure(file, unit)
+    close (unit)
+  end subroutine read_scene
+
+  ! &fit with its table defaults, if the file has it; copied to fit_*.
+  subroutine read_fit(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    character(len=LEN_STR) :: model, x, y, report, label, theory
+    integer(int64) :: k_min, k_max
+    real(c_double) :: p, factor
+    namelist /fit/ model, x, y, k_min, k_max, p, report, factor, label, theory
+    integer :: ios
+    character(len=512) :: msg
+    model = "none"
+    x = "k"
+    y = "v"
+    k_min = 1
+    k_max = 0
+    p = nan                  ! no default: left out
+    report = "b"
+    factor = 1
+    label = ""
+    theory = "fit"
+    read (unit, nml=fit, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "fit", ios, msg)
+    fit_model = model
+    fit_x = x
+    fit_y = y
+    fit_k_min = k_min
+    fit_k_max = k_max
+    fit_p = p
+    fit_report = report
+    fit_factor = factor
+    fit_label = label
+    fit_theory = theory
+  end subroutine read_fit
+
+  ! &table with its table defaults, if the file has it; copied to table_*.
+  subroutine read_table(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    character(len=LEN_STR) :: name, caption
+    integer(int64) :: digits
+    real(c_double) :: paper_theory(MAX_SWEEP), paper_numerics(MAX_SWEEP)
+    namelist /table/ name, caption, digits, paper_theory, paper_numerics
+    integer :: ios
+    character(len=512) :: msg
+    name = ""
+    caption = ""
+    digits = 4
+    paper_theory = nan       ! no default: empty lists
+    paper_numerics = nan
+    read (unit, nml=table, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "table", ios, msg)
+    table_name = name
+    table_caption = caption
+    table_digits = digits
+    table_paper_theory = paper_theory
+    table_paper_numerics = paper_numerics
+  end subroutine read_table
+
+  ! &figure with its table defaults, if the file has it; copied to figure_*.
+  subroutine read_figure(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    character(len=LEN_STR) :: name, title, x, y, curves, x_label, y_label
+    logical :: log_x, log_y, inset
+    integer(int64) :: every, k_max
+    real(c_double) :: inset_reference
+    namelist /figure/ name, title, x, y, curves, log_x, log_y, every, k_max, x_label, &
+         y_label, inset, inset_reference
+    integer :: ios
+    character(len=512) :: msg
+    name = ""
+    title = ""
+    x = "k"
+    y = "v"
+    curves = "both"
+    log_x = .false.
+    log_y = .false.
+    every = 1
+    k_max = 0
+    x_label = ""
+    y_label = ""
+    inset = .false.
+    inset_reference = nan    ! no default: no line
+    read (unit, nml=figure, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "figure", ios, msg)
+    figure_name = name
+    figure_title = title
+    figure_x = x
+    figure_y = y
+    figure_curves = curves
+    figure_log_x = log_x
+    figure_log_y = log_y
+    figure_every = every
+    figure_k_max = k_max
+    figure_x_label = x_label
+    figure_y_label = y_label
+    figure_inset = inset
+    figure_inset_reference = inset_reference
+  end subroutine read_figure
+
+  ! The allowed string that str spells (case-insensitive), or str itself.
+  function canonical(str, choices) result(c)
+    character(len=*), intent(in) :: str
+    character(len=*), intent(in) :: choices(:)
+    character(len=len(str)) :: c
+    integer :: k
+    c = str
+    do k = 1, size(choices)
+       if (lower(str) == lower(choices(k))) then
+          c = choices(k)
+          return
+       end if
+    end do
+  end function canonical
+
+  ! After READ(unit, NML=group): a syntax error fails with the file name; end
+  ! of file means the group is absent -- unless the file has the group's
+  ! header, then the file ended inside it (an unterminated string, a missing
+  ! '/'), which is an error too.
+  subroutine check_read(file, unit, group, ios, msg)
+    character(len=*), intent(in) :: file, group, msg
+    integer, intent(in) :: unit, ios
+    if (ios > 0) then
+       write (error_unit, '(a)') trim(file)//": &"//group//": "//trim(msg)
+       error stop 2
+    end if
+    if (ios < 0) then
+       if (has_group(unit, group)) then
+          write (error_unit, '(a)') trim(file)//": &"//group//": end of file inside the group "// &
+               "(a string not closed, or no '/' at its end?): "//trim(msg)
+          error stop 2
+       end if
+    end if
+  end subroutine check_read
+
+  ! Whether the file has a header &group (or $group), as gfortran looks for
+  ! one: '&' or '$' outside comments, the name in any case, then a separator.
+  logical function has_group(unit, group)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: group
+    character(len=LEN_STR) :: line
+    integer :: ios, k, n, e
+    has_group = .false.
+    rewind (unit)
+    do
+       read (unit, '(a)', iostat=ios) line
+       if (ios /= 0) exit
+       n = index(line, "!") - 1
+       if (n < 0) n = len_trim(line)
+       do k = 1, n
+          if (line(k:k) /= "&" .and. line(k:k) /= "$") cycle
+          e = k + len(group)
+          if (e > n) cycle
+          if (lower(line(k + 1:e)) /= lower(group)) cycle
+          if (e < n) then     ! the name must end there
+             if (index(" ,/;"//achar(9), line(e + 1:e + 1)) == 0) cycle
+          end if
+          has_group = .true.
+          return
+       end do
+    end do
+  end function has_group
+
+  ! Leading entries of a NaN-initialised namelist array that the file set.
+  integer function count_given(a)
+    real(c_double), intent(in) :: a(:)
+    count_given = 0
+    do while (count_given < size(a))
+       if (ieee_is_nan(a(count_given + 1))) exit
+       count_given = count_given + 1
+    end do
+  end function count_given
+
+  ! out/NAME for scene file .../NAME.nml (drivers/taper/scene/scene.c: derived_dir).
+  function default_dir(file) result(d)
+    character(len=*), intent(in) :: file
+    character(len=LEN_STR) :: d
+    integer :: slash, n
+    slash = index(file, "/", back=.true.)
+    n = len_trim(file)
+    if (n - slash > 4) then
+       if (lower(file(n - 3:n)) == ".nml") n = n - 4
+    end if
+    if (n == slash) then
+       d = "out/scene"
+    else
+       d = "out/"//file(slash + 1:n)
+    end if
+  end function default_dir
+
+  function lower(str) result(l)
+    character(len=*), intent(in) :: str
+    character(len=len(str)) :: l
+    integer :: k
+    l = str
+    do k = 1, len(str)
+       if (l(k:k) >= "A" .and. l(k:k) <= "Z") l(k:k) = achar(iachar(l(k:k)) + 32)
+    end do
+  end function lower
+
+  subroutine print_bits(x)
+    real(c_double), intent(in) :: x
+    write (output_unit, '(1x,z16.16)', advance="no") transfer(x, 0_int64)
+  end subroutine print_bits
+
+  subroutine print_real(name, x)
+    character(len=*), intent(in) :: name
+    real(c_double), intent(in) :: x
+    write (output_unit, '(a)', advance="no") name//" ="
+    call print_bits(x)
+    write (output_unit, '()')
+  end subroutine print_real
+
+  ! A real without a default: nothing after " =" when left out (NaN).
+  subroutine print_optional(name, x)
+    character(len=*), intent(in) :: name
+    real(c_double), intent(in) :: x
+    write (output_unit, '(a)', advance="no") name//" ="
+    if (.not. ieee_is_nan(x)) call print_bits(x)
+    write (output_unit, '()')
+  end subroutine print_optional
+
+  subroutine print_list(name, a, n)
+    character(len=*), intent(in) :: name
+    real(c_double), intent(in) :: a(:)
+    integer, intent(in) :: n
+    integer :: k
+    write (output_unit, '(a,1x,i0)', advance="no") name//" =", n
+    do k = 1, n
+       call print_bits(a(k))
+    end do
+    write (output_unit, '()')
+  end subroutine print_list
+
+  ! The canonical form of tests/bindings/scene_dump.c, in the order of the table.
+  subroutine print_dump()
+    write (output_unit, '(a)') "chain.profile = "//trim(profile)
+    write (output_unit, '(a,i0)') "chain.n_granules = ", n_granules
+    call print_list("chain.s", s, n_s)
+    call print_list("chain.q", q, n_q)
+    call print_real("chain.exponent", exponent)
+    call print_list("chain.radii", radii, n_radii)
+    write (output_unit, '(a)') "solver.method = "//trim(method)
+    call print_real("solver.rtol", rtol)
+    call print_real("solver.atol", atol)
+    write (output_unit, '(a,l1)') "solver.window = ", window
+    write (output_unit, '(a,i0)') "solver.last_granule = ", last_granule
+    call print_real("solver.t_max", t_max)
+    write (output_unit, '(a,i0)') "solver.max_steps = ", max_steps
+    write (output_unit, '(a,l1)') "solver.numerics = ", numerics
+    write (output_unit, '(a)') "output.dir = "//trim(dir)
+    write (output_unit, '(a,l1)') "output.progress = ", progress
+    write (output_unit, '(a,i0)') "output.threads = ", threads
+    write (output_unit, '(a)') "fit.model = "//trim(fit_model)
+    write (output_unit, '(a)') "fit.x = "//trim(fit_x)
+    write (output_unit, '(a)') "fit.y = "//trim(fit_y)
+    write (output_unit, '(a,i0)') "fit.k_min = ", fit_k_min
+    write (output_unit, '(a,i0)') "fit.k_max = ", fit_k_max
+    call print_optional("fit.p", fit_p)
+    write (output_unit, '(a)') "fit.report = "//trim(fit_report)
+    call print_real("fit.factor", fit_factor)
+    write (output_unit, '(a)') "fit.label = "//trim(fit_label)
+    write (output_unit, '(a)') "fit.theory = "//trim(fit_theory)
+    write (output_unit, '(a)') "table.name = "//trim(table_name)
+    write (output_unit, '(a)') "table.caption = "//trim(table_caption)
+    write (output_unit, '(a,i0)') "table.digits = ", table_digits
+    call print_list("table.paper_theory", table_paper_theory, count_given(table_paper_theory))
+    call print_list("table.paper_numerics", table_paper_numerics, &
+         count_given(table_paper_numerics))
+    write (output_unit, '(a)') "figure.name = "//trim(figure_name)
+    write (output_unit, '(a)') "figure.title = "//trim(figure_title)
+    write (output_unit, '(a)') "figure.x = "//trim(figure_x)
+    write (output_unit, '(a)') "figure.y = "//trim(figure_y)
+    write (output_unit, '(a)') "figure.curves = "//trim(figure_curves)
+    write (output_unit, '(a,l1)') "figure.log_x = ", figure_log_x
+    write (output_unit, '(a,l1)') "figure.log_y = ", figure_log_y
+    write (output_unit, '(a,i0)') "figure.every = ", figure_every
+    write (output_unit, '(a,i0)') "figure.k_max = ", figure_k_max
+    write (output_unit, '(a)') "figure.x_label = "//trim(figure_x_label)
+    write (output_unit, '(a)') "figure.y_label = "//trim(figure_y_label)
+    write (output_unit, '(a,l1)') "figure.inset = ", figure_inset
+    call print_optional("figure.inset_reference", figure_inset_reference)
+  end subroutine print_dump
+
+  ! One point of the scene: chain, theory, dynamics; 0, 1 (failure) or 3 (partial).
+  integer function run_point(is, iq) result(rc)
+    integer, intent(in) :: is, iq
+    type(taper_chain_spec) :: cs
+    type(taper_solver_spec) :: ss
+    type(taper_error) :: err
+    type(c_ptr) :: c, sim
+    real(c_double), allocatable, target :: v_th(:), t_th(:)
+    real(c_double), pointer :: t_pass(:), v_peak(:)
+    integer(c_int) :: p, st
+    integer(c_size_t) :: n, k, step
+    type(taper_stats) :: stats
+
+    rc = 0
+    call taper_chain_spec_init(cs)
+    if (taper_profile_from_name(profile, p) /= TAPER_OK) then
+       write (error_unit, '(a)') trim(path)//": &chain profile: unknown '"//trim(profile)//"'"
+       rc = 2
+       return
+    end if
+    cs%profile = p
+    cs%n_granules = int(n_granules, c_size_t)
+    cs%s = s(is)
+    cs%q = q(iq)
+    cs%exponent = exponent
+    if (p == TAPER_CUSTOM .and. n_radii > 0) cs%radii = c_loc(radii(1))
+    c = taper_chain_alloc(cs, err)
+    if (.not. c_associated(c)) then
+       write (error_unit, '(a)') trim(path)//": "//taper_message(err)
+       rc = 2
+       return
+    end if
+    n = taper_chain_size(c)
+    allocate (v_th(n), t_th(n))
+    if (taper_theory_compute(c, c_loc(v_th), c_null_ptr, c_null_ptr, c_loc(t_th), err) &
+         /= TAPER_OK) then
+       write (error_unit, '(a)') trim(path)//": "//taper_message(err)   ! "theory: ..."
+       call taper_chain_free(c)
+       rc = 1
+       return
+    end if
+
+    write (output_unit, '(5a,i0,3(a,g0.6))') "# ", trim(path), ": ", &
+         taper_profile_name(p), " N = ", n, "  s = ", cs%s, "  q = ", cs%q, "  n = ", exponent
+    sim = c_null_ptr
+    if (numerics) then
+       call taper_solver_spec_init(ss)
+       ss%method = merge(TAPER_BDF, TAPER_ADAMS, lower(method) == "bdf")
+       ss%rtol = rtol
+       ss%atol = atol
+       ss%window = merge(1, 0, window)
+       ss%last_granule = int(last_granule, c_size_t)
+       ss%t_max = t_max
+       ss%max_steps = int(max_steps, c_long)
+       sim = taper_sim_alloc(c, ss, err)
+       if (.not. c_associated(sim)) then
+          write (error_unit, '(a)') trim(path)//": "//taper_message(err)
+          call taper_chain_free(c)
+          rc = 2
+          return
+       end if
+       st = taper_sim_run(sim, err)
+       if (st /= TAPER_OK) then
+          write (error_unit, '(a)') trim(path)//": "//taper_message(err)
+          rc = merge(1, 3, st == TAPER_EINVAL .or. st == TAPER_ENOMEM)
+       end if
+       t_pass => taper_observable(sim, c, TAPER_T_PASS)
+       v_peak => taper_observable(sim, c, TAPER_V_PEAK)
+       write (output_unit, '(a2,a8,4a16)') "# ", "k", "t_pass", "t_k theory", "v_peak", "v_k theory"
+    else
+       write (output_unit, '(a2,a8,2a16)') "# ", "k", "t_k theory", "v_k theory"
+    end if
+    step = max(1_c_size_t, (n - 1) / 10)
+    k = 1
+    do while (k < n)
+       if (numerics) then
+          write (output_unit, '(2x,i8,4es16.8)') k, t_pass(k), t_th(k), v_peak(k), v_th(k)
+       else
+          write (output_unit, '(2x,i8,2es16.8)') k, t_th(k), v_th(k)
+       end if
+       if (k < 5) then
+          k = k + 1
+       else if (k + step >= n .and. k /= n - 1) then
+          k = n - 1
+       else
+          k = k + step
+       end if
+    end do
+    if (numerics) then
+       call taper_sim_stats(sim, stats)
+       write (output_unit, '(a,i0,a,es9.2,a,l1)') "# steps ", stats%steps, "  energy error ", &
+            stats%energy_error, "  complete ", stats%complete /= 0
+       call taper_sim_free(sim)
+    end if
+    call taper_chain_free(c)
+  end function run_point
+
+end program taper_nml

@@ -1,0 +1,71 @@
+/*
+ * theory.c -- the binary collision approximation (paper, Sec. II).
+ *
+ * Each collision is a two-body problem: granule k arrives with v_k and meets
+ * granule k+1 at rest.  Momentum and energy give eq. (velo-k+111), whose
+ * product is eq. (recv); the relative coordinate z_k obeys eq. (eq-z1), a
+ * particle of mass mu_k in the potential (r_k/n) z^n, whose half-period to
+ * maximum compression is the residence time T_k of eq. (compress-time).
+ * Everything is computed in logarithms so that long exponential chains fail
+ * with a named granule instead of overflowing in an intermediate product.
+ */
+#include "core/taper_internal.h"
+
+#include <float.h>
+#include <gsl/gsl_sf_gamma.h>
+#include <math.h>
+
+/* ln of eq. (compress-time).  lngamma on (1, 2] never raises a GSL error. */
+static double log_collision_time(double log_mu, double log_r, double log_zdot0, double n)
+{
+    return 0.5 * log(3.14159265358979323846) + (log(n / 2.0) + log_mu - log_r) / n
+           + (2.0 / n - 1.0) * log_zdot0
+           + gsl_sf_lngamma(1.0 + 1.0 / n) - gsl_sf_lngamma(1.0 / n + 0.5);
+}
+
+double taper_theory_collision_time(double mu, double r, double zdot0, double n)
+{
+    if (!(mu > 0.0) || !(r > 0.0) || !(zdot0 > 0.0) || !(n > 1.0) || !isfinite(n))
+        return NAN;
+    return exp(log_collision_time(log(mu), log(r), log(zdot0), n));
+}
+
+int taper_theory_compute(const taper_chain *chain, double *v, double *mu, double *T,
+                         double *t, taper_error *err)
+{
+    if (!chain) return taper_fail(err, TAPER_EINVAL, "taper_theory_compute: chain is NULL");
+    const size_t n = chain->n;
+    const double *m = chain->mass;
+    double log_v = 0.0; /* v_1 = 1 */
+    double elapsed = 0.0;
+    for (size_t k = 1; k <= n; k++) {
+        /* A custom chain whose masses go up and down by large factors loses
+         * velocity at every step up and at most doubles it at a step down:
+         * v_k can leave double precision long before the masses do. */
+        double vk = exp(log_v);
+        if (!(vk >= DBL_MIN && vk <= DBL_MAX))
+            return taper_fail(err, TAPER_ERANGE,
+                              "theory: velocity of granule %zu is exp(%g), outside double precision",
+                              k, log_v);
+        if (v) v[k - 1] = vk;
+        if (k == n) break;
+        double ratio = m[k] / m[k - 1];          /* m_{k+1} / m_k */
+        double log_mu = log(m[k - 1]) - log1p(m[k - 1] / m[k]); /* m_k m_{k+1}/(m_k+m_{k+1}) */
+        double log_T = log_collision_time(log_mu, log(chain->contact[k - 1]), log_v,
+                                          chain->exponent);
+        double Tk = exp(log_T);
+        elapsed += Tk;
+        if (!isfinite(Tk) || !isfinite(elapsed))
+            return taper_fail(err, TAPER_ERANGE,
+                              "theory: residence time of granule %zu overflows double precision "
+                              "(ln T = %g)", k, log_T);
+        if (mu) mu[k - 1] = exp(log_mu);
+        if (T) T[k - 1] = Tk;
+        if (t) t[k - 1] = elapsed;
+        log_v += log(2.0) - log1p(ratio);        /* eq. (velo-k+111) */
+    }
+    if (mu) mu[n - 1] = NAN;
+    if (T) T[n - 1] = NAN;
+    if (t) t[n - 1] = NAN;
+    return taper_ok(err);
+}
