@@ -2,8 +2,9 @@
  * taper.h -- pulse propagation in tapered granular chains.
  *
  * The one public header of libtaper.  It models the rescaled equations of
- * motion of Harbola, Rosas, Esposito and Lindenberg, "Pulse propagation in
- * tapered granular chains: an analytic study" (eq. motion_rescaled):
+ * motion, eq. (6) of Harbola, Rosas, Esposito and Lindenberg, "Pulse
+ * propagation in tapered granular chains: an analytic study",
+ * arXiv:0905.4512:
  *
  *     m_k x_k'' = r_{k-1} (x_{k-1} - x_k)^{n-1} theta(x_{k-1} - x_k)
  *               - r_k     (x_k - x_{k+1})^{n-1} theta(x_k - x_{k+1}),
@@ -22,8 +23,17 @@
  *  - Values that do not exist (not reached, not defined) are NaN.
  *  - Every function that can fail returns a taper_status (or NULL for the
  *    *_alloc functions) and, when given a non-NULL taper_error, writes the
- *    status and a message the caller can show.  err may always be NULL.
- *    After a successful call err holds TAPER_OK and an empty message.
+ *    status, the name of the setting at fault and a message the caller can
+ *    show.  err may always be NULL.  After a successful call err holds
+ *    TAPER_OK, field NULL and an empty message.
+ *  - Settings live in objects the library allocates (taper_chain_spec,
+ *    taper_solver_spec, taper_fit_spec), read and written through
+ *    functions, as CVODE's memory is: a later version adds settings without
+ *    breaking programs compiled against this header (docs/api.md, "Why
+ *    opaque objects").  A setter checks its value alone and refuses it
+ *    (TAPER_EINVAL, the spec unchanged); the *_alloc that consumes a spec
+ *    checks the relations between settings.  The ranges are the TAPER_*_MIN
+ *    and _MAX constants below, stated once, here.
  *  - The library never prints, never calls exit() or abort(), and has no
  *    global mutable state: distinct objects may be used from distinct
  *    threads at once.  A chain is only read after taper_chain_alloc, so one
@@ -53,9 +63,9 @@ extern "C" {
 /* Version                                                            */
 /* ------------------------------------------------------------------ */
 #define TAPER_VERSION_MAJOR 0
-#define TAPER_VERSION_MINOR 1
+#define TAPER_VERSION_MINOR 2
 #define TAPER_VERSION_PATCH 0
-#define TAPER_VERSION_STRING "0.1.0"
+#define TAPER_VERSION_STRING "0.2.0"
 
 /* The version of the library actually loaded (may differ from the macros
  * the caller was compiled with). */
@@ -66,26 +76,47 @@ TAPER_API const char *taper_version(void);
 /* ------------------------------------------------------------------ */
 typedef enum taper_status {
     TAPER_OK = 0,
-    TAPER_EINVAL = 1,        /* invalid argument or parameter             */
+    TAPER_EINVAL = 1,        /* invalid argument or setting                */
     TAPER_ENOMEM = 2,        /* allocation failed                          */
     TAPER_ERANGE = 3,        /* a value overflows double precision         */
     TAPER_ESOLVER = 4,       /* the integrator failed; partial results kept */
     TAPER_EINTERRUPTED = 5,  /* the monitor asked to stop; partial results kept */
-    TAPER_ELIMIT = 6,        /* t_max or max_steps reached; partial results kept */
-    TAPER_EIO = 7            /* file input/output (driver level)           */
+    TAPER_ELIMIT = 6         /* t_max or max_steps reached; partial results kept */
 } taper_status;
 
 #define TAPER_MESSAGE_SIZE 512
 
-/* Filled by failing calls.  status repeats the return value. */
+/* Filled by failing calls.  status repeats the return value.  field names
+ * the setting at fault, spelt as its setter (and the scene variable) is:
+ * "rtol" for taper_solver_spec_set_rtol, "n_granules", "radii", ...; NULL
+ * when no single setting is (out of memory, a solver failure).  It points
+ * to static storage.  A message longer than the buffer ends in "...". */
 typedef struct taper_error {
-    int status;
+    taper_status status;
+    const char *field;
     char message[TAPER_MESSAGE_SIZE];
 } taper_error;
 
 /* A short constant description of a status code ("invalid argument", ...);
  * "unknown status" for other values.  Never NULL; static storage. */
-TAPER_API const char *taper_strerror(int status);
+TAPER_API const char *taper_strerror(taper_status status);
+
+/* ------------------------------------------------------------------ */
+/* Ranges of the settings (inclusive unless said otherwise)            */
+/* ------------------------------------------------------------------ */
+#define TAPER_N_GRANULES_MIN 2
+#define TAPER_N_GRANULES_MAX 10000000      /* 1e7                              */
+#define TAPER_S_MAX 1e3                    /* 0 <= s <= TAPER_S_MAX            */
+#define TAPER_Q_MAX 1e3                    /* 0 <= q <= TAPER_Q_MAX (backward
+                                              exponential: q < 1)              */
+#define TAPER_EXPONENT_MIN 1.0             /* exclusive: n > 1                 */
+#define TAPER_EXPONENT_MAX 20.0
+#define TAPER_RTOL_MIN 1e-14               /* double precision cannot follow
+                                              tighter tolerances               */
+#define TAPER_RTOL_MAX 0.1
+#define TAPER_ATOL_MAX 0.1                 /* 0 < atol <= TAPER_ATOL_MAX       */
+#define TAPER_MAX_ORDER_ADAMS 12
+#define TAPER_MAX_ORDER_BDF 5
 
 /* ------------------------------------------------------------------ */
 /* Chain geometry                                                      */
@@ -96,36 +127,64 @@ typedef enum taper_profile {
     TAPER_FORWARD_LINEAR = 2,        /* R_k = 1 - S (k-1),  S > 0, N < 1 + 1/S   */
     TAPER_BACKWARD_EXPONENTIAL = 3,  /* R_k = (1-q)^(1-k),  0 < q < 1            */
     TAPER_FORWARD_EXPONENTIAL = 4,   /* R_k = (1+q)^(1-k),  q > 0                */
-    TAPER_CUSTOM = 5                 /* R_k given; R_1 should be 1 (the unit)    */
+    TAPER_CUSTOM = 5                 /* R_k given, R_1 = 1 (the unit of length)  */
 } taper_profile;
+#define TAPER_N_PROFILES 6
 
-/* "monodisperse", "backward_linear", ... ; NULL for an unknown value. */
-TAPER_API const char *taper_profile_name(int profile);
-/* Case-insensitive inverse of taper_profile_name.  TAPER_EINVAL if unknown. */
-TAPER_API int taper_profile_from_name(const char *name, int *profile);
+/* "monodisperse", "backward_linear", "forward_linear",
+ * "backward_exponential", "forward_exponential", "custom": the one list of
+ * profile names (scene files, bindings and the bench all take it from
+ * here).  NULL for a value outside the enum, so that
+ * `for (i = 0; taper_profile_name(i); i++)` walks them. */
+TAPER_API const char *taper_profile_name(taper_profile profile);
+/* Case-insensitive inverse of taper_profile_name.  TAPER_EINVAL if unknown
+ * (field "profile"). */
+TAPER_API taper_status taper_profile_from_name(const char *name, taper_profile *profile,
+                                               taper_error *err);
 
-/* What the caller fills to describe a chain.  Plain data: start from
- * taper_chain_spec_init() so that fields added later get their defaults. */
-typedef struct taper_chain_spec {
-    int profile;            /* taper_profile                                   */
-    size_t n_granules;      /* N >= 2                                          */
-    double s;               /* linear tapering S                               */
-    double q;               /* exponential tapering q                          */
-    double exponent;        /* contact exponent n > 1 (5/2: Hertz)             */
-    const double *radii;    /* TAPER_CUSTOM: n_granules radii (copied)         */
-} taper_chain_spec;
+/* What describes a chain, before it is built.  Defaults: monodisperse,
+ * N = 100, S = q = 0, n = 5/2, no radii. */
+typedef struct taper_chain_spec taper_chain_spec;
 
-/* Defaults: monodisperse, N = 100, S = q = 0, n = 5/2, radii = NULL. */
-TAPER_API void taper_chain_spec_init(taper_chain_spec *spec);
+TAPER_API taper_chain_spec *taper_chain_spec_alloc(taper_error *err);
+TAPER_API void taper_chain_spec_free(taper_chain_spec *spec);
+
+/* Each setter checks its value against the range above (field = the
+ * setting's name).  Relations (S with a linear profile, N < 1 + 1/S for
+ * forward_linear, q < 1 for backward_exponential, radii with custom) are
+ * checked by taper_chain_spec_check and taper_chain_alloc. */
+TAPER_API taper_status taper_chain_spec_set_profile(taper_chain_spec *spec, taper_profile profile,
+                                                    taper_error *err);
+TAPER_API taper_status taper_chain_spec_set_n_granules(taper_chain_spec *spec, size_t n,
+                                                       taper_error *err);
+TAPER_API taper_status taper_chain_spec_set_s(taper_chain_spec *spec, double s, taper_error *err);
+TAPER_API taper_status taper_chain_spec_set_q(taper_chain_spec *spec, double q, taper_error *err);
+TAPER_API taper_status taper_chain_spec_set_exponent(taper_chain_spec *spec, double exponent,
+                                                     taper_error *err);
+/* Copies n radii (every one finite and > 0); NULL, 0 removes them.  Does
+ * not change n_granules: taper_chain_alloc requires n == n_granules for the
+ * custom profile (field "radii"). */
+TAPER_API taper_status taper_chain_spec_set_radii(taper_chain_spec *spec, const double *radii,
+                                                  size_t n, taper_error *err);
+
+TAPER_API taper_profile taper_chain_spec_profile(const taper_chain_spec *spec);
+TAPER_API size_t taper_chain_spec_n_granules(const taper_chain_spec *spec);
+TAPER_API double taper_chain_spec_s(const taper_chain_spec *spec);
+TAPER_API double taper_chain_spec_q(const taper_chain_spec *spec);
+TAPER_API double taper_chain_spec_exponent(const taper_chain_spec *spec);
+/* The radii set (owned by the spec) and their number; NULL, 0 if none. */
+TAPER_API const double *taper_chain_spec_radii(const taper_chain_spec *spec, size_t *n);
+
+/* Checks the relations between the settings, without building the chain:
+ * TAPER_OK, or TAPER_EINVAL naming the setting to change. */
+TAPER_API taper_status taper_chain_spec_check(const taper_chain_spec *spec, taper_error *err);
 
 typedef struct taper_chain taper_chain;
 
 /* Builds the chain: radii, masses, contact factors, rest positions.  The
- * spec (and spec->radii) is copied: the caller may free it afterwards.
- * Returns a chain the caller owns (release with taper_chain_free), or NULL:
- * TAPER_EINVAL for invalid parameters (NULL spec, N < 2, S or q out of
- * range, forward_linear with N >= 1 + 1/S, custom without radii or with a
- * radius <= 0, n <= 1), TAPER_ERANGE for chains whose masses overflow or
+ * spec is copied: the caller may free it afterwards.  Returns a chain the
+ * caller owns (release with taper_chain_free), or NULL: TAPER_EINVAL as
+ * taper_chain_spec_check, TAPER_ERANGE for chains whose masses overflow or
  * underflow double precision (naming the granule), TAPER_ENOMEM. */
 TAPER_API taper_chain *taper_chain_alloc(const taper_chain_spec *spec, taper_error *err);
 /* Releases the chain and its arrays.  Every sim of it must be freed first. */
@@ -133,7 +192,7 @@ TAPER_API void taper_chain_free(taper_chain *chain);
 
 TAPER_API size_t taper_chain_size(const taper_chain *chain);       /* N */
 TAPER_API double taper_chain_exponent(const taper_chain *chain);   /* n */
-TAPER_API int taper_chain_profile(const taper_chain *chain);
+TAPER_API taper_profile taper_chain_profile(const taper_chain *chain);
 /* Arrays of length N owned by the chain, valid until taper_chain_free. */
 TAPER_API const double *taper_chain_radius(const taper_chain *chain);   /* R_k          */
 TAPER_API const double *taper_chain_mass(const taper_chain *chain);     /* m_k = R_k^3  */
@@ -143,24 +202,57 @@ TAPER_API const double *taper_chain_contact(const taper_chain *chain);  /* r_k, 
 TAPER_API const double *taper_chain_rest_position(const taper_chain *chain);
 
 /* ------------------------------------------------------------------ */
+/* The equations of motion, for callers' own integrators               */
+/* ------------------------------------------------------------------ */
+/*
+ * The right-hand side that taper_sim integrates, over the whole chain, so
+ * that another integrator (the peers of taper-bench, a user's own) solves
+ * exactly the same equations.  State y of length 2N in difference
+ * variables, interleaved: v_k at y[2(k-1)], z_k = x_k - x_{k+1} at
+ * y[2(k-1)+1], with x_{N+1} := 0 so that z_N = x_N (docs/design.md).
+ */
+typedef struct taper_dynamics taper_dynamics;
+
+/* The chain must outlive the object.  NULL with TAPER_EINVAL / ENOMEM. */
+TAPER_API taper_dynamics *taper_dynamics_alloc(const taper_chain *chain, taper_error *err);
+TAPER_API void taper_dynamics_free(taper_dynamics *dyn);
+/* ydot = f(y), both of length 2N. */
+TAPER_API void taper_dynamics_rhs(const taper_dynamics *dyn, const double *y, double *ydot);
+/* Kinetic plus contact energy and momentum of the state y (either output
+ * may be NULL). */
+TAPER_API void taper_dynamics_energy_momentum(const taper_dynamics *dyn, const double *y,
+                                              double *energy, double *momentum);
+/* A function with the sign of granule k's acceleration, never identically
+ * zero while a contact of k is closed: its downward zero is k's velocity
+ * peak (the root function taper_sim uses).  1 <= k <= N. */
+TAPER_API double taper_dynamics_peak_function(const taper_dynamics *dyn, const double *y,
+                                              size_t k);
+
+/* ------------------------------------------------------------------ */
 /* Binary collision approximation (paper, Sec. II)                    */
 /* ------------------------------------------------------------------ */
 
-/* Residence time of one binary collision, eq. (compress-time):
+/* Residence time of one binary collision, eq. (18):
  * T = sqrt(pi) (n mu / (2 r))^(1/n) zdot0^(2/n - 1) Gamma(1+1/n) / Gamma(1/n+1/2).
  * NaN for invalid arguments (mu, r, zdot0 <= 0 or n <= 1). */
 TAPER_API double taper_theory_collision_time(double mu, double r, double zdot0, double n);
 
-/* Fills caller-owned arrays, each optional (NULL to skip), of length N:
- *   v[k-1]  = v_k, eq. (recv), the velocity granule k leaves its collision with;
- *   mu[k-1] = mu_k = m_k m_{k+1} / (m_k + m_{k+1}),  k = 1..N-1;
- *   T[k-1]  = T_k, eq. (compress-time) with zdot0 = v_k, k = 1..N-1;
- *   t[k-1]  = sum_{j<=k} T_j, eq. (totaltime), k = 1..N-1.
- * Entries that do not exist are NaN.  TAPER_EINVAL for a NULL chain;
- * TAPER_ERANGE if a time overflows (the arrays are then filled up to the
- * granule named in the message). */
-TAPER_API int taper_theory_compute(const taper_chain *chain, double *v, double *mu,
-                                   double *T, double *t, taper_error *err);
+/* The columns of the theory of a chain. */
+typedef enum taper_theory_quantity {
+    TAPER_THEORY_V = 0,    /* v_k, eq. (9): the velocity granule k leaves its
+                              collision with                                   */
+    TAPER_THEORY_MU = 1,   /* mu_k = m_k m_{k+1} / (m_k + m_{k+1}), k = 1..N-1  */
+    TAPER_THEORY_T_RES = 2, /* T_k, eq. (18) with zdot0 = v_k, k = 1..N-1       */
+    TAPER_THEORY_T = 3     /* t_k = sum_{j<=k} T_j, eq. (19), k = 1..N-1        */
+} taper_theory_quantity;
+#define TAPER_N_THEORY_QUANTITIES 4
+
+/* Fills caller-owned arrays of length N, each optional (NULL to skip), with
+ * the columns above.  Entries that do not exist are NaN.  TAPER_EINVAL for
+ * a NULL chain; TAPER_ERANGE if a time overflows (the arrays are then
+ * filled up to the granule named in the message). */
+TAPER_API taper_status taper_theory_compute(const taper_chain *chain, double *v, double *mu,
+                                            double *T, double *t, taper_error *err);
 
 /* ------------------------------------------------------------------ */
 /* Full dynamics                                                       */
@@ -169,8 +261,16 @@ typedef enum taper_method {
     TAPER_ADAMS = 0,  /* CVODE Adams-Moulton, fixed-point iteration (non-stiff) */
     TAPER_BDF = 1     /* CVODE BDF, Newton with the banded analytic Jacobian    */
 } taper_method;
+#define TAPER_N_METHODS 2
 
-/* Given to the monitor after each pulse event. */
+/* "adams", "bdf"; NULL outside the enum. */
+TAPER_API const char *taper_method_name(taper_method method);
+/* Case-insensitive inverse; TAPER_EINVAL if unknown (field "method"). */
+TAPER_API taper_status taper_method_from_name(const char *name, taper_method *method,
+                                              taper_error *err);
+
+/* Given to the monitor after each pulse event.  Filled by the library: a
+ * later version may append fields, never reorder them. */
 typedef struct taper_progress {
     size_t granule;     /* highest k whose t_pass is known (0: none yet)      */
     size_t target;      /* the run ends once the pulse passed this granule    */
@@ -190,28 +290,55 @@ typedef int (*taper_monitor_fn)(const taper_progress *progress, void *user);
  * Optional: failures are reported through taper_error in any case. */
 typedef void (*taper_log_fn)(int level, const char *message, void *user);
 
-typedef struct taper_solver_spec {
-    int method;             /* taper_method                                    */
-    double rtol;            /* relative tolerance                              */
-    double atol;            /* absolute tolerance, in units of each granule's
-                               binary-collision scale (its velocity v_k and
-                               maximum compression): relative to the pulse
-                               wherever it is, however strong the taper       */
-    size_t last_granule;    /* stop once every observable of granules
-                               1..last_granule is known; 0: the whole chain   */
-    int window;             /* non-zero: integrate only the granules that can
-                               move (exact); zero: the whole chain every step */
-    int max_order;          /* highest method order; 0: the measured default */
-    double t_max;           /* stop at this time; 0: no limit                  */
-    long max_steps;         /* stop after this many internal steps; 0: none    */
-    taper_monitor_fn monitor;
-    void *monitor_data;
-    taper_log_fn log;
-    void *log_data;
-} taper_solver_spec;
+/* How a chain is integrated.  Defaults: the measured Pareto choice
+ * (docs/benchmarks.md): Adams, rtol 1e-10, atol 1e-13, the window on, the
+ * whole chain, no limits, no monitor, no log. */
+typedef struct taper_solver_spec taper_solver_spec;
 
-/* Defaults (the measured Pareto choice, see docs/benchmarks.md). */
-TAPER_API void taper_solver_spec_init(taper_solver_spec *spec);
+TAPER_API taper_solver_spec *taper_solver_spec_alloc(taper_error *err);
+TAPER_API void taper_solver_spec_free(taper_solver_spec *spec);
+
+TAPER_API taper_status taper_solver_spec_set_method(taper_solver_spec *spec, taper_method method,
+                                                    taper_error *err);
+/* Relative tolerance, TAPER_RTOL_MIN..TAPER_RTOL_MAX. */
+TAPER_API taper_status taper_solver_spec_set_rtol(taper_solver_spec *spec, double rtol,
+                                                  taper_error *err);
+/* Absolute tolerance, in units of each granule's binary-collision scale
+ * (its velocity v_k and maximum compression): relative to the pulse
+ * wherever it is, however strong the taper.  0 < atol <= TAPER_ATOL_MAX. */
+TAPER_API taper_status taper_solver_spec_set_atol(taper_solver_spec *spec, double atol,
+                                                  taper_error *err);
+/* Stop once every observable of granules 1..last_granule is known; 0: the
+ * whole chain.  Checked against N by taper_sim_alloc. */
+TAPER_API taper_status taper_solver_spec_set_last_granule(taper_solver_spec *spec,
+                                                          size_t last_granule, taper_error *err);
+/* Non-zero: integrate only the granules that can move (exact); zero: the
+ * whole chain every step. */
+TAPER_API taper_status taper_solver_spec_set_window(taper_solver_spec *spec, int window,
+                                                    taper_error *err);
+/* Highest method order, 1..TAPER_MAX_ORDER_ADAMS (or _BDF, checked by
+ * taper_sim_alloc against the method); 0: the measured default. */
+TAPER_API taper_status taper_solver_spec_set_max_order(taper_solver_spec *spec, int max_order,
+                                                       taper_error *err);
+/* Stop at this time with a partial result; 0: no limit. */
+TAPER_API taper_status taper_solver_spec_set_t_max(taper_solver_spec *spec, double t_max,
+                                                   taper_error *err);
+/* Stop after this many internal steps with a partial result; 0: no limit. */
+TAPER_API taper_status taper_solver_spec_set_max_steps(taper_solver_spec *spec, long max_steps,
+                                                       taper_error *err);
+/* Either may be NULL (none). */
+TAPER_API void taper_solver_spec_set_monitor(taper_solver_spec *spec, taper_monitor_fn monitor,
+                                             void *user);
+TAPER_API void taper_solver_spec_set_log(taper_solver_spec *spec, taper_log_fn log, void *user);
+
+TAPER_API taper_method taper_solver_spec_method(const taper_solver_spec *spec);
+TAPER_API double taper_solver_spec_rtol(const taper_solver_spec *spec);
+TAPER_API double taper_solver_spec_atol(const taper_solver_spec *spec);
+TAPER_API size_t taper_solver_spec_last_granule(const taper_solver_spec *spec);
+TAPER_API int taper_solver_spec_window(const taper_solver_spec *spec);
+TAPER_API int taper_solver_spec_max_order(const taper_solver_spec *spec);
+TAPER_API double taper_solver_spec_t_max(const taper_solver_spec *spec);
+TAPER_API long taper_solver_spec_max_steps(const taper_solver_spec *spec);
 
 /* Per-granule observables of a run (arrays of length N, NaN where unknown). */
 typedef enum taper_observable {
@@ -223,57 +350,71 @@ typedef enum taper_observable {
 } taper_observable;
 #define TAPER_N_OBSERVABLES 5
 
-typedef struct taper_stats {
-    long steps;             /* internal CVODE steps                           */
-    long rhs_evals;         /* right-hand side evaluations                    */
-    long root_evals;        /* root function evaluations                      */
-    long jac_evals;         /* Jacobian evaluations (BDF)                     */
-    long nonlin_iters;      /* nonlinear solver iterations                    */
-    long err_test_fails;    /* local error test failures                      */
-    long window_changes;    /* times the active window grew or shrank         */
-    long restarts;          /* solver re-initialisations                      */
-    size_t max_window;      /* largest number of granules integrated at once  */
-    size_t granule_reached; /* highest k with t_pass(k) known                 */
-    double t_final;         /* time the run ended                             */
-    double energy_error;    /* |E(t_final) - E(0)| / E(0)                     */
-    double momentum_error;  /* |P(t_final) - P(0)| / max(P(0), sum m_k |v_k|):
-                               relative to the momentum in motion            */
-    int complete;           /* 1 when every requested observable is known     */
-} taper_stats;
+/* Statistics of a run, read one at a time with taper_sim_statistic (all
+ * values are doubles; counts are exact integers). */
+typedef enum taper_statistic {
+    TAPER_STAT_STEPS = 0,          /* internal CVODE steps                      */
+    TAPER_STAT_RHS_EVALS = 1,      /* right-hand side evaluations               */
+    TAPER_STAT_ROOT_EVALS = 2,     /* root function evaluations                 */
+    TAPER_STAT_JAC_EVALS = 3,      /* Jacobian evaluations (BDF)                */
+    TAPER_STAT_NONLIN_ITERS = 4,   /* nonlinear solver iterations               */
+    TAPER_STAT_ERR_TEST_FAILS = 5, /* local error test failures                 */
+    TAPER_STAT_WINDOW_CHANGES = 6, /* times the active window grew or shrank    */
+    TAPER_STAT_RESTARTS = 7,       /* solver re-initialisations                 */
+    TAPER_STAT_MAX_WINDOW = 8,     /* most granules integrated at once          */
+    TAPER_STAT_GRANULE_REACHED = 9, /* highest k with t_pass(k) known            */
+    TAPER_STAT_T_FINAL = 10,       /* time the run ended                        */
+    TAPER_STAT_ENERGY_ERROR = 11,  /* |E(t_final) - E(0)| / E(0)                */
+    TAPER_STAT_MOMENTUM_ERROR = 12, /* |P(t_final) - P(0)| / max(P(0),
+                                       sum m_k |v_k|): relative to the momentum
+                                       in motion                               */
+    TAPER_STAT_COMPLETE = 13       /* 1 when every requested observable is known */
+} taper_statistic;
+#define TAPER_N_STATISTICS 14
+
+/* "steps", "rhs_evals", ..., "complete" (the names of granules.tsv's
+ * header); NULL outside the enum. */
+TAPER_API const char *taper_statistic_name(taper_statistic which);
 
 typedef struct taper_sim taper_sim;
 
-/* Prepares a run of `chain` (which must outlive the sim).  Copies spec;
- * NULL spec: the defaults of taper_solver_spec_init.  Returns a sim the
- * caller owns (release with taper_sim_free), or NULL: TAPER_EINVAL for a
- * NULL chain or invalid settings (method, rtol outside [10 eps, 1), atol
- * outside (0, 1), last_granule > N, max_order beyond CVODE's limit,
- * negative t_max or max_steps), TAPER_ENOMEM.  Cheap: CVODE is set up by
- * taper_sim_run. */
+/* Prepares a run of `chain` (which must outlive the sim), and computes its
+ * binary collision theory once (taper_sim_theory).  Copies spec (NULL: the
+ * defaults).  Returns a sim the caller owns (release with taper_sim_free),
+ * or NULL: TAPER_EINVAL for a NULL chain or settings that do not fit it
+ * (last_granule > N, max_order beyond the method's), TAPER_ERANGE from the
+ * theory, TAPER_ENOMEM.  CVODE is set up by taper_sim_run. */
 TAPER_API taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec,
                                      taper_error *err);
 TAPER_API void taper_sim_free(taper_sim *sim);
 
 /* Integrates from the impulse until every requested observable is known.
  * Returns TAPER_OK, or TAPER_ESOLVER / TAPER_EINTERRUPTED / TAPER_ELIMIT
- * with the observables found so far kept (stats.complete == 0) and a message
- * naming the granule the pulse had reached and the time (for ESOLVER it
- * includes CVODE's own message, which SUNDIALS would otherwise print).
- * A sim runs once: a second call is TAPER_EINVAL.  NULL sim: TAPER_EINVAL. */
-TAPER_API int taper_sim_run(taper_sim *sim, taper_error *err);
+ * with the observables found so far kept (TAPER_STAT_COMPLETE 0) and a
+ * message naming the granule the pulse had reached and the time (for
+ * ESOLVER it includes CVODE's own message, which SUNDIALS would otherwise
+ * print).  A sim runs once: a second call is TAPER_EINVAL.  NULL sim:
+ * TAPER_EINVAL. */
+TAPER_API taper_status taper_sim_run(taper_sim *sim, taper_error *err);
 
 /* Array of length N owned by the sim (valid until taper_sim_free), NaN
  * where not (yet) known; NULL for an unknown observable or a NULL sim.
  * Readable after a partial run too. */
-TAPER_API const double *taper_sim_observable(const taper_sim *sim, int which);
-/* Copies the statistics of the run into *stats (zeros before the run).
- * Does nothing if either pointer is NULL. */
-TAPER_API void taper_sim_stats(const taper_sim *sim, taper_stats *stats);
+TAPER_API const double *taper_sim_observable(const taper_sim *sim, taper_observable which);
+/* The binary collision theory of the sim's chain (taper_theory_compute's
+ * columns), computed once by taper_sim_alloc; NULL for an unknown quantity
+ * or a NULL sim. */
+TAPER_API const double *taper_sim_theory(const taper_sim *sim, taper_theory_quantity which);
+/* One statistic of the run (zero before the run); NaN for an unknown
+ * statistic or a NULL sim. */
+TAPER_API double taper_sim_statistic(const taper_sim *sim, taper_statistic which);
 
 /* Displacements x_k and velocities v_k (caller-owned arrays of length N,
- * either may be NULL) of every granule at stats.t_final.  TAPER_EINVAL for
- * a NULL sim or one that has not run. */
-TAPER_API int taper_sim_state(const taper_sim *sim, double *x, double *v, taper_error *err);
+ * either may be NULL) of every granule at TAPER_STAT_T_FINAL.  TAPER_EINVAL
+ * for a NULL sim or one that has not run. */
+TAPER_API taper_status taper_sim_state(const taper_sim *sim, double *x, double *v,
+                                       taper_error *err);
+
 
 /* --- Asymptotic laws (paper Secs. III-IV) --- */
 /*
@@ -294,53 +435,53 @@ TAPER_API int taper_sim_state(const taper_sim *sim, double *x, double *v, taper_
 /* Power laws y ~ x^p of linear chains.  Backward linear (R_k = 1 + S(k-1),
  * S k >> 1, independent of S), with beta = 3/2 - 1/(2n):           n = 5/2 */
 typedef enum taper_law {
-    TAPER_LAW_V_OF_K = 0,     /* v_k ~ k^-3/2, eq. (vel-ampl-lin-large)       -3/2   */
-    TAPER_LAW_T_RES_OF_K = 1, /* T_k ~ k^beta, eq. (rel-t-k)                   13/10 */
-    TAPER_LAW_T_OF_K = 2,     /* t_k ~ k^(beta+1), eq. (time-with-k-binary)    23/10 */
+    TAPER_LAW_V_OF_K = 0,     /* v_k ~ k^-3/2, eq. (22)       -3/2   */
+    TAPER_LAW_T_RES_OF_K = 1, /* T_k ~ k^beta, eq. (25)                   13/10 */
+    TAPER_LAW_T_OF_K = 2,     /* t_k ~ k^(beta+1), eq. (26)    23/10 */
     TAPER_LAW_K_OF_T = 3,     /* k ~ t^(1/(beta+1)), Table I                   10/23 */
-    TAPER_LAW_V_OF_T = 4,     /* v ~ t^(-3/2/(beta+1)), eq. (ampl-timelinear) -15/23 */
-    TAPER_LAW_X_OF_T = 5,     /* X ~ t^(2/(beta+1)), eq. (positiont)           20/23 */
-    TAPER_LAW_C_OF_T = 6,     /* c = dX/dt ~ t^(2/(beta+1) - 1), eq. (speed)  -3/23
+    TAPER_LAW_V_OF_T = 4,     /* v ~ t^(-3/2/(beta+1)), eq. (27) -15/23 */
+    TAPER_LAW_X_OF_T = 5,     /* X ~ t^(2/(beta+1)), eq. (30)           20/23 */
+    TAPER_LAW_C_OF_T = 6,     /* c = dX/dt ~ t^(2/(beta+1) - 1), eq. (31)  -3/23
                                  (the paper prints -3/20: wrong)                       */
     /* Forward linear (R_k = 1 - S(k-1) = (1+S)(1 - b k), b = S/(1+S)): the
      * divergence laws of Sec. IV A as powers of (1 - b k) or (1 - t/C). */
-    TAPER_LAW_FWD_V_OF_K = 7,  /* v_k ~ (1 - b k)^-3/2, eq. (vk-forw)          -3/2   */
-    TAPER_LAW_FWD_T_OF_K = 8,  /* C - t_k ~ (1 - b k)^(beta+1), eq. (t-forw)   23/10 */
-    TAPER_LAW_FWD_V_OF_T = 9   /* v ~ (1 - t/C)^(-3/2/(beta+1)), eq. (v-t-forw) -15/23 */
+    TAPER_LAW_FWD_V_OF_K = 7,  /* v_k ~ (1 - b k)^-3/2, eq. (50)          -3/2   */
+    TAPER_LAW_FWD_T_OF_K = 8,  /* C - t_k ~ (1 - b k)^(beta+1), eq. (51)   23/10 */
+    TAPER_LAW_FWD_V_OF_T = 9   /* v ~ (1 - t/C)^(-3/2/(beta+1)), eq. (53) -15/23 */
 } taper_law;
 
 /* The exponent p of `law` (a taper_law) for contact exponent n. */
-TAPER_API double taper_asymptotic_exponent(int law, double n);
+TAPER_API double taper_asymptotic_exponent(taper_law law, double n);
 
-/* A(q) = [1 + (1-q)^-3] / 2, eq. (eq:Adef): v_{k+1} = v_k / A, so
- * v_k = A^(1-k) = A e^(-k ln A), eq. (eq:vgeometric).  Domain q < 1. */
+/* A(q) = [1 + (1-q)^-3] / 2, eq. (35): v_{k+1} = v_k / A, so
+ * v_k = A^(1-k) = A e^(-k ln A), eq. (34).  Domain q < 1. */
 TAPER_API double taper_asymptotic_A(double q);
 /* ln A(q), accurate for small |q|: the decay rate of v_k in k (Table II);
  * a forward chain's growth rate is -ln A(-q) (Table IV).  Domain q < 1. */
 TAPER_API double taper_asymptotic_lnA(double q);
 /* eta(q) = ln(T_{k+1} / T_k) = (1 - 2/n) ln A - (5/(2n)) ln(1-q), exact for
- * every k; n = 5/2 gives eq. (Bq), ln(A^(1/5) / (1-q)).  t ~ e^(eta k),
- * eq. (time-k-binary).  Domain q < 1, n > 1. */
+ * every k; n = 5/2 gives eq. (39), ln(A^(1/5) / (1-q)).  t ~ e^(eta k),
+ * eq. (38).  Domain q < 1, n > 1. */
 TAPER_API double taper_asymptotic_eta(double q, double n);
-/* f(q) = ln A / eta, eq. (bq-geometric): v ~ t^-f (backward, Table III) and
+/* f(q) = ln A / eta, eq. (41): v ~ t^-f (backward, Table III) and
  * v ~ (1 + t/M)^-f(-q) (forward, Table V).  Domain q < 1, q != 0, n > 1. */
 TAPER_API double taper_asymptotic_f(double q, double n);
 /* Backward exponential chains, 0 < q < 1: X ~ t^p with
- * p = -ln(1-q) / eta, which is 1 - f/5 for n = 5/2, eq. (position-pulse-binary). */
+ * p = -ln(1-q) / eta, which is 1 - f/5 for n = 5/2, eq. (44). */
 TAPER_API double taper_asymptotic_position_exponent(double q, double n);
-/* c = dX/dt ~ t^(p - 1), -f/5 for n = 5/2, eq. (pulse-velocity-bianry).
+/* c = dX/dt ~ t^(p - 1), -f/5 for n = 5/2, eq. (45).
  * Domain 0 < q < 1. */
 TAPER_API double taper_asymptotic_speed_exponent(double q, double n);
 /* Time scale tau(q) = T_1 / (e^eta - 1), T_1 the first residence time
- * (eq. compress-time with v = 1, mu_1 = 1/(1 + (1-q)^3),
+ * (eq. (18) with v = 1, mu_1 = 1/(1 + (1-q)^3),
  * r_1 = (1 - q/2)^(-1/2)).  The exact theory obeys, for every k,
  *   t_k = tau (e^(k eta) - 1)  and  v_k = (1 + t_{k-1}/tau)^(-f)   (t_0 = 0),
- * i.e. v(t) of eqs. (vel-t-binary) and (geo-vt-forw) with t the time the
+ * i.e. v(t) of eqs. (40) and (56) with t the time the
  * pulse reaches granule k.  tau > 0 for backward chains (q > 0); tau < 0
  * for forward ones (q < 0), whose pulse passes the whole infinite chain by
  * t = -tau.  Domain q < 1, q != 0, n > 1. */
 TAPER_API double taper_asymptotic_timescale(double q, double n);
-/* M(q) of eq. (mq) for a forward exponential chain of parameter q > 0:
+/* M(q) of eq. (57) for a forward exponential chain of parameter q > 0:
  * taper_asymptotic_timescale(-q, n) < 0; v diverges as t -> -M.
  * The paper's printed M(q) is wrong (docs/paper.md). */
 TAPER_API double taper_asymptotic_M(double q, double n);
@@ -358,7 +499,6 @@ TAPER_API double taper_asymptotic_C(double S, double n);
  * (Fig. 8 inset).  Domain 0 < S < 1. */
 TAPER_API double taper_asymptotic_forward_linear_b(double S);
 /* --- end asymptotic --- */
-
 /* --- Fits --- */
 /*
  * Least-squares fits of y(x) over a window, applied alike to numerics and to
@@ -369,17 +509,17 @@ TAPER_API double taper_asymptotic_forward_linear_b(double S);
  *   TAPER_FIT_EXPONENTIAL  y = a e^(b x)      ln y = ln a + b x     (linear)
  *   TAPER_FIT_DIVERGENCE_B y = a (1 - b x)^-p, p given (e.g. 3/2): a, b
  *   TAPER_FIT_DIVERGENCE_C y = a (1 - x/C)^-p: a, C; p given, or fitted
- *                          too when spec.p is NaN (e.g. 15/23 expected)
+ *                          too when the exponent is NaN (e.g. 15/23 expected)
  *   TAPER_FIT_DIVERGENCE_M y = a (1 + x/M)^-f: a, M, f
  *
  * The divergence forms are solved with gsl_multifit_nlinear (trust region,
  * Levenberg-Marquardt, analytic Jacobian), started from the linearisation
  * y^(-1/p) = a^(-1/p) (1 - x/C), which is exact for exact data (with a scan
- * over p when p is fitted).  Results: param[] in the order listed
- * (param[2] is the exponent p or f, fixed or fitted), param_err[] their
- * standard errors from the covariance (J^T J)^-1 scaled by the residual
- * variance chi2 / (n_points - n_params) (a's error by the delta method from
- * ln a; a fixed p has error 0), chi2 = sum of squared ln-residuals.
+ * over p when p is fitted).  Results: parameters in the order listed
+ * (parameter 2 is the exponent p or f, fixed or fitted), their standard
+ * errors from the covariance (J^T J)^-1 scaled by the residual variance
+ * chi2 / (n_points - n_params) (a's error by the delta method from ln a; a
+ * fixed p has error 0), chi2 = sum of squared ln-residuals.
  *
  * Window: the points with index_begin <= i < index_end (index_end = 0: to the
  * end) and x_min <= x <= x_max.  Points in the window whose x or y is not
@@ -388,8 +528,9 @@ TAPER_API double taper_asymptotic_forward_linear_b(double S);
  * first such point is an error.  TAPER_EINVAL (with a message) for bad
  * arguments or fewer than n_params + 1 usable points or x values that cannot
  * determine the fit; TAPER_ESOLVER if the nonlinear fit does not converge.
- * On failure result->param and param_err are NaN.  GSL's error handler is
- * never reached (inputs are validated first), so nothing prints or aborts.
+ * On failure the result's parameters and errors are NaN.  GSL's error
+ * handler is never reached (inputs are validated first), so nothing prints
+ * or aborts.
  */
 typedef enum taper_fit_model {
     TAPER_FIT_POWER = 0,
@@ -398,35 +539,60 @@ typedef enum taper_fit_model {
     TAPER_FIT_DIVERGENCE_C = 3,
     TAPER_FIT_DIVERGENCE_M = 4
 } taper_fit_model;
+#define TAPER_N_FIT_MODELS 5
 
-typedef struct taper_fit_spec {
-    int model;            /* taper_fit_model                                 */
-    double p;             /* exponent of DIVERGENCE_B/_C; NaN: fit it (_C)   */
-    size_t index_begin;   /* window in indices [begin, end); end 0: all      */
-    size_t index_end;
-    double x_min, x_max;  /* window in x (inclusive); -inf, +inf: all        */
-    int skip_invalid;     /* 1: skip unusable points; 0: they are an error   */
-    size_t max_iter;      /* nonlinear iterations (default 200)              */
-    double xtol;          /* step tolerance (default 1e-12)                  */
-} taper_fit_spec;
+/* "power", "exponential", "divergence_b", "divergence_c", "divergence_m";
+ * NULL outside the enum. */
+TAPER_API const char *taper_fit_model_name(taper_fit_model model);
+/* Case-insensitive inverse; TAPER_EINVAL if unknown (field "model"). */
+TAPER_API taper_status taper_fit_model_from_name(const char *name, taper_fit_model *model,
+                                                 taper_error *err);
 
-typedef struct taper_fit_result {
-    int model;
-    size_t n_params;      /* parameters fitted: 2 or 3                       */
-    double param[3];      /* (a, b) | (a, b, p) | (a, C, p) | (a, M, f)       */
-    double param_err[3];  /* standard errors                                 */
-    size_t n_points;      /* points used                                     */
-    size_t n_skipped;     /* points in the window skipped as unusable        */
-    double chi2;          /* sum of squared residuals of ln y                */
-    size_t iterations;    /* nonlinear iterations (0 for linear fits)        */
-} taper_fit_result;
+/* A fit's settings.  Defaults for `model`: the whole range, exponent 3/2
+ * (DIVERGENCE_B) or NaN (fitted, DIVERGENCE_C), skip_invalid 1,
+ * max_iter 200, xtol 1e-12.  NULL with TAPER_EINVAL for an unknown model. */
+typedef struct taper_fit_spec taper_fit_spec;
+TAPER_API taper_fit_spec *taper_fit_spec_alloc(taper_fit_model model, taper_error *err);
+TAPER_API void taper_fit_spec_free(taper_fit_spec *spec);
 
-/* Defaults for `model`: whole range, p = 3/2 (DIVERGENCE_B), NaN (fit p,
- * DIVERGENCE_C), skip_invalid = 1, max_iter = 200, xtol = 1e-12. */
-TAPER_API void taper_fit_spec_init(taper_fit_spec *spec, int model);
-/* Fits y[i] against x[i], i < n, per spec (see above). */
-TAPER_API int taper_fit(const taper_fit_spec *spec, const double *x, const double *y, size_t n,
-                        taper_fit_result *result, taper_error *err);
+/* The fixed exponent p of DIVERGENCE_B/_C (> 0), or NaN: fit it (_C only). */
+TAPER_API taper_status taper_fit_spec_set_exponent(taper_fit_spec *spec, double p,
+                                                   taper_error *err);
+/* Points begin <= i < end (end 0: to the end of the data). */
+TAPER_API taper_status taper_fit_spec_set_index_window(taper_fit_spec *spec, size_t begin,
+                                                       size_t end, taper_error *err);
+/* Points with x_min <= x <= x_max (-inf, +inf: all; x_min <= x_max). */
+TAPER_API taper_status taper_fit_spec_set_x_window(taper_fit_spec *spec, double x_min,
+                                                   double x_max, taper_error *err);
+TAPER_API taper_status taper_fit_spec_set_skip_invalid(taper_fit_spec *spec, int skip,
+                                                       taper_error *err);
+TAPER_API taper_status taper_fit_spec_set_max_iter(taper_fit_spec *spec, size_t max_iter,
+                                                   taper_error *err);
+TAPER_API taper_status taper_fit_spec_set_xtol(taper_fit_spec *spec, double xtol,
+                                               taper_error *err);
+TAPER_API taper_fit_model taper_fit_spec_model(const taper_fit_spec *spec);
+TAPER_API double taper_fit_spec_exponent(const taper_fit_spec *spec);
+
+/* The outcome of a fit. */
+typedef struct taper_fit_result taper_fit_result;
+
+/* Fits y[i] against x[i], i < n, per spec (see above).  Returns a result the
+ * caller owns (release with taper_fit_result_free), or NULL with the status
+ * in err (TAPER_EINVAL, TAPER_ESOLVER, TAPER_ENOMEM). */
+TAPER_API taper_fit_result *taper_fit(const taper_fit_spec *spec, const double *x,
+                                      const double *y, size_t n, taper_error *err);
+TAPER_API void taper_fit_result_free(taper_fit_result *result);
+
+TAPER_API taper_fit_model taper_fit_result_model(const taper_fit_result *result);
+TAPER_API size_t taper_fit_result_n_params(const taper_fit_result *result); /* 2 or 3 */
+/* Parameter i (0: a; 1: b, C or M; 2: p or f) and its standard error; NaN
+ * for i >= 3 (a fixed exponent is reported with error 0). */
+TAPER_API double taper_fit_result_param(const taper_fit_result *result, size_t i);
+TAPER_API double taper_fit_result_param_error(const taper_fit_result *result, size_t i);
+TAPER_API size_t taper_fit_result_n_points(const taper_fit_result *result);  /* used     */
+TAPER_API size_t taper_fit_result_n_skipped(const taper_fit_result *result); /* skipped  */
+TAPER_API double taper_fit_result_chi2(const taper_fit_result *result);
+TAPER_API size_t taper_fit_result_iterations(const taper_fit_result *result); /* 0: linear */
 /* --- end fits --- */
 
 #ifdef __cplusplus
