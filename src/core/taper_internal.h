@@ -1,14 +1,13 @@
 /*
- * taper_internal.h -- declarations shared by the library's modules.
- * Not installed.  Symbols declared here have hidden visibility in libtaper.so
- * but are reachable from the driver and the tests through the static core.
+ * taper_internal.h -- what every part of the library shares: recording a
+ * failure in a taper_error.  Not installed.  Symbols declared here have
+ * hidden visibility in libtaper.so; the unit tests reach them through the
+ * static part taper_part_core.
  */
 #ifndef TAPER_INTERNAL_H
 #define TAPER_INTERNAL_H
 
 #include "taper.h"
-
-#include <stdarg.h>
 
 #if defined(__GNUC__) || defined(__clang__)
 #define TAPER_PRINTF(a, b) __attribute__((format(printf, a, b)))
@@ -16,21 +15,20 @@
 #define TAPER_PRINTF(a, b)
 #endif
 
-/* Records status and a formatted message in err (if non-NULL); returns status. */
-int taper_fail(taper_error *err, int status, const char *fmt, ...) TAPER_PRINTF(3, 4);
-/* Clears err to TAPER_OK with an empty message; returns TAPER_OK. */
-int taper_ok(taper_error *err);
-
-/* The chain: plain arrays, granule k at index k-1 (see taper.h). */
-struct taper_chain {
-    size_t n;          /* number of granules N                         */
-    int profile;
-    double s, q;       /* tapering parameters as given                 */
-    double exponent;   /* contact exponent n                           */
-    double *radius;    /* R_k                                          */
-    double *mass;      /* m_k = R_k^3                                  */
-    double *contact;   /* r_k for the pair (k, k+1); [n-1] = NaN       */
-    double *rest;      /* X0(k)                                        */
-};
+/* Records status, field NULL (no single setting is at fault) and the
+ * formatted message in err (if non-NULL); returns status.  A message longer
+ * than the buffer ends in "...". */
+taper_status taper_fail(taper_error *err, taper_status status, const char *fmt, ...)
+    TAPER_PRINTF(3, 4);
+/* As taper_fail, naming the setting at fault: `field` is its setter's
+ * suffix ("n_granules", "rtol", ...), a string literal (err keeps the
+ * pointer). */
+taper_status taper_fail_field(taper_error *err, taper_status status, const char *field,
+                              const char *fmt, ...) TAPER_PRINTF(4, 5);
+/* Appends to the message of a failure already recorded in err, with the
+ * same "..." rule; status and field are kept. */
+void taper_fail_append(taper_error *err, const char *fmt, ...) TAPER_PRINTF(2, 3);
+/* Clears err to TAPER_OK, field NULL, empty message; returns TAPER_OK. */
+taper_status taper_ok(taper_error *err);
 
 #endif
