@@ -2,20 +2,21 @@
  * theory.c -- the binary collision approximation (paper, Sec. II).
  *
  * Each collision is a two-body problem: granule k arrives with v_k and meets
- * granule k+1 at rest.  Momentum and energy give eq. (velo-k+111), whose
- * product is eq. (recv); the relative coordinate z_k obeys eq. (eq-z1), a
- * particle of mass mu_k in the potential (r_k/n) z^n, whose half-period to
- * maximum compression is the residence time T_k of eq. (compress-time).
+ * granule k+1 at rest.  Momentum and energy give eq. (8), whose product is
+ * eq. (9); the relative coordinate z_k obeys eq. (12), a particle of mass
+ * mu_k in the potential (r_k/n) z^n, whose half-period to maximum
+ * compression is the residence time T_k of eq. (18); their sum is the time
+ * t_k of eq. (19).  Equation numbers are those printed in arXiv:0905.4512.
  * Everything is computed in logarithms so that long exponential chains fail
  * with a named granule instead of overflowing in an intermediate product.
  */
-#include "core/taper_internal.h"
+#include "chain/chain_impl.h"
 
 #include <float.h>
 #include <gsl/gsl_sf_gamma.h>
 #include <math.h>
 
-/* ln of eq. (compress-time).  lngamma on (1, 2] never raises a GSL error. */
+/* ln of eq. (18).  lngamma on (1, 2] never raises a GSL error. */
 static double log_collision_time(double log_mu, double log_r, double log_zdot0, double n)
 {
     return 0.5 * log(3.14159265358979323846) + (log(n / 2.0) + log_mu - log_r) / n
@@ -30,8 +31,8 @@ double taper_theory_collision_time(double mu, double r, double zdot0, double n)
     return exp(log_collision_time(log(mu), log(r), log(zdot0), n));
 }
 
-int taper_theory_compute(const taper_chain *chain, double *v, double *mu, double *T,
-                         double *t, taper_error *err)
+taper_status taper_theory_compute(const taper_chain *chain, double *v, double *mu, double *T,
+                                  double *t, taper_error *err)
 {
     if (!chain) return taper_fail(err, TAPER_EINVAL, "taper_theory_compute: chain is NULL");
     const size_t n = chain->n;
@@ -54,7 +55,7 @@ int taper_theory_compute(const taper_chain *chain, double *v, double *mu, double
         double log_T = log_collision_time(log_mu, log(chain->contact[k - 1]), log_v,
                                           chain->exponent);
         double Tk = exp(log_T);
-        elapsed += Tk;
+        elapsed += Tk;                            /* eq. (19) */
         if (!isfinite(Tk) || !isfinite(elapsed))
             return taper_fail(err, TAPER_ERANGE,
                               "theory: residence time of granule %zu overflows double precision "
@@ -62,7 +63,7 @@ int taper_theory_compute(const taper_chain *chain, double *v, double *mu, double
         if (mu) mu[k - 1] = exp(log_mu);
         if (T) T[k - 1] = Tk;
         if (t) t[k - 1] = elapsed;
-        log_v += log(2.0) - log1p(ratio);        /* eq. (velo-k+111) */
+        log_v += log(2.0) - log1p(ratio);        /* eq. (8) */
     }
     if (mu) mu[n - 1] = NAN;
     if (T) T[n - 1] = NAN;
