@@ -2,13 +2,14 @@
  * asymptotic.c -- large-k laws of the binary collision approximation for the
  * four tapering protocols (paper, Secs. III-IV), for any contact exponent n.
  *
- * Everything follows from eq. (compress-time),
+ * Everything follows from eq. (18),
  *     T_k = sqrt(pi) G(n) (n mu_k / (2 r_k))^(1/n) v_k^(2/n - 1),
  *     G(n) = Gamma(1+1/n) / Gamma(1/n+1/2),
  * with mu_k ~ m_k/2 ~ R^3/2 and r_k ~ R^(1/2) for slowly varying radii, so
  * that (mu/r)^(1/n) ~ R^(5/(2n)).  The derivations are summarised next to
  * each function; tests/unit/test_asymptotic.c checks each one against the exact
- * sums and products of taper_theory_compute.
+ * sums and products of taper_theory_compute.  Equation numbers are those
+ * printed in arXiv:0905.4512.
  */
 #include "core/taper_internal.h"
 
@@ -21,7 +22,7 @@ static int valid_n(double n) { return n > 1.0 && isfinite(n); }
  * (mu/r)^(1/n) ~ R^(5/(2n)) and v ~ R^(-3/2) give v^(2/n-1) ~ R^(3/2 - 3/n). */
 static double beta_of(double n) { return 1.5 - 0.5 / n; }
 
-double taper_asymptotic_exponent(int law, double n)
+double taper_asymptotic_exponent(taper_law law, double n)
 {
     if (!valid_n(n)) return NAN;
     const double b1 = beta_of(n) + 1.0; /* t ~ k^b1 (backward), C - t ~ R^b1 (forward) */
@@ -43,7 +44,7 @@ double taper_asymptotic_exponent(int law, double n)
 double taper_asymptotic_A(double q)
 {
     if (!(q < 1.0) || !isfinite(q)) return NAN;
-    return 0.5 * (1.0 + pow(1.0 - q, -3.0)); /* eq. (eq:Adef) */
+    return 0.5 * (1.0 + pow(1.0 - q, -3.0)); /* eq. (35) */
 }
 
 /* ln A = ln(1 + ((1-q)^-3 - 1)/2) without cancellation at small q. */
@@ -54,7 +55,7 @@ double taper_asymptotic_lnA(double q)
 }
 
 /* mu_k ~ (1-q)^(-3k), r_k ~ (1-q)^(-k/2) and v_k ~ A^-k exactly (eqs.
- * mu-binary, ak-binary, eq:vgeometric), so ln T_k is exactly linear in k with
+ * (36), (37), (34)), so ln T_k is exactly linear in k with
  * slope -(5/(2n)) ln(1-q) + (1 - 2/n) ln A. */
 double taper_asymptotic_eta(double q, double n)
 {
@@ -72,9 +73,9 @@ double taper_asymptotic_f(double q, double n)
     return taper_asymptotic_lnA(q) / eta;
 }
 
-/* X0(k) = (2-q)/q ((1-q)^(1-k) - 1) ~ e^(-k ln(1-q)) (eq. pos-kth) and
+/* X0(k) = (2-q)/q ((1-q)^(1-k) - 1) ~ e^(-k ln(1-q)) (eq. (42)) and
  * t ~ e^(eta k): X ~ t^(-ln(1-q)/eta).  For n = 5/2,
- * -ln(1-q) = eta - ln A / 5, hence 1 - f/5 as in eq. (position-pulse-binary). */
+ * -ln(1-q) = eta - ln A / 5, hence 1 - f/5 as in eq. (44). */
 double taper_asymptotic_position_exponent(double q, double n)
 {
     if (!(q > 0.0)) return NAN;
@@ -96,8 +97,8 @@ double taper_asymptotic_timescale(double q, double n)
 {
     double eta = taper_asymptotic_eta(q, n);
     if (isnan(eta) || eta == 0.0) return NAN;
-    double mu1 = 1.0 / (1.0 + pow(1.0 - q, 3.0)); /* eq. (mu-binary), k = 1 */
-    double r1 = 1.0 / sqrt(1.0 - 0.5 * q);       /* eq. (ak-binary), k = 1 */
+    double mu1 = 1.0 / (1.0 + pow(1.0 - q, 3.0)); /* eq. (36), k = 1 */
+    double r1 = 1.0 / sqrt(1.0 - 0.5 * q);       /* eq. (37), k = 1 */
     return taper_theory_collision_time(mu1, r1, 1.0, n) / expm1(eta);
 }
 
@@ -138,7 +139,7 @@ double taper_asymptotic_C(double S, double n)
     return C0 * (1.0 + c1 * S);
 }
 
-/* R_k = 1 - S(k-1) = (1+S)(1 - k S/(1+S)): eq. (vk-forw)'s 1 - k/(1 + 1/S). */
+/* R_k = 1 - S(k-1) = (1+S)(1 - k S/(1+S)): eq. (50)'s 1 - k/(1 + 1/S). */
 double taper_asymptotic_forward_linear_b(double S)
 {
     if (!(S > 0.0 && S < 1.0)) return NAN;

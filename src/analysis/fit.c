@@ -19,14 +19,79 @@
 #include <gsl/gsl_multifit_nlinear.h>
 #include <math.h>
 #include <stdlib.h>
+#include <strings.h>
 
 /* A residual larger than any reachable one: a trial step out of the domain
  * 1 - s x > 0 gets it and is rejected by the trust region. */
 #define OUT_OF_DOMAIN 1e100
 
-void taper_fit_spec_init(taper_fit_spec *spec, int model)
+/* The settings of a fit; every value in its range (the setters see to it). */
+struct taper_fit_spec {
+    taper_fit_model model;
+    double p;             /* exponent of DIVERGENCE_B/_C; NaN: fit it (_C)   */
+    size_t index_begin;   /* window in indices [begin, end); end 0: all      */
+    size_t index_end;
+    double x_min, x_max;  /* window in x (inclusive); -inf, +inf: all        */
+    int skip_invalid;     /* 1: skip unusable points; 0: they are an error   */
+    size_t max_iter;      /* nonlinear iterations                            */
+    double xtol;          /* step tolerance                                  */
+};
+
+struct taper_fit_result {
+    taper_fit_model model;
+    size_t n_params;      /* parameters fitted: 2 or 3                       */
+    double param[3];      /* (a, b) | (a, b, p) | (a, C, p) | (a, M, f)       */
+    double param_err[3];  /* standard errors                                 */
+    size_t n_points;      /* points used                                     */
+    size_t n_skipped;     /* points in the window skipped as unusable        */
+    double chi2;          /* sum of squared residuals of ln y                */
+    size_t iterations;    /* nonlinear iterations (0 for linear fits)        */
+};
+
+static const char *const model_names[TAPER_N_FIT_MODELS] = {
+    [TAPER_FIT_POWER] = "power",
+    [TAPER_FIT_EXPONENTIAL] = "exponential",
+    [TAPER_FIT_DIVERGENCE_B] = "divergence_b",
+    [TAPER_FIT_DIVERGENCE_C] = "divergence_c",
+    [TAPER_FIT_DIVERGENCE_M] = "divergence_m",
+};
+
+const char *taper_fit_model_name(taper_fit_model model)
 {
-    if (!spec) return;
+    /* Unsigned: a negative value of an int-typed enum is out of range too. */
+    if ((unsigned)model >= TAPER_N_FIT_MODELS) return NULL;
+    return model_names[model];
+}
+
+taper_status taper_fit_model_from_name(const char *name, taper_fit_model *model, taper_error *err)
+{
+    if (!model) return taper_fail(err, TAPER_EINVAL, "taper_fit_model_from_name: model is NULL");
+    if (!name)
+        return taper_fail_field(err, TAPER_EINVAL, "model", "taper_fit_model_from_name: name is NULL");
+    for (unsigned i = 0; i < TAPER_N_FIT_MODELS; i++) {
+        if (strcasecmp(name, model_names[i]) == 0) {
+            *model = (taper_fit_model)i;
+            return taper_ok(err);
+        }
+    }
+    taper_fail_field(err, TAPER_EINVAL, "model", "unknown fit model '%s': use", name);
+    for (unsigned i = 0; i < TAPER_N_FIT_MODELS; i++)
+        taper_fail_append(err, "%s '%s'", i ? "," : "", model_names[i]);
+    return TAPER_EINVAL;
+}
+
+taper_fit_spec *taper_fit_spec_alloc(taper_fit_model model, taper_error *err)
+{
+    if (!taper_fit_model_name(model)) {
+        taper_fail_field(err, TAPER_EINVAL, "model", "fit model = %d: unknown model "
+                         "(taper_fit_model has %d values)", (int)model, TAPER_N_FIT_MODELS);
+        return NULL;
+    }
+    taper_fit_spec *spec = malloc(sizeof *spec);
+    if (!spec) {
+        taper_fail(err, TAPER_ENOMEM, "cannot allocate a fit spec");
+        return NULL;
+    }
     spec->model = model;
     spec->p = (model == TAPER_FIT_DIVERGENCE_C) ? NAN : 1.5;
     spec->index_begin = 0;
@@ -36,7 +101,83 @@ void taper_fit_spec_init(taper_fit_spec *spec, int model)
     spec->skip_invalid = 1;
     spec->max_iter = 200;
     spec->xtol = 1e-12;
+    taper_ok(err);
+    return spec;
 }
+
+void taper_fit_spec_free(taper_fit_spec *spec) { free(spec); }
+
+static taper_status null_spec(taper_error *err, const char *function)
+{
+    return taper_fail(err, TAPER_EINVAL, "%s: spec is NULL", function);
+}
+
+taper_status taper_fit_spec_set_exponent(taper_fit_spec *spec, double p, taper_error *err)
+{
+    if (!spec) return null_spec(err, __func__);
+    if (isnan(p) ? spec->model != TAPER_FIT_DIVERGENCE_C : !(p > 0.0 && isfinite(p)))
+        return taper_fail_field(err, TAPER_EINVAL, "exponent",
+                                "exponent p = %g: a fixed exponent must be finite and > 0 "
+                                "(NaN, fitting it, only for divergence_c)", p);
+    spec->p = p;
+    return taper_ok(err);
+}
+
+taper_status taper_fit_spec_set_index_window(taper_fit_spec *spec, size_t begin, size_t end,
+                                             taper_error *err)
+{
+    if (!spec) return null_spec(err, __func__);
+    if (end != 0 && !(begin < end))
+        return taper_fail_field(err, TAPER_EINVAL, "index_window",
+                                "index window [%zu, %zu) is empty", begin, end);
+    spec->index_begin = begin;
+    spec->index_end = end;
+    return taper_ok(err);
+}
+
+taper_status taper_fit_spec_set_x_window(taper_fit_spec *spec, double x_min, double x_max,
+                                         taper_error *err)
+{
+    if (!spec) return null_spec(err, __func__);
+    if (!(x_min <= x_max))
+        return taper_fail_field(err, TAPER_EINVAL, "x_window", "x window [%g, %g] is empty",
+                                x_min, x_max);
+    spec->x_min = x_min;
+    spec->x_max = x_max;
+    return taper_ok(err);
+}
+
+taper_status taper_fit_spec_set_skip_invalid(taper_fit_spec *spec, int skip, taper_error *err)
+{
+    if (!spec) return null_spec(err, __func__);
+    spec->skip_invalid = skip != 0;
+    return taper_ok(err);
+}
+
+taper_status taper_fit_spec_set_max_iter(taper_fit_spec *spec, size_t max_iter, taper_error *err)
+{
+    if (!spec) return null_spec(err, __func__);
+    if (max_iter < 1)
+        return taper_fail_field(err, TAPER_EINVAL, "max_iter", "max_iter = 0: need at least 1 "
+                                "iteration");
+    spec->max_iter = max_iter;
+    return taper_ok(err);
+}
+
+taper_status taper_fit_spec_set_xtol(taper_fit_spec *spec, double xtol, taper_error *err)
+{
+    if (!spec) return null_spec(err, __func__);
+    if (!(xtol > 0.0 && xtol < 1.0))
+        return taper_fail_field(err, TAPER_EINVAL, "xtol", "xtol = %g: need 0 < xtol < 1", xtol);
+    spec->xtol = xtol;
+    return taper_ok(err);
+}
+
+taper_fit_model taper_fit_spec_model(const taper_fit_spec *spec)
+{
+    return spec ? spec->model : (taper_fit_model)-1;
+}
+double taper_fit_spec_exponent(const taper_fit_spec *spec) { return spec ? spec->p : NAN; }
 
 /* The usable points of the window: X = x (or ln x for the power law),
  * Y = ln y. */
@@ -83,27 +224,18 @@ static size_t n_params_of(const taper_fit_spec *spec)
     return 2;
 }
 
-static int validate(const taper_fit_spec *spec, const double *x, const double *y, size_t n,
-                    const taper_fit_result *result, taper_error *err)
+/* What the setters cannot check: the arguments, and the index window
+ * against the number of points. */
+static taper_status validate(const taper_fit_spec *spec, const double *x, const double *y, size_t n,
+                             taper_error *err)
 {
-    if (!spec || !x || !y || !result)
-        return taper_fail(err, TAPER_EINVAL, "taper_fit: spec, x, y and result must not be NULL");
-    if (spec->model < TAPER_FIT_POWER || spec->model > TAPER_FIT_DIVERGENCE_M)
-        return taper_fail(err, TAPER_EINVAL, "taper_fit: unknown model %d", spec->model);
-    int fixed_p = spec->model == TAPER_FIT_DIVERGENCE_B ||
-                  (spec->model == TAPER_FIT_DIVERGENCE_C && !isnan(spec->p));
-    if (fixed_p && !(isfinite(spec->p) && spec->p != 0.0))
-        return taper_fail(err, TAPER_EINVAL, "taper_fit: exponent p = %g must be finite and non-zero",
-                          spec->p);
+    if (!spec || !x || !y)
+        return taper_fail(err, TAPER_EINVAL, "taper_fit: spec, x and y must not be NULL");
     size_t end = spec->index_end ? spec->index_end : n;
     if (end > n || spec->index_begin >= end)
-        return taper_fail(err, TAPER_EINVAL, "taper_fit: index window [%zu, %zu) is empty or beyond "
-                          "the %zu points", spec->index_begin, end, n);
-    if (!(spec->x_min <= spec->x_max))
-        return taper_fail(err, TAPER_EINVAL, "taper_fit: x window [%g, %g] is empty",
-                          spec->x_min, spec->x_max);
-    if (spec->max_iter < 1 || !(spec->xtol > 0.0 && spec->xtol < 1.0))
-        return taper_fail(err, TAPER_EINVAL, "taper_fit: need max_iter >= 1 and 0 < xtol < 1");
+        return taper_fail_field(err, TAPER_EINVAL, "index_window", "taper_fit: index window "
+                                "[%zu, %zu) is empty or beyond the %zu points",
+                                spec->index_begin, end, n);
     return TAPER_OK;
 }
 
@@ -311,7 +443,7 @@ static int run_solver(const model *m, const double th0[3], const taper_fit_spec 
 
 /* ---- assembling results -------------------------------------------------- */
 
-static void result_reset(taper_fit_result *r, int model, size_t np)
+static void result_reset(taper_fit_result *r, taper_fit_model model, size_t np)
 {
     r->model = model;
     r->n_params = np;
@@ -364,18 +496,19 @@ static int fit_divergence(const taper_fit_spec *spec, const points *pt, taper_fi
     return TAPER_OK;
 }
 
-int taper_fit(const taper_fit_spec *spec, const double *x, const double *y, size_t n,
-              taper_fit_result *result, taper_error *err)
+taper_fit_result *taper_fit(const taper_fit_spec *spec, const double *x, const double *y,
+                            size_t n, taper_error *err)
 {
-    int status = validate(spec, x, y, n, result, err);
-    if (status != TAPER_OK) {
-        if (result) result_reset(result, spec ? spec->model : -1, 0);
-        return status;
+    if (validate(spec, x, y, n, err) != TAPER_OK) return NULL;
+    taper_fit_result *result = malloc(sizeof *result);
+    if (!result) {
+        taper_fail(err, TAPER_ENOMEM, "cannot allocate a fit result");
+        return NULL;
     }
     size_t np = n_params_of(spec);
     result_reset(result, spec->model, np);
     points pt = {0};
-    status = select_points(spec, x, y, n, &pt, err);
+    int status = select_points(spec, x, y, n, &pt, err);
     if (status == TAPER_OK && pt.n < np + 1)
         status = taper_fail(err, TAPER_EINVAL, "fit: %zu usable points in the window (%zu skipped); "
                             "%zu parameters need at least %zu", pt.n, pt.skipped, np, np + 1);
@@ -388,8 +521,41 @@ int taper_fit(const taper_fit_spec *spec, const double *x, const double *y, size
     free(pt.X);
     free(pt.Y);
     if (status != TAPER_OK) {
-        for (int j = 0; j < 3; j++) result->param[j] = result->param_err[j] = NAN;
-        return status;
+        free(result);
+        return NULL;
     }
-    return taper_ok(err);
+    taper_ok(err);
+    return result;
+}
+
+void taper_fit_result_free(taper_fit_result *result) { free(result); }
+
+taper_fit_model taper_fit_result_model(const taper_fit_result *result)
+{
+    return result ? result->model : (taper_fit_model)-1;
+}
+size_t taper_fit_result_n_params(const taper_fit_result *result)
+{
+    return result ? result->n_params : 0;
+}
+double taper_fit_result_param(const taper_fit_result *result, size_t i)
+{
+    return result && i < 3 ? result->param[i] : NAN;
+}
+double taper_fit_result_param_error(const taper_fit_result *result, size_t i)
+{
+    return result && i < 3 ? result->param_err[i] : NAN;
+}
+size_t taper_fit_result_n_points(const taper_fit_result *result)
+{
+    return result ? result->n_points : 0;
+}
+size_t taper_fit_result_n_skipped(const taper_fit_result *result)
+{
+    return result ? result->n_skipped : 0;
+}
+double taper_fit_result_chi2(const taper_fit_result *result) { return result ? result->chi2 : NAN; }
+size_t taper_fit_result_iterations(const taper_fit_result *result)
+{
+    return result ? result->iterations : 0;
 }
