@@ -17,7 +17,7 @@
  *   scaling.tsv          default settings, N = 10^2 .. --scaling-max (10^4; 10^6 for issue 5)
  *   work-precision.gp    gnuplot script -> work-precision.png
  * Methods: adams (window, the default order; "default" is the shipped
- * taper_solver_spec_init setting), adams-nowin (whole chain), adams-q4,
+ * setting of a fresh taper_solver_spec_alloc), adams-nowin (whole chain), adams-q4,
  * adams-q12, bdf-band (banded analytic Jacobian, whole chain), rk8pd, verlet,
  * and ARKODE ERKStep on the whole chain with ARKODE's root finder:
  * erk-verner6 (ARKODE_VERNER_8_5_6, order 6(5)), erk-fehlberg8
@@ -38,25 +38,28 @@
 #include <sys/stat.h>
 #include <time.h>
 
+/* A chain of the study, named by its profile (taper_profile_name: the one
+ * list of profile names). */
 typedef struct chain_def {
-    const char *name;
-    int profile;
+    taper_profile profile;
     size_t n;
     double s, q;
 } chain_def;
 
 static const chain_def full_chains[] = {
-    {"monodisperse", TAPER_MONODISPERSE, 1000, 0, 0},
-    {"backward_linear", TAPER_BACKWARD_LINEAR, 400, 0.5, 0},
-    {"backward_exponential", TAPER_BACKWARD_EXPONENTIAL, 200, 0, 0.05},
-    {"forward_linear", TAPER_FORWARD_LINEAR, 100, 0.009, 0},
-    {"forward_exponential", TAPER_FORWARD_EXPONENTIAL, 100, 0, 0.05},
+    {TAPER_MONODISPERSE, 1000, 0, 0},
+    {TAPER_BACKWARD_LINEAR, 400, 0.5, 0},
+    {TAPER_BACKWARD_EXPONENTIAL, 200, 0, 0.05},
+    {TAPER_FORWARD_LINEAR, 100, 0.009, 0},
+    {TAPER_FORWARD_EXPONENTIAL, 100, 0, 0.05},
 };
 static const chain_def quick_chains[] = {
-    {"monodisperse", TAPER_MONODISPERSE, 100, 0, 0},
-    {"backward_linear", TAPER_BACKWARD_LINEAR, 60, 0.5, 0},
-    {"forward_exponential", TAPER_FORWARD_EXPONENTIAL, 40, 0, 0.05},
+    {TAPER_MONODISPERSE, 100, 0, 0},
+    {TAPER_BACKWARD_LINEAR, 60, 0.5, 0},
+    {TAPER_FORWARD_EXPONENTIAL, 40, 0, 0.05},
 };
+
+static const char *chain_name(const chain_def *c) { return taper_profile_name(c->profile); }
 
 enum { M_ADAMS, M_DEFAULT, M_ADAMS_NOWIN, M_ADAMS_Q4, M_ADAMS_Q12, M_BDF, M_RK8PD, M_VERLET,
        M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, N_METHODS };
@@ -72,7 +75,8 @@ typedef struct run {
     double *t_pass, *v_peak;
     double seconds, energy_drift;
     long steps, rhs_evals, root_evals, jac_evals;
-    int status, complete;
+    taper_status status;
+    int complete;
 } run;
 
 static double wall_seconds(void)
@@ -82,18 +86,45 @@ static double wall_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The chain of c with n granules (0: c's own); NULL after saying why. */
 static taper_chain *make_chain(const chain_def *c, size_t n)
 {
-    taper_chain_spec spec;
-    taper_chain_spec_init(&spec);
-    spec.profile = c->profile;
-    spec.n_granules = n ? n : c->n;
-    spec.s = c->s;
-    spec.q = c->q;
     taper_error err;
-    taper_chain *chain = taper_chain_alloc(&spec, &err);
-    if (!chain) fprintf(stderr, "taper-bench: chain %s: %s\n", c->name, err.message);
+    taper_chain *chain = NULL;
+    taper_chain_spec *spec = taper_chain_spec_alloc(&err);
+    if (spec && taper_chain_spec_set_profile(spec, c->profile, &err) == TAPER_OK &&
+        taper_chain_spec_set_n_granules(spec, n ? n : c->n, &err) == TAPER_OK &&
+        taper_chain_spec_set_s(spec, c->s, &err) == TAPER_OK &&
+        taper_chain_spec_set_q(spec, c->q, &err) == TAPER_OK)
+        chain = taper_chain_alloc(spec, &err);
+    taper_chain_spec_free(spec);
+    if (!chain) fprintf(stderr, "taper-bench: chain %s: %s\n", chain_name(c), err.message);
     return chain;
+}
+
+/* The solver settings of method m (not a peer) at tolerance tol; NULL
+ * after saying why. */
+static taper_solver_spec *solver_spec(int m, double tol, long max_steps)
+{
+    taper_error err;
+    taper_solver_spec *spec = taper_solver_spec_alloc(&err);
+    int ok = spec != NULL;
+    if (ok && m != M_DEFAULT)
+        ok = taper_solver_spec_set_rtol(spec, tol, &err) == TAPER_OK &&
+             taper_solver_spec_set_atol(spec, tol * 1e-3, &err) == TAPER_OK;
+    if (ok && m == M_ADAMS_NOWIN) ok = taper_solver_spec_set_window(spec, 0, &err) == TAPER_OK;
+    if (ok && m == M_ADAMS_Q4) ok = taper_solver_spec_set_max_order(spec, 4, &err) == TAPER_OK;
+    if (ok && m == M_ADAMS_Q12) ok = taper_solver_spec_set_max_order(spec, 12, &err) == TAPER_OK;
+    if (ok && m == M_BDF)
+        ok = taper_solver_spec_set_method(spec, TAPER_BDF, &err) == TAPER_OK &&
+             taper_solver_spec_set_window(spec, 0, &err) == TAPER_OK;
+    if (ok) ok = taper_solver_spec_set_max_steps(spec, max_steps, &err) == TAPER_OK;
+    if (!ok) {
+        fprintf(stderr, "taper-bench: %s tol %g: %s\n", method_names[m], tol, err.message);
+        taper_solver_spec_free(spec);
+        return NULL;
+    }
+    return spec;
 }
 
 static void run_free(run *r)
@@ -105,7 +136,7 @@ static void run_free(run *r)
 
 /* Runs method m once with tolerance tol (rtol, or dt for Verlet); atol = rtol * 1e-3
  * except for the default.  Keeps observables when keep != 0. */
-static int run_once(const taper_chain *chain, int m, double tol, long max_steps, run *out)
+static taper_status run_once(const taper_chain *chain, int m, double tol, long max_steps, run *out)
 {
     size_t n = taper_chain_size(chain);
     memset(out, 0, sizeof *out);
@@ -117,7 +148,7 @@ static int run_once(const taper_chain *chain, int m, double tol, long max_steps,
     double t0 = wall_seconds();
     if (m == M_RK8PD || m == M_VERLET || is_erk(m)) {
         taper_peer_result r;
-        int status;
+        taper_status status;
         if (m == M_RK8PD) status = taper_peer_rk8pd(chain, tol, tol * 1e-3, max_steps, &r, &err);
         else if (m == M_VERLET) status = taper_peer_verlet(chain, tol, max_steps, &r, &err);
         else {
@@ -142,37 +173,27 @@ static int run_once(const taper_chain *chain, int m, double tol, long max_steps,
         taper_peer_result_free(&r);
         return status;
     }
-    taper_solver_spec spec;
-    taper_solver_spec_init(&spec);
-    if (m != M_DEFAULT) {
-        spec.rtol = tol;
-        spec.atol = tol * 1e-3;
-    }
-    if (m == M_ADAMS_NOWIN) spec.window = 0;
-    if (m == M_ADAMS_Q4) spec.max_order = 4;
-    if (m == M_ADAMS_Q12) spec.max_order = 12;
-    if (m == M_BDF) spec.method = TAPER_BDF, spec.window = 0;
-    spec.max_steps = max_steps;
-    taper_sim *sim = taper_sim_alloc(chain, &spec, &err);
+    taper_solver_spec *spec = solver_spec(m, tol, max_steps);
+    if (!spec) return TAPER_EINVAL;
+    taper_sim *sim = taper_sim_alloc(chain, spec, &err);
+    taper_solver_spec_free(spec); /* the sim keeps a copy */
     if (!sim) {
         fprintf(stderr, "taper-bench: %s: %s\n", method_names[m], err.message);
         return err.status;
     }
-    int status = taper_sim_run(sim, &err);
+    taper_status status = taper_sim_run(sim, &err);
     out->seconds = wall_seconds() - t0;
     out->status = status;
     if (status != TAPER_OK)
         fprintf(stderr, "taper-bench: %s tol %g: %s\n", method_names[m], tol, err.message);
-    taper_stats st;
-    taper_sim_stats(sim, &st);
     memcpy(out->t_pass, taper_sim_observable(sim, TAPER_T_PASS), n * sizeof(double));
     memcpy(out->v_peak, taper_sim_observable(sim, TAPER_V_PEAK), n * sizeof(double));
-    out->energy_drift = st.energy_error;
-    out->steps = st.steps;
-    out->rhs_evals = st.rhs_evals;
-    out->root_evals = st.root_evals;
-    out->jac_evals = st.jac_evals;
-    out->complete = st.complete;
+    out->energy_drift = taper_sim_statistic(sim, TAPER_STAT_ENERGY_ERROR);
+    out->steps = (long)taper_sim_statistic(sim, TAPER_STAT_STEPS);
+    out->rhs_evals = (long)taper_sim_statistic(sim, TAPER_STAT_RHS_EVALS);
+    out->root_evals = (long)taper_sim_statistic(sim, TAPER_STAT_ROOT_EVALS);
+    out->jac_evals = (long)taper_sim_statistic(sim, TAPER_STAT_JAC_EVALS);
+    out->complete = taper_sim_statistic(sim, TAPER_STAT_COMPLETE) != 0.0;
     taper_sim_free(sim);
     return status;
 }
@@ -184,12 +205,12 @@ static int cmp_double(const void *a, const void *b)
 }
 
 /* Median wall time of reps runs; the first run's observables are kept. */
-static int run_median(const taper_chain *chain, int m, double tol, long max_steps, int reps, run *out,
-                      double *t_min, double *t_max)
+static taper_status run_median(const taper_chain *chain, int m, double tol, long max_steps,
+                               int reps, run *out, double *t_min, double *t_max)
 {
     double times[16];
     if (reps > 16) reps = 16;
-    int status = run_once(chain, m, tol, max_steps, out);
+    taper_status status = run_once(chain, m, tol, max_steps, out);
     if (status != TAPER_OK && status != TAPER_ELIMIT) return status;
     times[0] = out->seconds;
     if (out->seconds > 5.0) reps = 1; /* slow points: one run (far off the front) */
@@ -259,9 +280,9 @@ static size_t sweep(int m, int quick, const taper_chain *chain, double *tol)
 {
     size_t k = 0;
     if (m == M_DEFAULT) { /* the shipped defaults: the row's tol is their rtol */
-        taper_solver_spec d;
-        taper_solver_spec_init(&d);
-        tol[k++] = d.rtol;
+        taper_solver_spec *d = taper_solver_spec_alloc(NULL);
+        if (d) tol[k++] = taper_solver_spec_rtol(d);
+        taper_solver_spec_free(d);
         return k;
     }
     if (m == M_VERLET) {
@@ -309,7 +330,7 @@ static int run_chain(study *s, size_t ci)
     taper_chain *chain = make_chain(cd, 0);
     if (!chain) return -1;
     size_t n = taper_chain_size(chain);
-    fprintf(stderr, "== %s N=%zu\n", cd->name, n);
+    fprintf(stderr, "== %s N=%zu\n", chain_name(cd), n);
 
     /* references */
     run ref, ref2;
@@ -319,7 +340,7 @@ static int run_chain(study *s, size_t ci)
     }
     /* run_once sets atol = 1e-3 rtol = 1e-16 */
     double t_ref = ref.seconds;
-    int st2 = run_once(chain, M_RK8PD, 1e-13, 0, &ref2);
+    taper_status st2 = run_once(chain, M_RK8PD, 1e-13, 0, &ref2);
     size_t miss_t = 0, miss_v = 0;
     s->ref_agree_t[ci] = st2 == TAPER_OK ? max_rel_err(ref2.t_pass, ref.t_pass, n, &miss_t) : NAN;
     s->ref_agree_v[ci] = st2 == TAPER_OK ? max_rel_err(ref2.v_peak, ref.v_peak, n, &miss_v) : NAN;
@@ -344,7 +365,7 @@ static int run_chain(study *s, size_t ci)
             }
             run r;
             row w = {.chain = (int)ci, .method = m, .tol = tol[i]};
-            int status = run_median(chain, m, tol[i], max_steps, s->reps, &r, &w.t_min, &w.t_max);
+            taper_status status = run_median(chain, m, tol[i], max_steps, s->reps, &r, &w.t_min, &w.t_max);
             if (status != TAPER_OK && status != TAPER_ELIMIT) {
                 run_free(&r);
                 continue;
@@ -415,10 +436,17 @@ static double observed_order(const study *s, int ci, int m, double floor_err, in
 
 static FILE *open_out(const char *dir, const char *name)
 {
-    char path[4096];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
+    /* sized to the path: a long -o DIR is never cut */
+    size_t size = strlen(dir) + 1 + strlen(name) + 1;
+    char *path = malloc(size);
+    if (!path) {
+        fprintf(stderr, "taper-bench: cannot write %s/%s: out of memory\n", dir, name);
+        return NULL;
+    }
+    snprintf(path, size, "%s/%s", dir, name);
     FILE *f = fopen(path, "w");
     if (!f) fprintf(stderr, "taper-bench: cannot write %s: %s\n", path, strerror(errno));
+    free(path);
     return f;
 }
 
@@ -431,7 +459,7 @@ static int write_results(const study *s, const char *dir)
     for (size_t i = 0; i < s->n_rows; i++) {
         const row *r = &s->rows[i];
         fprintf(f, "%s\t%s\t%.3g\t%.3e\t%.3e\t%.3e\t%.6f\t%ld\t%ld\t%ld\t%ld\t%zu\t%.6f\t%.6f\t%zu\t%d\n",
-                s->chains[r->chain].name, method_names[r->method], r->tol, r->err_t, r->err_v, r->drift,
+                chain_name(&s->chains[r->chain]), method_names[r->method], r->tol, r->err_t, r->err_v, r->drift,
                 r->seconds, r->steps, r->rhs, r->roots, r->jacs, s->chains[r->chain].n, r->t_min,
                 r->t_max, r->missing, r->complete);
     }
@@ -441,7 +469,7 @@ static int write_results(const study *s, const char *dir)
     if (!f) return -1;
     fprintf(f, "chain\tn_granules\tagree_t_pass\tagree_v_peak\n");
     for (size_t c = 0; c < s->n_chains; c++)
-        fprintf(f, "%s\t%zu\t%.3e\t%.3e\n", s->chains[c].name, s->chains[c].n, s->ref_agree_t[c],
+        fprintf(f, "%s\t%zu\t%.3e\t%.3e\n", chain_name(&s->chains[c]), s->chains[c].n, s->ref_agree_t[c],
                 s->ref_agree_v[c]);
     fclose(f);
 
@@ -454,7 +482,7 @@ static int write_results(const study *s, const char *dir)
             int np;
             double floor_err = fmax(100.0 * s->ref_agree_t[c], 1e-12);
             double p = observed_order(s, (int)c, m, floor_err, &np);
-            fprintf(f, "%s\t%s\t%.2f\t%d\n", s->chains[c].name, method_names[m], p, np);
+            fprintf(f, "%s\t%s\t%.2f\t%d\n", chain_name(&s->chains[c]), method_names[m], p, np);
         }
     fclose(f);
 
@@ -477,7 +505,7 @@ static int write_results(const study *s, const char *dir)
         for (size_t i = 0; i < cnt; i++)
             if (p[i]->err_t < best) {
                 best = p[i]->err_t;
-                fprintf(f, "%s\t%s\t%.3g\t%.3e\t%.6f\n", s->chains[c].name, method_names[p[i]->method],
+                fprintf(f, "%s\t%s\t%.3g\t%.3e\t%.6f\n", chain_name(&s->chains[c]), method_names[p[i]->method],
                         p[i]->tol, p[i]->err_t, p[i]->seconds);
             }
         free(p);
@@ -497,9 +525,9 @@ static int write_results(const study *s, const char *dir)
                 double tm = time_to_reach(s, (int)c, m, targets[ti], &be, &bt);
                 if (isnan(tm))
                     fprintf(f, "%s\t%.0e\t%.6f\t%s\t>%.6f\t>%.3g\tnot reached (best err %.2e)\n",
-                            s->chains[c].name, targets[ti], ta, method_names[m], bt, bt / ta, be);
+                            chain_name(&s->chains[c]), targets[ti], ta, method_names[m], bt, bt / ta, be);
                 else
-                    fprintf(f, "%s\t%.0e\t%.6f\t%s\t%.6f\t%.3g\t\n", s->chains[c].name, targets[ti], ta,
+                    fprintf(f, "%s\t%.0e\t%.6f\t%s\t%.6f\t%.3g\t\n", chain_name(&s->chains[c]), targets[ti], ta,
                             method_names[m], tm, tm / ta);
             }
         }
@@ -524,11 +552,11 @@ static int write_results(const study *s, const char *dir)
                                             "lc rgb '#e377c2' pt 8", "lc rgb '#bcbd22' pt 10",
                                             "lc rgb '#7f7f7f' pt 12"};
     for (size_t c = 0; c < s->n_chains; c++) {
-        fprintf(f, "set title '%s N=%zu' noenhanced\nplot ", s->chains[c].name, s->chains[c].n);
+        fprintf(f, "set title '%s N=%zu' noenhanced\nplot ", chain_name(&s->chains[c]), s->chains[c].n);
         for (int m = 0; m < N_METHODS; m++)
             fprintf(f, "%s'work-precision.tsv' using (strcol(1) eq '%s' && strcol(2) eq '%s' && $16 == 1 ? "
                        "$7 : NaN):4 with linespoints %s title '%s'",
-                    m ? ", \\\n     " : "", s->chains[c].name, method_names[m], styles[m],
+                    m ? ", \\\n     " : "", chain_name(&s->chains[c]), method_names[m], styles[m],
                     method_names[m]);
         fprintf(f, "\n");
     }
@@ -563,9 +591,9 @@ static int run_scaling(const char *dir, int reps, size_t n_max, int quick)
     if (!f) return -1;
     fprintf(f, "chain\tn_granules\tseconds\tseconds_per_granule\tcpu_seconds\tsteps\trhs_evals\t"
                "root_evals\tmax_window\tenergy_error\tpeak_rss_mb\n");
-    const chain_def defs[] = {{"monodisperse", TAPER_MONODISPERSE, 0, 0, 0},
-                              {"backward_linear", TAPER_BACKWARD_LINEAR, 0, 0.5, 0},
-                              {"backward_exponential", TAPER_BACKWARD_EXPONENTIAL, 0, 0, 0.05}};
+    const chain_def defs[] = {{TAPER_MONODISPERSE, 0, 0, 0},
+                              {TAPER_BACKWARD_LINEAR, 0, 0.5, 0},
+                              {TAPER_BACKWARD_EXPONENTIAL, 0, 0, 0.05}};
     static const size_t ns[] = {100, 316, 1000, 3162, 4400, 10000, 31623, 100000, 316228, 1000000};
     for (size_t c = 0; c < sizeof defs / sizeof *defs; c++)
         for (size_t i = 0; i < sizeof ns / sizeof *ns && ns[i] <= n_max; i++) {
@@ -574,7 +602,8 @@ static int run_scaling(const char *dir, int reps, size_t n_max, int quick)
             if (!chain) break; /* longer chains of this profile cannot exist either */
             double times[16], cpu[16];
             int r_use = quick ? 1 : reps;
-            taper_stats st = {0};
+            /* statistics of the last repetition */
+            double steps = 0, rhs = 0, roots = 0, max_window = 0, energy_error = 0;
             int ok = 1;
             for (int r = 0; r < r_use && ok; r++) {
                 taper_sim *sim = taper_sim_alloc(chain, NULL, NULL);
@@ -582,13 +611,19 @@ static int run_scaling(const char *dir, int reps, size_t n_max, int quick)
                 ok = sim && taper_sim_run(sim, NULL) == TAPER_OK;
                 times[r] = wall_seconds() - t0;
                 cpu[r] = cpu_seconds() - c0;
-                taper_sim_stats(sim, &st);
+                if (sim) {
+                    steps = taper_sim_statistic(sim, TAPER_STAT_STEPS);
+                    rhs = taper_sim_statistic(sim, TAPER_STAT_RHS_EVALS);
+                    roots = taper_sim_statistic(sim, TAPER_STAT_ROOT_EVALS);
+                    max_window = taper_sim_statistic(sim, TAPER_STAT_MAX_WINDOW);
+                    energy_error = taper_sim_statistic(sim, TAPER_STAT_ENERGY_ERROR);
+                }
                 taper_sim_free(sim);
                 if (times[r] > 60.0) r_use = r + 1; /* long runs: one repetition */
             }
             taper_chain_free(chain);
             if (!ok) {
-                fprintf(stderr, "   scaling %s N=%zu failed\n", defs[c].name, ns[i]);
+                fprintf(stderr, "   scaling %s N=%zu failed\n", chain_name(&defs[c]), ns[i]);
                 continue;
             }
             qsort(times, (size_t)r_use, sizeof(double), cmp_double);
@@ -596,44 +631,58 @@ static int run_scaling(const char *dir, int reps, size_t n_max, int quick)
             /* ru_maxrss only grows: it measures a run of its own only for the
              * first chain (monodisperse, largest N last); NaN after that. */
             double t = times[r_use / 2], tc = cpu[r_use / 2], rss = c == 0 ? peak_rss_mb() : NAN;
-            fprintf(f, "%s\t%zu\t%.6f\t%.3e\t%.6f\t%ld\t%ld\t%ld\t%zu\t%.3e\t%.1f\n", defs[c].name,
-                    ns[i], t, t / (double)ns[i], tc, st.steps, st.rhs_evals, st.root_evals,
-                    st.max_window, st.energy_error, rss);
+            fprintf(f, "%s\t%zu\t%.6f\t%.3e\t%.6f\t%.0f\t%.0f\t%.0f\t%.0f\t%.3e\t%.1f\n",
+                    chain_name(&defs[c]), ns[i], t, t / (double)ns[i], tc, steps, rhs, roots,
+                    max_window, energy_error, rss);
             fflush(f);
             fprintf(stderr,
                     "   scaling %-20s N=%-7zu %.3f s (cpu %.3f)  %.2e s/granule  steps/granule %.1f  "
-                    "max window %zu  energy error %.1e  peak RSS %.0f MB\n",
-                    defs[c].name, ns[i], t, tc, t / (double)ns[i], (double)st.steps / (double)ns[i],
-                    st.max_window, st.energy_error, rss);
+                    "max window %.0f  energy error %.1e  peak RSS %.0f MB\n",
+                    chain_name(&defs[c]), ns[i], t, tc, t / (double)ns[i], steps / (double)ns[i],
+                    max_window, energy_error, rss);
         }
     fclose(f);
     return 0;
 }
 
 /* ---- main ------------------------------------------------------------- */
-static const char usage[] =
-    "usage: taper-bench [--quick] [-o DIR] [--reps R] [--chain NAME] [--no-scaling | --scaling-only]\n"
-    "                   [--scaling-max N]\n"
-    "       taper-bench --single CHAIN METHOD TOL [N]\n"
-    "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
-    "Methods: adams default adams-nowin adams-q4 adams-q12 bdf-band rk8pd verlet\n"
-    "         erk-verner6 erk-fehlberg8 erk-dp5 (ARKODE ERKStep)\n"
-    "Chains: monodisperse backward_linear backward_exponential forward_linear forward_exponential\n";
+static void usage(FILE *out)
+{
+    fputs("usage: taper-bench [--quick] [-o DIR] [--reps R] [--chain NAME] [--no-scaling | --scaling-only]\n"
+          "                   [--scaling-max N]\n"
+          "       taper-bench --single CHAIN METHOD TOL [N]\n"
+          "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
+          "Methods:",
+          out);
+    for (int m = 0; m < N_METHODS; m++) fprintf(out, " %s", method_names[m]);
+    fputs("\n         (erk-*: ARKODE ERKStep)\nChains:", out);
+    for (size_t c = 0; c < sizeof full_chains / sizeof *full_chains; c++)
+        fprintf(out, " %s", chain_name(&full_chains[c]));
+    fputs("\n", out);
+}
+
+/* The chain of the set named `name` (a profile name, any case); NULL if none. */
+static const chain_def *find_chain(const chain_def *chains, size_t n_chains, const char *name)
+{
+    taper_profile profile;
+    if (taper_profile_from_name(name, &profile, NULL) != TAPER_OK) return NULL;
+    for (size_t c = 0; c < n_chains; c++)
+        if (chains[c].profile == profile) return &chains[c];
+    return NULL;
+}
 
 static int single(int argc, char **argv, int i)
 {
     if (i + 3 > argc) {
-        fputs(usage, stderr);
+        usage(stderr);
         return 2;
     }
-    const chain_def *cd = NULL;
-    for (size_t c = 0; c < sizeof full_chains / sizeof *full_chains; c++)
-        if (!strcmp(argv[i], full_chains[c].name)) cd = &full_chains[c];
+    const chain_def *cd = find_chain(full_chains, sizeof full_chains / sizeof *full_chains, argv[i]);
     int m = -1;
     for (int k = 0; k < N_METHODS; k++)
         if (!strcmp(argv[i + 1], method_names[k])) m = k;
     if (!cd || m < 0) {
-        fputs(usage, stderr);
+        usage(stderr);
         return 2;
     }
     double tol = atof(argv[i + 2]);
@@ -641,9 +690,9 @@ static int single(int argc, char **argv, int i)
     taper_chain *chain = make_chain(cd, n);
     if (!chain) return 1;
     run r;
-    int status = run_once(chain, m, tol, 0, &r);
+    taper_status status = run_once(chain, m, tol, 0, &r);
     printf("%s N=%zu %s tol %g: %.4f s steps %ld rhs %ld roots %ld jac %ld drift %.2e t_pass(N-1) %.15g\n",
-           cd->name, taper_chain_size(chain), method_names[m], tol, r.seconds, r.steps, r.rhs_evals,
+           chain_name(cd), taper_chain_size(chain), method_names[m], tol, r.seconds, r.steps, r.rhs_evals,
            r.root_evals, r.jac_evals, r.energy_drift, r.t_pass[taper_chain_size(chain) - 2]);
     run_free(&r);
     taper_chain_free(chain);
@@ -667,7 +716,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--scaling-max") && i + 1 < argc) scaling_max = (size_t)atol(argv[++i]);
         else if (!strcmp(argv[i], "--single")) return single(argc, argv, i + 1);
         else {
-            fputs(usage, !strcmp(argv[i], "--help") ? stdout : stderr);
+            usage(!strcmp(argv[i], "--help") ? stdout : stderr);
             return !strcmp(argv[i], "--help") ? 0 : 2;
         }
     }
@@ -680,13 +729,12 @@ int main(int argc, char **argv)
     s.chains = quick ? quick_chains : full_chains;
     s.n_chains = quick ? sizeof quick_chains / sizeof *quick_chains : sizeof full_chains / sizeof *full_chains;
     if (only) {
-        size_t c = 0;
-        while (c < s.n_chains && strcmp(s.chains[c].name, only)) c++;
-        if (c == s.n_chains) {
+        const chain_def *c = find_chain(s.chains, s.n_chains, only);
+        if (!c) {
             fprintf(stderr, "taper-bench: no chain %s in this set\n", only);
             return 2;
         }
-        s.chains += c, s.n_chains = 1;
+        s.chains = c, s.n_chains = 1;
     }
     double t0 = wall_seconds();
     size_t n_chains = s.n_chains;

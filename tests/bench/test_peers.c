@@ -2,7 +2,7 @@
  * test_peers.c -- the baselines of taper-bench are honest (suite 'peers').
  *
  *  - N = 2: the pass time of granule 1 is the time to maximum compression of
- *    one binary collision, which is T_1 of eq. (compress-time) exactly, and
+ *    one binary collision, which is T_1 of eq. (18) exactly, and
  *    granule 2 leaves with v = 1 (equal masses).  Velocity Verlet converges
  *    to it at order 2 (pass time by linear interpolation between steps);
  *    rk8pd reaches it to 1e-10.
@@ -12,6 +12,9 @@
  *  - The ARKODE ERK peer (every table) reaches T_1 and v = 1 to 1e-10 on
  *    N = 2 and CVODE to 1e-8 on the short chain, with events from ARKODE's
  *    root finder.
+ *  - A peer's message cut at the buffer's end ends in "...", as the
+ *    library's do.
+ * The peers and this test use libtaper's public API only (taper.h).
  */
 #include "test_chains.h"
 #include "test_util.h"
@@ -21,8 +24,9 @@
 
 #include <gsl/gsl_errno.h>
 #include <stdlib.h>
+#include <string.h>
 
-static taper_chain *make(int profile, size_t n, double s, double q)
+static taper_chain *make(taper_profile profile, size_t n, double s, double q)
 {
     return test_chain(profile, n, s, q, 2.5, NULL);
 }
@@ -173,6 +177,27 @@ static void test_invalid(void **state)
     taper_chain_free(c);
 }
 
+static void test_messages_cut_with_ellipsis(void **state)
+{
+    (void)state;
+    char buf[16];
+    taper_peer_format(buf, sizeof buf, "%s", "0123456789abcdefghij");
+    assert_string_equal(buf, "0123456789ab...");
+    taper_peer_format(buf, sizeof buf, "%s", "short");
+    assert_string_equal(buf, "short");
+    taper_error err;
+    char long_text[2 * TAPER_MESSAGE_SIZE];
+    memset(long_text, 'x', sizeof long_text - 1);
+    long_text[sizeof long_text - 1] = '\0';
+    assert_int_equal(taper_peer_fail(&err, TAPER_ESOLVER, "peer: %s", long_text), TAPER_ESOLVER);
+    assert_int_equal(err.status, TAPER_ESOLVER);
+    assert_null(err.field);
+    assert_int_equal(strlen(err.message), TAPER_MESSAGE_SIZE - 1);
+    assert_string_equal(err.message + TAPER_MESSAGE_SIZE - 4, "...");
+    assert_int_equal(taper_peer_ok(&err), TAPER_OK);
+    assert_int_equal(err.message[0], '\0');
+}
+
 int main(void)
 {
     gsl_set_error_handler_off();
@@ -183,6 +208,7 @@ int main(void)
         cmocka_unit_test(test_arkode_binary_collision),
         cmocka_unit_test(test_arkode_matches_cvode),
         cmocka_unit_test(test_invalid),
+        cmocka_unit_test(test_messages_cut_with_ellipsis),
     };
     return cmocka_run_group_tests_name("peers", tests, NULL, NULL);
 }

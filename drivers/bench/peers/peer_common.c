@@ -1,15 +1,57 @@
 /*
- * peer_common.c -- results and event bookkeeping shared by the baseline
- * integrators of peers.h (same arming and end rules as events.c/solve.c).
+ * peer_common.c -- results, errors and event bookkeeping shared by the
+ * baseline integrators of peers.h (same arming and end rules as
+ * src/sim/events.c and src/sim/solve.c).
  */
 #include "peers.h"
 
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define ARM_FRACTION 1e-6
 #define PEAK_GRACE 20.0
+
+/* A cut text says so, as taper.h's rule for taper_error's message. */
+static void format_v(char *buf, size_t size, const char *fmt, va_list ap)
+{
+    static const char ellipsis[] = "...";
+    int needed = vsnprintf(buf, size, fmt, ap);
+    if (needed < 0 || (size_t)needed >= size)
+        memcpy(buf + size - sizeof ellipsis, ellipsis, sizeof ellipsis);
+}
+
+void taper_peer_format(char *buf, size_t size, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    format_v(buf, size, fmt, ap);
+    va_end(ap);
+}
+
+taper_status taper_peer_fail(taper_error *err, taper_status status, const char *fmt, ...)
+{
+    if (!err) return status;
+    err->status = status;
+    err->field = NULL;
+    va_list ap;
+    va_start(ap, fmt);
+    format_v(err->message, sizeof err->message, fmt, ap);
+    va_end(ap);
+    return status;
+}
+
+taper_status taper_peer_ok(taper_error *err)
+{
+    if (err) {
+        err->status = TAPER_OK;
+        err->field = NULL;
+        err->message[0] = '\0';
+    }
+    return TAPER_OK;
+}
 
 int taper_peer_result_init(taper_peer_result *r, size_t n)
 {

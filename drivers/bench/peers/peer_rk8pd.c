@@ -1,10 +1,10 @@
 /*
  * peer_rk8pd.c -- the GSL odeiv2 rk8pd baseline of peers.h.
  *
- * The state is that of dynamics.h over the whole chain (v_k, z_k
- * interleaved, window lo = 1, hi = N), the RHS is taper_dyn_rhs itself, and
- * the root functions are those of events.c: pass(k) g = v_{k+1} - v_k
- * upward, peak(k) g = taper_dyn_peak_function downward.
+ * The state is taper_dynamics' whole-chain state (v_k, z_k interleaved),
+ * the RHS is taper_dynamics_rhs itself, and the root functions are those
+ * of taper_sim (src/sim/events.c): pass(k) g = v_{k+1} - v_k upward,
+ * peak(k) g = taper_dynamics_peak_function downward.
  *
  * Event location without dense output: after each accepted step
  * (t0, y0) -> (t0 + h, y1) the ring slots are compared at both ends; for a
@@ -36,9 +36,7 @@
  *  - gsl_odeiv2_step_apply (rk8pd_apply), gsl_strerror: no GSL_ERROR; the
  *    right-hand side always returns GSL_SUCCESS.
  */
-#include "sim/dynamics.h"
 #include "peers.h"
-#include "core/taper_internal.h"
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
@@ -52,7 +50,7 @@
 #define CACHE 64
 
 typedef struct rk_ctx {
-    taper_dyn dyn;
+    taper_dynamics *dyn;
     long rhs_evals;
     gsl_odeiv2_step *step;
     gsl_odeiv2_system sys;
@@ -65,27 +63,27 @@ static int rhs(double t, const double y[], double dydt[], void *params)
     (void)t;
     rk_ctx *c = params;
     c->rhs_evals++;
-    taper_dyn_rhs(&c->dyn, y, dydt);
+    taper_dynamics_rhs(c->dyn, y, dydt);
     return GSL_SUCCESS;
 }
 
 /* Slot functions with the arming of events.c; kind 0: pass, 1: peak. */
 static double slot_g(const taper_peer_events *ev, const rk_ctx *c, const double *y, int kind, size_t k)
 {
-    double v = taper_dyn_v(&c->dyn, y, k);
+    double v = taper_peer_v(y, k);
     if (kind == 0) {
         if (!taper_peer_pass_armed(ev, k, v)) return -1.0;
-        return taper_dyn_v(&c->dyn, y, k + 1) - v;
+        return taper_peer_v(y, k + 1) - v;
     }
     if (!taper_peer_peak_armed(ev, v)) return 1.0;
-    return taper_dyn_peak_function(&c->dyn, y, k);
+    return taper_dynamics_peak_function(c->dyn, y, k);
 }
 
 /* Granule k moves at the end of the step: the slot ring is widened to every
  * such granule, so that loose tolerances (long steps) miss no event. */
 static int in_front(const taper_peer_events *ev, const rk_ctx *c, size_t k)
 {
-    return taper_peer_peak_armed(ev, taper_dyn_v(&c->dyn, c->y1, k));
+    return taper_peer_peak_armed(ev, taper_peer_v(c->y1, k));
 }
 
 /* The state at t0 + theta into c->ytry; 0 or a GSL error code. */
@@ -164,9 +162,9 @@ static int find_events(taper_peer_events *ev, rk_ctx *c, double t0, double h)
             if (status) return status;
             double t = t0 + best_theta;
             if (kind == 0)
-                taper_peer_record_pass(ev, best_k, t, taper_dyn_v(&c->dyn, c->ytry, best_k + 1));
+                taper_peer_record_pass(ev, best_k, t, taper_peer_v(c->ytry, best_k + 1));
             else {
-                double v = taper_dyn_v(&c->dyn, c->ytry, best_k);
+                double v = taper_peer_v(c->ytry, best_k);
                 if (!(v > 0.0)) break; /* not a pulse peak; as events.c, look again later */
                 taper_peer_record_peak(ev, best_k, t, v);
             }
@@ -175,60 +173,58 @@ static int find_events(taper_peer_events *ev, rk_ctx *c, double t0, double h)
     return 0;
 }
 
-int taper_peer_rk8pd(const taper_chain *chain, double rtol, double atol, long max_steps,
-                     taper_peer_result *r, taper_error *err)
+taper_status taper_peer_rk8pd(const taper_chain *chain, double rtol, double atol,
+                              long max_steps, taper_peer_result *r, taper_error *err)
 {
-    if (!chain || !r) return taper_fail(err, TAPER_EINVAL, "taper_peer_rk8pd: NULL argument");
+    if (!chain || !r) return taper_peer_fail(err, TAPER_EINVAL, "taper_peer_rk8pd: NULL argument");
     if (!(rtol > 0.0 && rtol < 1.0) || !(atol > 0.0 && atol < 1.0))
-        return taper_fail(err, TAPER_EINVAL, "rk8pd: rtol = %g, atol = %g must lie in (0, 1)", rtol, atol);
+        return taper_peer_fail(err, TAPER_EINVAL, "rk8pd: rtol = %g, atol = %g must lie in (0, 1)", rtol, atol);
     size_t n = taper_chain_size(chain);
     if (n > SIZE_MAX / (2 * sizeof(double)))
-        return taper_fail(err, TAPER_ENOMEM, "rk8pd: %zu granules: the state does not fit in memory", n);
+        return taper_peer_fail(err, TAPER_ENOMEM, "rk8pd: %zu granules: the state does not fit in memory", n);
     rk_ctx c;
     memset(&c, 0, sizeof c);
-    if (taper_peer_result_init(r, n) != 0) return taper_fail(err, TAPER_ENOMEM, "rk8pd: out of memory");
+    if (taper_peer_result_init(r, n) != 0) return taper_peer_fail(err, TAPER_ENOMEM, "rk8pd: out of memory");
     c.dim = 2 * n;
     /* Ours first: if these fail, GSL's allocators are not reached. */
     double *buf = calloc(5 * c.dim, sizeof(double));
-    int dyn_ok = taper_dyn_init(&c.dyn, n, taper_chain_exponent(chain), taper_chain_mass(chain),
-                                taper_chain_contact(chain)) == 0;
+    c.dyn = taper_dynamics_alloc(chain, NULL);
     gsl_odeiv2_control *control = NULL;
     gsl_odeiv2_evolve *evolve = NULL;
-    int status = TAPER_OK;
-    if (buf && dyn_ok) {
+    taper_status status = TAPER_OK;
+    if (buf && c.dyn) {
         c.step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, c.dim);
         control = gsl_odeiv2_control_y_new(atol, rtol);
         evolve = gsl_odeiv2_evolve_alloc(c.dim);
     }
-    if (!buf || !dyn_ok || !c.step || !control || !evolve) {
-        status = taper_fail(err, TAPER_ENOMEM, "rk8pd: out of memory");
+    if (!buf || !c.dyn || !c.step || !control || !evolve) {
+        status = taper_peer_fail(err, TAPER_ENOMEM, "rk8pd: out of memory");
         goto done;
     }
     c.y0 = buf, c.y1 = buf + c.dim, c.ytry = buf + 2 * c.dim, c.yerr = buf + 3 * c.dim;
     c.dydt0 = buf + 4 * c.dim;
-    c.dyn.lo = 1, c.dyn.hi = n;
     c.sys = (gsl_odeiv2_system){rhs, NULL, c.dim, &c};
     c.y1[0] = 1.0; /* the impulse */
     double e0, p0, e1, p1;
-    taper_dyn_energy_momentum(&c.dyn, c.y1, &e0, &p0);
+    taper_dynamics_energy_momentum(c.dyn, c.y1, &e0, &p0);
     taper_peer_events ev;
     taper_peer_events_init(&ev, r);
     double t = 0.0, h = 1e-4;
     while (!taper_peer_events_done(&ev, t)) {
         if (max_steps > 0 && r->steps >= max_steps) {
-            status = taper_fail(err, TAPER_ELIMIT, "rk8pd: max_steps reached at t = %g", t);
+            status = taper_peer_fail(err, TAPER_ELIMIT, "rk8pd: max_steps reached at t = %g", t);
             break;
         }
         double t0 = t;
         memcpy(c.y0, c.y1, c.dim * sizeof(double));
         double t1 = isinf(ev.t_end) ? 1e300 : ev.t_end;
         if (!(t < t1)) { /* evolve_apply needs t1 - t of the sign of h > 0 */
-            status = taper_fail(err, TAPER_ELIMIT, "rk8pd: t = %g reached with passes missing", t);
+            status = taper_peer_fail(err, TAPER_ELIMIT, "rk8pd: t = %g reached with passes missing", t);
             break;
         }
         int gs = gsl_odeiv2_evolve_apply(evolve, control, c.step, &c.sys, &t, t1, &h, c.y1);
         if (gs != GSL_SUCCESS) {
-            status = taper_fail(err, TAPER_ESOLVER, "rk8pd: GSL error %d (%s) at t = %g", gs,
+            status = taper_peer_fail(err, TAPER_ESOLVER, "rk8pd: GSL error %d (%s) at t = %g", gs,
                                 gsl_strerror(gs), t);
             break;
         }
@@ -244,7 +240,7 @@ int taper_peer_rk8pd(const taper_chain *chain, double rtol, double atol, long ma
             rhs(t0, c.y0, c.dydt0, &c);
             int fs = find_events(&ev, &c, t0, t - t0);
             if (fs) {
-                status = taper_fail(err, TAPER_ESOLVER, "rk8pd: GSL error %d in event location", fs);
+                status = taper_peer_fail(err, TAPER_ESOLVER, "rk8pd: GSL error %d in event location", fs);
                 break;
             }
         }
@@ -252,16 +248,16 @@ int taper_peer_rk8pd(const taper_chain *chain, double rtol, double atol, long ma
     r->t_final = t;
     r->failed_steps = (long)evolve->failed_steps;
     r->rhs_evals = c.rhs_evals;
-    taper_dyn_energy_momentum(&c.dyn, c.y1, &e1, &p1);
+    taper_dynamics_energy_momentum(c.dyn, c.y1, &e1, &p1);
     r->energy_drift = fabs(e1 - e0) / e0;
     r->complete = ev.next_pass > ev.pass_limit;
 done:
     if (evolve) gsl_odeiv2_evolve_free(evolve);
     if (control) gsl_odeiv2_control_free(control);
     if (c.step) gsl_odeiv2_step_free(c.step);
-    taper_dyn_release(&c.dyn);
+    taper_dynamics_free(c.dyn);
     free(buf);
     if (status != TAPER_OK && status != TAPER_ELIMIT) taper_peer_result_free(r);
-    if (status == TAPER_OK) taper_ok(err);
+    if (status == TAPER_OK) taper_peer_ok(err);
     return status;
 }

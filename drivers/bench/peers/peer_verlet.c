@@ -16,7 +16,6 @@
  * coarse steps the pulse passes several granules per step.
  */
 #include "peers.h"
-#include "core/taper_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -88,21 +87,21 @@ static void find_events(taper_peer_events *ev, double t0, double dt, const doubl
     }
 }
 
-int taper_peer_verlet(const taper_chain *chain, double dt, long max_steps,
-                      taper_peer_result *r, taper_error *err)
+taper_status taper_peer_verlet(const taper_chain *chain, double dt, long max_steps,
+                               taper_peer_result *r, taper_error *err)
 {
-    if (!chain || !r) return taper_fail(err, TAPER_EINVAL, "taper_peer_verlet: NULL argument");
-    if (!(dt > 0.0) || isinf(dt)) return taper_fail(err, TAPER_EINVAL, "verlet: dt = %g must be > 0", dt);
+    if (!chain || !r) return taper_peer_fail(err, TAPER_EINVAL, "taper_peer_verlet: NULL argument");
+    if (!(dt > 0.0) || isinf(dt)) return taper_peer_fail(err, TAPER_EINVAL, "verlet: dt = %g must be > 0", dt);
     verlet c = {
         .n = taper_chain_size(chain), .exponent = taper_chain_exponent(chain),
         .mass = taper_chain_mass(chain), .contact = taper_chain_contact(chain),
     };
     c.hertz = c.exponent == 2.5;
-    if (taper_peer_result_init(r, c.n) != 0) return taper_fail(err, TAPER_ENOMEM, "verlet: out of memory");
+    if (taper_peer_result_init(r, c.n) != 0) return taper_peer_fail(err, TAPER_ENOMEM, "verlet: out of memory");
     double *buf = calloc(5 * c.n, sizeof(double));
     if (!buf) {
         taper_peer_result_free(r);
-        return taper_fail(err, TAPER_ENOMEM, "verlet: out of memory");
+        return taper_peer_fail(err, TAPER_ENOMEM, "verlet: out of memory");
     }
     double *x = buf, *v[2] = {buf + c.n, buf + 2 * c.n}, *a[2] = {buf + 3 * c.n, buf + 4 * c.n};
     v[0][0] = 1.0;
@@ -112,10 +111,11 @@ int taper_peer_verlet(const taper_chain *chain, double dt, long max_steps,
     taper_peer_events ev;
     taper_peer_events_init(&ev, r);
     double t = 0.0;
-    int cur = 0, status = TAPER_OK;
+    int cur = 0;
+    taper_status status = TAPER_OK;
     while (!taper_peer_events_done(&ev, t)) {
         if (max_steps > 0 && r->steps >= max_steps) {
-            status = taper_fail(err, TAPER_ELIMIT, "verlet: max_steps reached at t = %g", t);
+            status = taper_peer_fail(err, TAPER_ELIMIT, "verlet: max_steps reached at t = %g", t);
             break;
         }
         const double *v0 = v[cur], *a0 = a[cur];
@@ -136,6 +136,6 @@ int taper_peer_verlet(const taper_chain *chain, double dt, long max_steps,
     r->energy_drift = fabs(energy(&c, x, v[cur]) - e0) / e0;
     r->complete = ev.next_pass > ev.pass_limit;
     free(buf);
-    if (status == TAPER_OK) taper_ok(err);
+    if (status == TAPER_OK) taper_peer_ok(err);
     return status;
 }

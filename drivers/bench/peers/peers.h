@@ -1,5 +1,9 @@
 /*
- * peers.h -- baseline integrators for taper-bench (internal, not exported).
+ * peers.h -- baseline integrators for taper-bench (not part of libtaper).
+ *
+ * They use libtaper's public API only (taper.h): the chain's getters, and
+ * taper_dynamics for the whole-chain right-hand side, energy and peak
+ * function, so that they integrate exactly the equations taper_sim does.
  *
  * Two honest peers that measure the same observables as taper_sim_run
  * (t_pass and v_peak per granule, the energy drift) on the whole chain:
@@ -12,13 +16,13 @@
  *  - taper_peer_arkode: an ARKODE ERKStep explicit Runge-Kutta table
  *    (Verner 6(5), Fehlberg 8(7) or Dormand-Prince 5(4);
  *    ARKODE's names are NAME_stages_embedding_order), adaptive, WRMS error control
- *    (rtol, atol), on taper_dyn_rhs over the whole chain; events by ARKODE's
+ *    (rtol, atol), on taper_dynamics_rhs over the whole chain; events by ARKODE's
  *    root finder on its dense output, a ring of TAPER_PEER_SLOTS pass and
  *    peak slots as in events.c.  drivers/bench/peers/peer_arkode.c is not part of the core
  *    library (libtaper does not link ARKODE): link taper_peer_arkode_dep.
  *  - taper_peer_rk8pd: GSL odeiv2 rk8pd (Prince-Dormand 8(7)), adaptive,
- *    control_y_new(atol, rtol) (max norm), on taper_dyn_rhs over the whole
- *    chain (state layout of dynamics.h).  rk8pd has no dense output, so
+ *    control_y_new(atol, rtol) (max norm), on taper_dynamics_rhs over the
+ *    whole chain (its state layout: v_k at 2(k-1), z_k at 2(k-1)+1).  rk8pd has no dense output, so
  *    events are located by sign changes of the same root functions as
  *    events.c between accepted steps, then refined by the Illinois method
  *    on the step size theta: g(theta) is evaluated on one fresh rk8pd step
@@ -54,19 +58,37 @@ typedef struct taper_peer_result {
     int complete;        /* every pass time known                          */
 } taper_peer_result;
 
+/* Records a failure in err (if non-NULL) as libtaper does: status, field
+ * NULL, the formatted message, ending in "..." when cut at the buffer's
+ * end; returns status. */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((format(printf, 3, 4)))
+#endif
+taper_status taper_peer_fail(taper_error *err, taper_status status, const char *fmt, ...);
+/* snprintf into buf[size] (size >= 4) that ends a cut text in "...". */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((format(printf, 3, 4)))
+#endif
+void taper_peer_format(char *buf, size_t size, const char *fmt, ...);
+/* Clears err to TAPER_OK, field NULL, empty message; returns TAPER_OK. */
+taper_status taper_peer_ok(taper_error *err);
+
+/* Velocity v_k of the whole-chain state y (1 <= k <= N). */
+static inline double taper_peer_v(const double *y, size_t k) { return y[2 * (k - 1)]; }
+
 /* Allocates the arrays for a chain of n granules (NaN-filled); 0 or -1. */
 int taper_peer_result_init(taper_peer_result *r, size_t n);
 void taper_peer_result_free(taper_peer_result *r);
 
 /* Fixed step dt > 0.  max_steps > 0 stops the run early (complete = 0).
  * Returns TAPER_OK, TAPER_EINVAL, TAPER_ENOMEM or TAPER_ELIMIT. */
-int taper_peer_verlet(const taper_chain *chain, double dt, long max_steps,
-                      taper_peer_result *r, taper_error *err);
+taper_status taper_peer_verlet(const taper_chain *chain, double dt, long max_steps,
+                               taper_peer_result *r, taper_error *err);
 
 /* Adaptive rk8pd with tolerances rtol, atol.  Returns TAPER_OK, TAPER_EINVAL,
  * TAPER_ENOMEM, TAPER_ESOLVER (GSL failed) or TAPER_ELIMIT. */
-int taper_peer_rk8pd(const taper_chain *chain, double rtol, double atol, long max_steps,
-                     taper_peer_result *r, taper_error *err);
+taper_status taper_peer_rk8pd(const taper_chain *chain, double rtol, double atol,
+                              long max_steps, taper_peer_result *r, taper_error *err);
 
 /* Adaptive ARKODE ERKStep with the given table, tolerances rtol, atol.
  * Returns TAPER_OK, TAPER_EINVAL, TAPER_ENOMEM, TAPER_ESOLVER (ARKODE failed)
@@ -76,8 +98,9 @@ typedef enum taper_peer_erk_table {
     TAPER_PEER_ERK_FEHLBERG8, /* ARKODE_FEHLBERG_13_7_8: order 8(7), 13 stages */
     TAPER_PEER_ERK_DP5        /* ARKODE_DORMAND_PRINCE_7_4_5: 5(4), 7 stages   */
 } taper_peer_erk_table;
-int taper_peer_arkode(const taper_chain *chain, taper_peer_erk_table table, double rtol,
-                      double atol, long max_steps, taper_peer_result *r, taper_error *err);
+taper_status taper_peer_arkode(const taper_chain *chain, taper_peer_erk_table table,
+                               double rtol, double atol, long max_steps, taper_peer_result *r,
+                               taper_error *err);
 
 /* ---- shared event bookkeeping (peer_common.c) ---- */
 typedef struct taper_peer_events {
