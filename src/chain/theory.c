@@ -31,6 +31,14 @@ double taper_theory_collision_time(double mu, double r, double zdot0, double n)
     return exp(log_collision_time(log(mu), log(r), log(zdot0), n));
 }
 
+/* The setting that moves a chain's theory back into double precision: the
+ * radii of a custom chain, the length of any other (the first granules are
+ * computed either way). */
+static const char *range_field(const taper_chain *chain)
+{
+    return chain->profile == TAPER_CUSTOM ? "radii" : "n_granules";
+}
+
 taper_status taper_theory_compute(const taper_chain *chain, double *v, double *mu, double *T,
                                   double *t, taper_error *err)
 {
@@ -45,9 +53,9 @@ taper_status taper_theory_compute(const taper_chain *chain, double *v, double *m
          * v_k can leave double precision long before the masses do. */
         double vk = exp(log_v);
         if (!(vk >= DBL_MIN && vk <= DBL_MAX))
-            return taper_fail(err, TAPER_ERANGE,
-                              "theory: velocity of granule %zu is exp(%g), outside double precision",
-                              k, log_v);
+            return taper_fail_field(err, TAPER_ERANGE, range_field(chain),
+                                    "theory: velocity of granule %zu is exp(%g), outside double "
+                                    "precision", k, log_v);
         if (v) v[k - 1] = vk;
         if (k == n) break;
         double ratio = m[k] / m[k - 1];          /* m_{k+1} / m_k */
@@ -57,9 +65,9 @@ taper_status taper_theory_compute(const taper_chain *chain, double *v, double *m
         double Tk = exp(log_T);
         elapsed += Tk;                            /* eq. (19) */
         if (!isfinite(Tk) || !isfinite(elapsed))
-            return taper_fail(err, TAPER_ERANGE,
-                              "theory: residence time of granule %zu overflows double precision "
-                              "(ln T = %g)", k, log_T);
+            return taper_fail_field(err, TAPER_ERANGE, range_field(chain),
+                                    "theory: residence time of granule %zu overflows double "
+                                    "precision (ln T = %g)", k, log_T);
         if (mu) mu[k - 1] = exp(log_mu);
         if (T) T[k - 1] = Tk;
         if (t) t[k - 1] = elapsed;
