@@ -11,6 +11,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <string.h>
 #include <cmocka.h>
 
 static inline double rel_diff(double a, double b)
@@ -37,6 +38,26 @@ static inline double rel_diff(double a, double b)
         if (!(fabs(a_ - b_) <= t_)) {                                                   \
             print_error("%s = %.17g vs %s = %.17g: |difference| %.3g > %.3g\n", #a, a_, \
                         #b, b_, fabs(a_ - b_), t_);                                     \
+            fail();                                                                     \
+        }                                                                               \
+    } while (0)
+
+/* A failure recorded in a taper_error: the status, the field at fault
+ * (NULL: none) and a message containing `needle` (NULL: any non-empty). */
+#define assert_taper_error(err, status_, field_, needle_)                               \
+    do {                                                                                \
+        const char *f_ = (field_), *n_ = (needle_);                                     \
+        assert_int_equal((err).status, (status_));                                      \
+        if (f_ == NULL ? (err).field != NULL                                            \
+                       : (err).field == NULL || strcmp((err).field, f_) != 0) {         \
+            print_error("field '%s', expected '%s' (message: %s)\n",                    \
+                        (err).field ? (err).field : "(null)", f_ ? f_ : "(null)",       \
+                        (err).message);                                                 \
+            fail();                                                                     \
+        }                                                                               \
+        assert_true(strlen((err).message) > 0);                                         \
+        if (n_ && !strstr((err).message, n_)) {                                         \
+            print_error("message '%s' lacks '%s'\n", (err).message, n_);                \
             fail();                                                                     \
         }                                                                               \
     } while (0)

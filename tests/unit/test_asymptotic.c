@@ -24,7 +24,7 @@ typedef struct exact {
     const double *R, *X0;
 } exact;
 
-static exact exact_theory(int profile, size_t n, double s, double q, double expo)
+static exact exact_theory(taper_profile profile, size_t n, double s, double q, double expo)
 {
     exact e = {0};
     e.chain = test_chain(profile, n, s, q, expo, NULL);
@@ -58,9 +58,9 @@ static void test_exponents_values(void **state)
     const double expect[] = {-1.5, 1.3, 2.3, 10.0 / 23, -15.0 / 23, 20.0 / 23, -3.0 / 23,
                              -1.5, 2.3, -15.0 / 23};
     for (int law = 0; law < 10; law++)
-        assert_double_rel(taper_asymptotic_exponent(law, 2.5), expect[law], 1e-15);
-    assert_true(isnan(taper_asymptotic_exponent(10, 2.5)));
-    assert_true(isnan(taper_asymptotic_exponent(-1, 2.5)));
+        assert_double_rel(taper_asymptotic_exponent((taper_law)law, 2.5), expect[law], 1e-15);
+    assert_true(isnan(taper_asymptotic_exponent((taper_law)10, 2.5)));
+    assert_true(isnan(taper_asymptotic_exponent((taper_law)-1, 2.5)));
     assert_true(isnan(taper_asymptotic_exponent(TAPER_LAW_T_OF_K, 1.0)));
     assert_true(isnan(taper_asymptotic_exponent(TAPER_LAW_T_OF_K, NAN)));
     assert_true(isnan(taper_asymptotic_exponent(TAPER_LAW_T_OF_K, INFINITY)));
@@ -85,7 +85,7 @@ static void check_backward_linear(double n)
     assert_double_abs(slope(e.t, e.X0, i, j), taper_asymptotic_exponent(TAPER_LAW_X_OF_T, n), tol);
     assert_double_abs(slope(e.t, c, i, j), taper_asymptotic_exponent(TAPER_LAW_C_OF_T, n), tol);
     if (n == 2.5) {
-        /* The paper's eq. (speed) c ~ t^(-3/20) is not what the exact theory gives. */
+        /* The paper's eq. (31) c ~ t^(-3/20) is not what the exact theory gives. */
         assert_true(fabs(slope(e.t, c, i, j) - (-3.0 / 20.0)) > 0.01);
     }
     free(k);
@@ -118,7 +118,7 @@ static void check_backward_exponential(double q, double n)
         double tprev = k == 1 ? 0.0 : e.t[k - 2];
         assert_double_rel(e.v[k - 1], pow(1.0 + tprev / tau, -f), 1e-10);
     }
-    /* X ~ t^p.  Exactly, X0(k) + (2-q)/q = (2-q)/q (1-q)^(1-k) (eq. pos-kth)
+    /* X ~ t^p.  Exactly, X0(k) + (2-q)/q = (2-q)/q (1-q)^(1-k) (eq. (42))
      * = (2-q)/q (1 + t_{k-1}/tau)^p; and the local slope once e^(k eta) >> 1. */
     double p = taper_asymptotic_position_exponent(q, n), X1 = (2.0 - q) / q;
     for (size_t k = 2; k <= N; k++)
@@ -138,8 +138,8 @@ static void test_backward_exponential(void **state)
         for (int j = 0; j < 4; j++) check_backward_exponential(Q[i], expo[j]);
 }
 
-/* eq. (pulse-position-binary) prints X ~ (2-q)/(q(1-q)) e^(-k ln(1-q)); from
- * eq. (pos-kth), (1-q)^(1-k) = (1-q) e^(-k ln(1-q)), so the prefactor is
+/* eq. (43) prints X ~ (2-q)/(q(1-q)) e^(-k ln(1-q)); from
+ * eq. (42), (1-q)^(1-k) = (1-q) e^(-k ln(1-q)), so the prefactor is
  * (2-q)(1-q)/q.  The exact X0 of the chain decides. */
 static void test_position_prefactor(void **state)
 {
@@ -153,7 +153,7 @@ static void test_position_prefactor(void **state)
 }
 
 /* Forward exponential: t_k converges to -M (the exact sum); v(t) law exact;
- * Tables IV and V theory columns; the paper's eq. (mq) is off. */
+ * Tables IV and V theory columns; the paper's eq. (57) is off. */
 static void check_forward_exponential(double q, double n)
 {
     const size_t N = q > 0.1 ? 500 : 1500; /* masses stay above 1e-300 */
@@ -182,7 +182,7 @@ static void test_forward_exponential(void **state)
         for (int j = 0; j < 3; j++) check_forward_exponential(Q[i], expo[j]);
 }
 
-/* Paper's eq. (mq), transcribed only to show that it is wrong. */
+/* Paper's eq. (57), transcribed only to show that it is wrong. */
 static double paper_M(double q)
 {
     double eta = taper_asymptotic_eta(-q, 2.5);

@@ -2,7 +2,8 @@
  * test_fit.c -- least-squares fits (suite 'fit'): exact synthetic data give
  * the parameters back to 1e-10, noisy data give estimates within 3 standard
  * errors whose size falls as 1/sqrt(n), and bad input is an error, never a
- * crash or a print.
+ * crash or a print: a bad setting is refused by its setter (naming it, the
+ * spec unchanged), bad data by taper_fit.
  */
 #include "test_util.h"
 
@@ -45,11 +46,11 @@ static void sample_free(sample *s)
 }
 
 typedef struct fit_case {
-    int model;
+    taper_fit_model model;
     law_fn law;
     double par[3];
     double x0, x1;
-    double p;      /* spec.p (NaN: fitted) */
+    double p;      /* fixed exponent (NaN: fitted) */
     size_t n_fit;  /* parameters checked */
 } fit_case;
 
@@ -64,15 +65,60 @@ static const fit_case cases[] = {
 };
 #define N_CASES (sizeof cases / sizeof cases[0])
 
-static int run(const fit_case *c, const sample *s, taper_fit_result *r)
+/* What a fit gave, read through the result's getters (status != TAPER_OK:
+ * no result, everything NaN or 0). */
+typedef struct outcome {
+    taper_status status;
+    taper_fit_model model;
+    size_t n_params, n_points, n_skipped, iterations;
+    double param[3], param_err[3], chi2;
+} outcome;
+
+static outcome fit(const taper_fit_spec *spec, const double *x, const double *y, size_t n,
+                   taper_error *err)
 {
-    taper_fit_spec spec;
-    taper_fit_spec_init(&spec, c->model);
-    if (c->model == TAPER_FIT_DIVERGENCE_B || c->model == TAPER_FIT_DIVERGENCE_C) spec.p = c->p;
+    taper_error local;
+    if (!err) err = &local;
+    outcome o;
+    memset(&o, 0, sizeof o);
+    taper_fit_result *r = taper_fit(spec, x, y, n, err);
+    o.status = r ? TAPER_OK : err->status;
+    if (r) assert_int_equal(err->status, TAPER_OK);
+    else assert_int_not_equal(err->status, TAPER_OK);
+    o.model = taper_fit_result_model(r);
+    o.n_params = taper_fit_result_n_params(r);
+    o.n_points = taper_fit_result_n_points(r);
+    o.n_skipped = taper_fit_result_n_skipped(r);
+    o.iterations = taper_fit_result_iterations(r);
+    o.chi2 = taper_fit_result_chi2(r);
+    for (size_t j = 0; j < 3; j++) {
+        o.param[j] = taper_fit_result_param(r, j);
+        o.param_err[j] = taper_fit_result_param_error(r, j);
+    }
+    taper_fit_result_free(r);
+    return o;
+}
+
+/* A spec of `model`; fails the test if it cannot be had. */
+static taper_fit_spec *spec_of(taper_fit_model model)
+{
     taper_error err;
-    int status = taper_fit(&spec, s->x, s->y, s->n, r, &err);
-    if (status != TAPER_OK) print_error("fit failed: %s\n", err.message);
-    return status;
+    taper_fit_spec *spec = taper_fit_spec_alloc(model, &err);
+    if (!spec) print_error("taper_fit_spec_alloc: %s\n", err.message);
+    assert_non_null(spec);
+    return spec;
+}
+
+static taper_status run(const fit_case *c, const sample *s, outcome *r)
+{
+    taper_fit_spec *spec = spec_of(c->model);
+    taper_error err;
+    if (c->model == TAPER_FIT_DIVERGENCE_B || c->model == TAPER_FIT_DIVERGENCE_C)
+        assert_int_equal(taper_fit_spec_set_exponent(spec, c->p, &err), TAPER_OK);
+    *r = fit(spec, s->x, s->y, s->n, &err);
+    if (r->status != TAPER_OK) print_error("fit failed: %s\n", err.message);
+    taper_fit_spec_free(spec);
+    return r->status;
 }
 
 static void test_exact(void **state)
@@ -81,12 +127,16 @@ static void test_exact(void **state)
     for (size_t i = 0; i < N_CASES; i++) {
         const fit_case *c = &cases[i];
         sample s = make_sample(c->law, c->par, c->x0, c->x1, 60, 0.0, NULL);
-        taper_fit_result r;
+        outcome r;
         assert_int_equal(run(c, &s, &r), TAPER_OK);
+        assert_int_equal(r.model, c->model);
         assert_int_equal(r.n_points, 60);
         assert_int_equal(r.n_params, c->n_fit);
         for (size_t j = 0; j < c->n_fit; j++) assert_double_rel(r.param[j], c->par[j], 1e-10);
         assert_true(r.chi2 < 1e-20);
+        /* Linear models take no iterations; nonlinear ones at least one
+         * unless the start is already the solution. */
+        if (c->model <= TAPER_FIT_EXPONENTIAL) assert_int_equal(r.iterations, 0);
         sample_free(&s);
     }
 }
@@ -100,7 +150,7 @@ static void test_noisy(void **state)
     for (size_t i = 0; i < N_CASES; i++) {
         const fit_case *c = &cases[i];
         gsl_rng_set(rng, 12345 + i);
-        taper_fit_result r1, r4;
+        outcome r1, r4;
         sample s1 = make_sample(c->law, c->par, c->x0, c->x1, 400, 0.01, rng);
         sample s4 = make_sample(c->law, c->par, c->x0, c->x1, 1600, 0.01, rng);
         assert_int_equal(run(c, &s1, &r1), TAPER_OK);
@@ -126,93 +176,238 @@ static void test_windows(void **state)
     const double par[2] = {3.0, 0.8};
     sample s = make_sample(power, par, 1.0, 100.0, 100, 0.0, NULL);
     for (size_t i = 0; i < 20; i++) s.y[i] = 1e6 * (double)(i + 1); /* off the law */
-    taper_fit_spec spec;
-    taper_fit_spec_init(&spec, TAPER_FIT_POWER);
-    taper_fit_result r;
-    spec.index_begin = 20;
-    assert_int_equal(taper_fit(&spec, s.x, s.y, s.n, &r, NULL), TAPER_OK);
+    taper_fit_spec *spec = spec_of(TAPER_FIT_POWER);
+    outcome r;
+    assert_int_equal(taper_fit_spec_set_index_window(spec, 20, 0, NULL), TAPER_OK);
+    r = fit(spec, s.x, s.y, s.n, NULL);
+    assert_int_equal(r.status, TAPER_OK);
     assert_int_equal(r.n_points, 80);
     assert_double_rel(r.param[1], 0.8, 1e-12);
-    spec.index_begin = 0;
-    spec.index_end = 50;
-    spec.x_min = s.x[20];
-    assert_int_equal(taper_fit(&spec, s.x, s.y, s.n, &r, NULL), TAPER_OK);
+    assert_int_equal(taper_fit_spec_set_index_window(spec, 0, 50, NULL), TAPER_OK);
+    assert_int_equal(taper_fit_spec_set_x_window(spec, s.x[20], INFINITY, NULL), TAPER_OK);
+    r = fit(spec, s.x, s.y, s.n, NULL);
+    assert_int_equal(r.status, TAPER_OK);
     assert_int_equal(r.n_points, 30);
     assert_double_rel(r.param[0], 3.0, 1e-12);
+    taper_fit_spec_free(spec);
     /* skipped points: NaN, zero and negative y inside the window */
-    spec = (taper_fit_spec){0};
-    taper_fit_spec_init(&spec, TAPER_FIT_POWER);
-    spec.index_begin = 20;
+    spec = spec_of(TAPER_FIT_POWER);
+    assert_int_equal(taper_fit_spec_set_index_window(spec, 20, 0, NULL), TAPER_OK);
     s.y[30] = NAN;
     s.y[31] = 0.0;
     s.y[32] = -1.0;
     s.x[33] = INFINITY;
-    assert_int_equal(taper_fit(&spec, s.x, s.y, s.n, &r, NULL), TAPER_OK);
+    r = fit(spec, s.x, s.y, s.n, NULL);
+    assert_int_equal(r.status, TAPER_OK);
     assert_int_equal(r.n_points, 76);
     assert_int_equal(r.n_skipped, 4);
     assert_double_rel(r.param[1], 0.8, 1e-12);
-    spec.skip_invalid = 0;
+    assert_int_equal(taper_fit_spec_set_skip_invalid(spec, 0, NULL), TAPER_OK);
     taper_error err;
-    assert_int_equal(taper_fit(&spec, s.x, s.y, s.n, &r, &err), TAPER_EINVAL);
-    assert_non_null(strstr(err.message, "point 30"));
+    r = fit(spec, s.x, s.y, s.n, &err);
+    assert_int_equal(r.status, TAPER_EINVAL);
+    assert_taper_error(err, TAPER_EINVAL, NULL, "point 30");
     assert_true(isnan(r.param[0]) && isnan(r.param_err[1]));
+    taper_fit_spec_free(spec);
     sample_free(&s);
 }
 
 static void expect_einval(const taper_fit_spec *spec, const double *x, const double *y, size_t n,
-                          const char *needle)
+                          const char *field, const char *needle)
 {
-    taper_fit_result r;
     taper_error err = {0};
-    assert_int_equal(taper_fit(spec, x, y, n, &r, &err), TAPER_EINVAL);
-    assert_int_equal(err.status, TAPER_EINVAL);
-    if (!strstr(err.message, needle)) {
-        print_error("message '%s' lacks '%s'\n", err.message, needle);
-        fail();
-    }
+    assert_null(taper_fit(spec, x, y, n, &err));
+    assert_taper_error(err, TAPER_EINVAL, field, needle);
 }
 
+/* Bad data and settings that need the data to be judged: refused by
+ * taper_fit. */
 static void test_bad_input(void **state)
 {
     (void)state;
     double x[5] = {1, 2, 3, 4, 5}, y[5] = {1, 2, 3, 4, 5}, flat[5] = {2, 2, 2, 2, 2};
-    taper_fit_spec spec;
-    taper_fit_result r;
-    taper_fit_spec_init(&spec, TAPER_FIT_POWER);
-    assert_int_equal(taper_fit(NULL, x, y, 5, &r, NULL), TAPER_EINVAL);
-    expect_einval(&spec, NULL, y, 5, "NULL");
-    assert_int_equal(taper_fit(&spec, x, y, 5, NULL, NULL), TAPER_EINVAL);
-    expect_einval(&spec, x, y, 2, "usable points");      /* too few */
-    expect_einval(&spec, x, y, 0, "window");
-    expect_einval(&spec, flat, y, 5, "all equal");
+    taper_fit_spec *spec = spec_of(TAPER_FIT_POWER);
+    assert_null(taper_fit(NULL, x, y, 5, NULL));
+    expect_einval(NULL, x, y, 5, NULL, "NULL");
+    expect_einval(spec, NULL, y, 5, NULL, "NULL");
+    expect_einval(spec, x, NULL, 5, NULL, "NULL");
+    expect_einval(spec, x, y, 2, NULL, "usable points");      /* too few */
+    expect_einval(spec, x, y, 0, "index_window", "window");
+    expect_einval(spec, flat, y, 5, NULL, "all equal");
     double neg[5] = {-1, -2, 0, 4, 5};
-    expect_einval(&spec, neg, y, 5, "usable points");    /* x <= 0 in a log fit */
-    spec.index_begin = 4;
-    expect_einval(&spec, x, y, 5, "usable points");
-    spec.index_end = 3;
-    expect_einval(&spec, x, y, 5, "window");
-    taper_fit_spec_init(&spec, TAPER_FIT_EXPONENTIAL);
-    spec.x_min = 3;
-    spec.x_max = 2;
-    expect_einval(&spec, x, y, 5, "x window");
-    spec.x_max = NAN;
-    expect_einval(&spec, x, y, 5, "x window");
-    taper_fit_spec_init(&spec, 17);
-    expect_einval(&spec, x, y, 5, "model");
-    taper_fit_spec_init(&spec, TAPER_FIT_DIVERGENCE_B);
-    spec.p = 0.0;
-    expect_einval(&spec, x, y, 5, "exponent");
-    spec.p = INFINITY;
-    expect_einval(&spec, x, y, 5, "exponent");
-    taper_fit_spec_init(&spec, TAPER_FIT_DIVERGENCE_M);
-    expect_einval(&spec, x, y, 3, "usable points");      /* 3 parameters need 4 */
-    spec.xtol = 0.0;
-    expect_einval(&spec, x, y, 5, "xtol");
-    taper_fit_spec_init(&spec, TAPER_FIT_DIVERGENCE_M);
-    spec.max_iter = 0;
-    expect_einval(&spec, x, y, 5, "max_iter");
-    taper_fit_spec_init(&spec, TAPER_FIT_DIVERGENCE_C);
-    expect_einval(&spec, flat, y, 5, "all equal");
+    expect_einval(spec, neg, y, 5, NULL, "usable points");    /* x <= 0 in a log fit */
+    assert_int_equal(taper_fit_spec_set_index_window(spec, 4, 0, NULL), TAPER_OK);
+    expect_einval(spec, x, y, 5, NULL, "usable points");
+    expect_einval(spec, x, y, 4, "index_window", "beyond");   /* begin 4 of 4 points */
+    assert_int_equal(taper_fit_spec_set_index_window(spec, 0, 6, NULL), TAPER_OK);
+    expect_einval(spec, x, y, 5, "index_window", "beyond the 5 points");
+    taper_fit_spec_free(spec);
+    spec = spec_of(TAPER_FIT_DIVERGENCE_M);
+    expect_einval(spec, x, y, 3, NULL, "usable points");      /* 3 parameters need 4 */
+    taper_fit_spec_free(spec);
+    spec = spec_of(TAPER_FIT_DIVERGENCE_C);
+    expect_einval(spec, flat, y, 5, NULL, "all equal");
+    taper_fit_spec_free(spec);
+}
+
+/* A setter that refuses its value names it in err->field and changes
+ * nothing: the spec's getters and a fit with it give what they gave. */
+#define EXPECT_REFUSED(model_, call, field, needle)                                     \
+    do {                                                                                \
+        taper_fit_spec *spec = spec_of(model_);                                         \
+        double p_ = taper_fit_spec_exponent(spec);                                      \
+        outcome before = fit(spec, sx, sy, 40, NULL);                                   \
+        taper_error err;                                                                \
+        memset(&err, 0, sizeof err);                                                    \
+        assert_int_equal((call), TAPER_EINVAL);                                         \
+        assert_taper_error(err, TAPER_EINVAL, field, needle);                           \
+        assert_int_equal(taper_fit_spec_model(spec), (model_));                         \
+        assert_memory_equal(&p_, &(double){taper_fit_spec_exponent(spec)}, sizeof p_); \
+        outcome after = fit(spec, sx, sy, 40, NULL);                                    \
+        assert_int_equal(before.status, TAPER_OK);                                      \
+        assert_memory_equal(&before, &after, sizeof before);                            \
+        taper_fit_spec_free(spec);                                                      \
+    } while (0)
+
+static void test_setters(void **state)
+{
+    (void)state;
+    /* 40 points of a divergence every model can fit. */
+    double sx[40], sy[40];
+    const double par[3] = {1.1, 60.0, 0.5};
+    for (size_t i = 0; i < 40; i++) {
+        sx[i] = 1.0 + (double)i;
+        sy[i] = div_c(sx[i], par) * (1.0 + 1e-3 * sin((double)i));
+    }
+    const taper_fit_model all[] = {TAPER_FIT_POWER, TAPER_FIT_EXPONENTIAL, TAPER_FIT_DIVERGENCE_B,
+                                   TAPER_FIT_DIVERGENCE_C, TAPER_FIT_DIVERGENCE_M};
+    for (size_t m = 0; m < 5; m++) {
+        taper_fit_model model = all[m];
+        EXPECT_REFUSED(model, taper_fit_spec_set_exponent(spec, 0.0, &err), "exponent", "p = 0");
+        EXPECT_REFUSED(model, taper_fit_spec_set_exponent(spec, -1.5, &err), "exponent", "p = -1.5");
+        EXPECT_REFUSED(model, taper_fit_spec_set_exponent(spec, INFINITY, &err), "exponent", "p = inf");
+        EXPECT_REFUSED(model, taper_fit_spec_set_index_window(spec, 3, 3, &err), "index_window",
+                       "[3, 3)");
+        EXPECT_REFUSED(model, taper_fit_spec_set_index_window(spec, 5, 2, &err), "index_window",
+                       "empty");
+        EXPECT_REFUSED(model, taper_fit_spec_set_x_window(spec, 3, 2, &err), "x_window", "x window");
+        EXPECT_REFUSED(model, taper_fit_spec_set_x_window(spec, 0, NAN, &err), "x_window", "x window");
+        EXPECT_REFUSED(model, taper_fit_spec_set_x_window(spec, NAN, 1, &err), "x_window", "x window");
+        EXPECT_REFUSED(model, taper_fit_spec_set_max_iter(spec, 0, &err), "max_iter", "max_iter");
+        EXPECT_REFUSED(model, taper_fit_spec_set_xtol(spec, 0.0, &err), "xtol", "xtol");
+        EXPECT_REFUSED(model, taper_fit_spec_set_xtol(spec, 1.0, &err), "xtol", "xtol");
+        EXPECT_REFUSED(model, taper_fit_spec_set_xtol(spec, NAN, &err), "xtol", "xtol");
+        /* A fitted exponent (NaN) only for divergence_c. */
+        if (model != TAPER_FIT_DIVERGENCE_C)
+            EXPECT_REFUSED(model, taper_fit_spec_set_exponent(spec, NAN, &err), "exponent",
+                           "divergence_c");
+    }
+    /* Defaults and the exponent getter. */
+    taper_fit_spec *spec = spec_of(TAPER_FIT_DIVERGENCE_B);
+    assert_int_equal(taper_fit_spec_model(spec), TAPER_FIT_DIVERGENCE_B);
+    assert_double_rel(taper_fit_spec_exponent(spec), 1.5, 0);
+    assert_int_equal(taper_fit_spec_set_exponent(spec, 2.0, NULL), TAPER_OK);
+    assert_double_rel(taper_fit_spec_exponent(spec), 2.0, 0);
+    taper_fit_spec_free(spec);
+    spec = spec_of(TAPER_FIT_DIVERGENCE_C);
+    assert_true(isnan(taper_fit_spec_exponent(spec)));
+    outcome r = fit(spec, sx, sy, 40, NULL);
+    assert_int_equal(r.n_params, 3);
+    assert_int_equal(taper_fit_spec_set_exponent(spec, 0.5, NULL), TAPER_OK);
+    r = fit(spec, sx, sy, 40, NULL);
+    assert_int_equal(r.n_params, 2);
+    assert_double_rel(r.param[2], 0.5, 0);
+    assert_double_abs(r.param_err[2], 0.0, 0);   /* a fixed exponent has error 0 */
+    assert_int_equal(taper_fit_spec_set_exponent(spec, NAN, NULL), TAPER_OK);
+    assert_true(isnan(taper_fit_spec_exponent(spec)));
+    /* The other setters accept their ranges, and skip_invalid any int. */
+    taper_error err;
+    assert_int_equal(taper_fit_spec_set_index_window(spec, 0, 0, &err), TAPER_OK);
+    assert_null(err.field);
+    assert_int_equal(taper_fit_spec_set_index_window(spec, 7, 8, &err), TAPER_OK);
+    assert_int_equal(taper_fit_spec_set_x_window(spec, -INFINITY, INFINITY, &err), TAPER_OK);
+    assert_int_equal(taper_fit_spec_set_x_window(spec, 2, 2, &err), TAPER_OK);
+    assert_int_equal(taper_fit_spec_set_skip_invalid(spec, 42, &err), TAPER_OK);
+    assert_int_equal(taper_fit_spec_set_max_iter(spec, 1, &err), TAPER_OK);
+    assert_int_equal(taper_fit_spec_set_xtol(spec, 0.5, &err), TAPER_OK);
+    taper_fit_spec_free(spec);
+    taper_fit_spec_free(NULL);
+    /* Unknown models: no spec, field "model". */
+    assert_null(taper_fit_spec_alloc((taper_fit_model)17, &err));
+    assert_taper_error(err, TAPER_EINVAL, "model", "17");
+    assert_null(taper_fit_spec_alloc((taper_fit_model)-1, &err));
+    assert_taper_error(err, TAPER_EINVAL, "model", NULL);
+    /* NULL specs. */
+    assert_int_equal(taper_fit_spec_set_xtol(NULL, 0.5, &err), TAPER_EINVAL);
+    assert_null(err.field);
+    assert_true(isnan(taper_fit_spec_exponent(NULL)));
+    assert_null(taper_fit_model_name(taper_fit_spec_model(NULL)));
+}
+
+/* Result getters: NaN past the third parameter; neutral for NULL. */
+static void test_result_getters(void **state)
+{
+    (void)state;
+    const double par[2] = {2.0, 0.5};
+    sample s = make_sample(power, par, 1.0, 10.0, 10, 0.0, NULL);
+    taper_fit_spec *spec = spec_of(TAPER_FIT_POWER);
+    taper_fit_result *r = taper_fit(spec, s.x, s.y, s.n, NULL);
+    assert_non_null(r);
+    assert_int_equal(taper_fit_result_model(r), TAPER_FIT_POWER);
+    assert_int_equal(taper_fit_result_n_params(r), 2);
+    assert_double_rel(taper_fit_result_param(r, 0), 2.0, 1e-12);
+    assert_double_rel(taper_fit_result_param(r, 1), 0.5, 1e-12);
+    assert_true(isnan(taper_fit_result_param(r, 2)));       /* a power law has two */
+    for (size_t i = 3; i < 6; i++) {
+        assert_true(isnan(taper_fit_result_param(r, i)));
+        assert_true(isnan(taper_fit_result_param_error(r, i)));
+    }
+    assert_true(isnan(taper_fit_result_param(r, (size_t)-1)));
+    assert_int_equal(taper_fit_result_n_points(r), 10);
+    assert_int_equal(taper_fit_result_n_skipped(r), 0);
+    assert_int_equal(taper_fit_result_iterations(r), 0);
+    assert_true(taper_fit_result_chi2(r) < 1e-20);
+    taper_fit_result_free(r);
+    taper_fit_result_free(NULL);
+    assert_true(isnan(taper_fit_result_param(NULL, 0)));
+    assert_true(isnan(taper_fit_result_param_error(NULL, 0)));
+    assert_true(isnan(taper_fit_result_chi2(NULL)));
+    assert_int_equal(taper_fit_result_n_params(NULL), 0);
+    assert_int_equal(taper_fit_result_n_points(NULL), 0);
+    assert_null(taper_fit_model_name(taper_fit_result_model(NULL)));
+    taper_fit_spec_free(spec);
+    sample_free(&s);
+}
+
+/* The one list of model names, and its inverse. */
+static void test_model_names(void **state)
+{
+    (void)state;
+    const char *names[] = {"power", "exponential", "divergence_b", "divergence_c", "divergence_m"};
+    size_t count = 0;
+    for (unsigned i = 0; taper_fit_model_name((taper_fit_model)i); i++) {
+        assert_string_equal(taper_fit_model_name((taper_fit_model)i), names[i]);
+        taper_fit_model m = (taper_fit_model)-1;
+        taper_error err;
+        assert_int_equal(taper_fit_model_from_name(names[i], &m, &err), TAPER_OK);
+        assert_int_equal(m, i);
+        assert_null(err.field);
+        count++;
+    }
+    assert_int_equal(count, TAPER_N_FIT_MODELS);
+    taper_fit_model m = TAPER_FIT_POWER;
+    assert_int_equal(taper_fit_model_from_name("Divergence_C", &m, NULL), TAPER_OK);
+    assert_int_equal(m, TAPER_FIT_DIVERGENCE_C);
+    taper_error err;
+    assert_int_equal(taper_fit_model_from_name("linear", &m, &err), TAPER_EINVAL);
+    assert_taper_error(err, TAPER_EINVAL, "model", "'linear'");
+    assert_non_null(strstr(err.message, "'divergence_m'"));
+    assert_int_equal(m, TAPER_FIT_DIVERGENCE_C);
+    assert_int_equal(taper_fit_model_from_name(NULL, &m, &err), TAPER_EINVAL);
+    assert_taper_error(err, TAPER_EINVAL, "model", NULL);
+    assert_int_equal(taper_fit_model_from_name("power", NULL, &err), TAPER_EINVAL);
+    assert_null(taper_fit_model_name((taper_fit_model)TAPER_N_FIT_MODELS));
+    assert_null(taper_fit_model_name((taper_fit_model)-1));
 }
 
 /* A pure power law has no finite M: one iteration cannot converge. */
@@ -222,14 +417,12 @@ static void test_no_convergence(void **state)
     const double par[2] = {1.0, -1.0};
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     sample s = make_sample(power, par, 1.0, 1000.0, 200, 0.05, rng);
-    taper_fit_spec spec;
-    taper_fit_spec_init(&spec, TAPER_FIT_DIVERGENCE_M);
-    spec.max_iter = 1;
-    taper_fit_result r;
+    taper_fit_spec *spec = spec_of(TAPER_FIT_DIVERGENCE_M);
+    assert_int_equal(taper_fit_spec_set_max_iter(spec, 1, NULL), TAPER_OK);
     taper_error err;
-    assert_int_equal(taper_fit(&spec, s.x, s.y, s.n, &r, &err), TAPER_ESOLVER);
-    assert_non_null(strstr(err.message, "converge"));
-    assert_true(isnan(r.param[0]));
+    assert_null(taper_fit(spec, s.x, s.y, s.n, &err));
+    assert_taper_error(err, TAPER_ESOLVER, NULL, "converge");
+    taper_fit_spec_free(spec);
     sample_free(&s);
     gsl_rng_free(rng);
 }
@@ -241,6 +434,9 @@ int main(void)
         cmocka_unit_test(test_noisy),
         cmocka_unit_test(test_windows),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_setters),
+        cmocka_unit_test(test_result_getters),
+        cmocka_unit_test(test_model_names),
         cmocka_unit_test(test_no_convergence),
     };
     return cmocka_run_group_tests_name("fit", tests, NULL, NULL);

@@ -1,9 +1,9 @@
 /*
  * test_theory.c -- binary collision approximation (suite 'theory').
  *
- * v_k against the product eq. (recv) written out here, mu_k against its
- * definition and the paper's closed forms (mk-ak-linear-1, mu-binary), T_k
- * against eq. (compress-time) evaluated independently and against GSL
+ * v_k against the product eq. (9) written out here, mu_k against its
+ * definition and the paper's closed forms (eqs. (23), (36)), T_k
+ * against eq. (18) evaluated independently and against GSL
  * quadrature of the integral that precedes it, the monodisperse constant,
  * several contact exponents, and the formula-only theory columns of the
  * paper's Tables II (ln A(q)) and III (f(q)).
@@ -23,7 +23,7 @@ typedef struct theory {
     double *v, *mu, *T, *t;
 } theory;
 
-static taper_chain *make(int profile, size_t n, double s, double q, double expo)
+static taper_chain *make(taper_profile profile, size_t n, double s, double q, double expo)
 {
     return test_chain(profile, n, s, q, expo, NULL);
 }
@@ -49,14 +49,14 @@ static void release(theory *th)
     free(th->t);
 }
 
-/* eq. (compress-time) with tgamma, independent of theory.c's lngamma path. */
+/* eq. (18) with tgamma, independent of theory.c's lngamma path. */
 static double closed_form_T(double mu, double r, double v, double n)
 {
     return sqrt(M_PI) * pow(n * mu / (2.0 * r), 1.0 / n) * pow(v, 2.0 / n - 1.0)
            * tgamma(1.0 + 1.0 / n) / tgamma(1.0 / n + 0.5);
 }
 
-/* The integral before eq. (compress-time),
+/* The integral before eq. (18),
  *   T = int_0^zmax dz / sqrt(v^2 - 2 r z^n / (n mu)),
  * with z = zmax u.  The integrand keeps its original form; the weight
  * (1-u)^(-1/2) of QAWS carries the endpoint singularity, so the remaining
@@ -88,7 +88,7 @@ static double quadrature_T(double mu, double r, double v, double n)
     return result;
 }
 
-/* v_k = prod_{j<k} 2 / (1 + m_{j+1}/m_j), eq. (recv), from the radii. */
+/* v_k = prod_{j<k} 2 / (1 + m_{j+1}/m_j), eq. (9), from the radii. */
 static void check_against_definitions(const taper_chain *c, const theory *th, double tol)
 {
     const double *R = taper_chain_radius(c);
@@ -135,13 +135,7 @@ static void test_custom_radii(void **state)
 {
     (void)state;
     const double R[6] = {1, 2, 0.5, 0.5, 3, 1.25};
-    taper_chain_spec spec;
-    taper_chain_spec_init(&spec);
-    spec.profile = TAPER_CUSTOM;
-    spec.n_granules = 6;
-    spec.radii = R;
-    taper_chain *c = taper_chain_alloc(&spec, NULL);
-    assert_non_null(c);
+    taper_chain *c = test_chain(TAPER_CUSTOM, 6, 0, 0, 2.5, R);
     theory th = compute(c);
     check_against_definitions(c, &th, 1e-13);
     /* First collision, hand value: m = 1, 8: v_2 = 2/9. */
@@ -150,7 +144,7 @@ static void test_custom_radii(void **state)
     taper_chain_free(c);
 }
 
-/* Closed form of compress-time equals the quadrature of its integral. */
+/* Closed form of eq. (18) equals the quadrature of its integral. */
 static void test_quadrature(void **state)
 {
     (void)state;
@@ -184,7 +178,7 @@ static void test_quadrature_chain(void **state)
     taper_chain_free(c);
 }
 
-/* Monodisperse: v_k = 1, mu = 1/2, r = 1 (paper, after eq. totaltime), so
+/* Monodisperse: v_k = 1, mu = 1/2, r = 1 (paper, after eq. (19)), so
  * n mu / (2 r) = 5/8 and T_k is the constant
  * sqrt(pi) (5/8)^(2/5) Gamma(7/5)/Gamma(9/10) = 1.2194188 for n = 5/2
  * (literal from Python's math.gamma, independent of GSL). */
@@ -209,7 +203,7 @@ static void test_monodisperse_constant(void **state)
     taper_chain_free(c);
 }
 
-/* eqs. (mk-ak-linear-1) and (mu-binary): the paper's closed forms of mu_k. */
+/* eqs. (23) and (36): the paper's closed forms of mu_k. */
 static void test_paper_mu(void **state)
 {
     (void)state;
@@ -217,12 +211,12 @@ static void test_paper_mu(void **state)
     taper_chain *lin = make(TAPER_BACKWARD_LINEAR, 100, S, 0, 2.5);
     taper_chain *geo = make(TAPER_BACKWARD_EXPONENTIAL, 100, 0, q, 2.5);
     theory a = compute(lin), b = compute(geo);
-    double A = 0.5 * (1.0 + pow(1.0 - q, -3.0)); /* eq. (eq:Adef) */
+    double A = 0.5 * (1.0 + pow(1.0 - q, -3.0)); /* eq. (35) */
     for (size_t k = 1; k < 100; k++) {
         double kk = (double)k, u = pow(1.0 - S / (1.0 + S * kk), 3);
         assert_double_rel(a.mu[k - 1], pow(1.0 + S * kk, 3) * u / (1.0 + u), 1e-13);
         assert_double_rel(b.mu[k - 1], pow(1.0 - q, -3.0 * (kk - 1.0)) / (1.0 + pow(1.0 - q, 3)), 1e-12);
-        /* eq. (eq:vgeometric): v_k = A e^{-k ln A} = A^{1-k}. */
+        /* eq. (34): v_k = A e^{-k ln A} = A^{1-k}. */
         assert_double_rel(b.v[k - 1], A * exp(-kk * log(A)), 1e-12);
     }
     release(&a);
@@ -275,7 +269,7 @@ static void test_errors(void **state)
     (void)state;
     taper_error err;
     assert_int_equal(taper_theory_compute(NULL, NULL, NULL, NULL, NULL, &err), TAPER_EINVAL);
-    assert_true(strlen(err.message) > 0);
+    assert_taper_error(err, TAPER_EINVAL, NULL, "chain is NULL");
     assert_true(isnan(taper_theory_collision_time(0.0, 1, 1, 2.5)));
     assert_true(isnan(taper_theory_collision_time(1, -1, 1, 2.5)));
     assert_true(isnan(taper_theory_collision_time(1, 1, 0, 2.5)));
@@ -285,6 +279,9 @@ static void test_errors(void **state)
     /* All outputs optional. */
     taper_chain *c = make(TAPER_BACKWARD_LINEAR, 10, 0.5, 0, 2.5);
     assert_int_equal(taper_theory_compute(c, NULL, NULL, NULL, NULL, NULL), TAPER_OK);
+    assert_int_equal(taper_theory_compute(c, NULL, NULL, NULL, NULL, &err), TAPER_OK);
+    assert_null(err.field);
+    assert_string_equal(err.message, "");
     taper_chain_free(c);
 
     /* Masses up and down by 1e135 (each in range): v_k loses 1e135 per
@@ -292,16 +289,13 @@ static void test_errors(void **state)
      * underflow to 0.  Found by tests/fuzz: theory_v = 0 was returned with
      * TAPER_OK.  Now TAPER_ERANGE naming the granule. */
     const double radii[] = {1.0, 1e45, 1.0, 1e45, 1.0, 1e45, 1.0};
-    taper_chain_spec spec;
-    taper_chain_spec_init(&spec);
-    spec.profile = TAPER_CUSTOM;
-    spec.n_granules = 7;
-    spec.radii = radii;
-    c = taper_chain_alloc(&spec, &err);
-    assert_non_null(c);
+    c = test_chain(TAPER_CUSTOM, 7, 0, 0, 2.5, radii);
     double v[7];
     assert_int_equal(taper_theory_compute(c, v, NULL, NULL, NULL, &err), TAPER_ERANGE);
-    assert_non_null(strstr(err.message, "granule 6"));
+    /* The radii are the setting to change. */
+    assert_taper_error(err, TAPER_ERANGE, "radii", "granule 6");
+    /* Filled up to the granule named. */
+    for (size_t k = 1; k < 6; k++) assert_true(v[k - 1] > 0.0 && isfinite(v[k - 1]));
     taper_chain_free(c);
 }
 
