@@ -1,0 +1,132 @@
+"""taper -- pulse propagation in tapered granular chains, from Python.
+
+The full Hertzian dynamics of a chain (libtaper: SUNDIALS CVODE with exact
+pulse events) next to the binary collision theory of Harbola, Rosas,
+Esposito and Lindenberg, arXiv:0905.4512.  The library is compiled into
+the extension ``taper._core``; results come back as numpy arrays.
+
+    import taper
+    r = taper.simulate(profile="backward_linear", s=0.5, n_granules=200)
+    r.v_peak, r.theory_v, r.t_pass          # numpy columns as in granules.tsv
+    r.stats["steps"], r.energy_error, r.complete
+
+    taper.theory(profile="backward_linear", s=0.5, n_granules=200)  # no integration
+    taper.run_scene("share/scenes/backward_linear.nml")             # the driver's reader
+    taper.read_granules("out/default/granules.tsv")                 # a driver's output
+
+Keyword arguments are the scene variables (docs/scene.md); values left out
+(or None) are the library's defaults.  A value the library refuses raises
+InvalidArgumentError (a ValueError) whose ``field`` names the argument; a
+wrong type raises TypeError naming it.  Runs release the GIL: threads run
+chains in parallel.  Ctrl-C interrupts a run with KeyboardInterrupt.
+See docs/python.md.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import List, Optional, Sequence, Union
+
+from . import _core
+from ._core import InvalidArgumentError, SceneError, TaperError, collision_time
+from .result import COLUMNS, THEORY_COLUMNS, Result, read_granules
+
+__all__ = [
+    "simulate", "theory", "run_scene", "read_granules", "plot", "collision_time", "version",
+    "Result", "TaperError", "InvalidArgumentError", "SceneError",
+    "PROFILES", "METHODS", "STATISTICS", "COLUMNS", "THEORY_COLUMNS", "__version__",
+]
+
+#: Profile names, in the library's order (taper_profile_name).
+PROFILES = _core.PROFILES
+#: Integration methods (taper_method_name).
+METHODS = _core.METHODS
+#: Names of the run statistics (taper_statistic_name): the keys of Result.stats.
+STATISTICS = _core.STATISTICS
+
+Real = Union[int, float]
+
+
+def version() -> str:
+    """The version of libtaper compiled into this package."""
+    return _core.version()
+
+
+__version__ = _core.version()
+
+
+def _given(**kw: object) -> dict:
+    return {k: v for k, v in kw.items() if v is not None}
+
+
+def simulate(*, profile: Optional[str] = None, s: Optional[Real] = None,
+             q: Optional[Real] = None, n_granules: Optional[int] = None,
+             exponent: Optional[Real] = None, radii: Optional[Sequence[float]] = None,
+             method: Optional[str] = None, rtol: Optional[Real] = None,
+             atol: Optional[Real] = None, window: Optional[bool] = None,
+             last_granule: Optional[int] = None, max_order: Optional[int] = None,
+             t_max: Optional[Real] = None, max_steps: Optional[int] = None) -> Result:
+    """Builds a chain, integrates its dynamics and returns a Result.
+
+    Chain (``&chain`` of a scene): ``profile`` (one of PROFILES, default
+    "monodisperse"), ``s`` (linear profiles), ``q`` (exponential profiles),
+    ``n_granules`` (N, default 100; with ``radii`` it may be left out),
+    ``exponent`` (contact exponent n, default 5/2), ``radii`` (custom profile:
+    R_1..R_N, R_1 = 1).
+
+    Solver (``&solver``): ``method`` ("adams" or "bdf"), ``rtol``, ``atol``
+    (in units of each granule's binary-collision scale), ``window`` (integrate
+    only the granules that can move; exact), ``last_granule`` (stop once its
+    observables are known; 0: the whole chain), ``max_order``, ``t_max`` and
+    ``max_steps`` (0: no limit; reaching one gives a partial result).
+
+    Returns the columns of granules.tsv (bit for bit what the driver writes
+    for the same scene), the statistics, conservation errors and status.  A
+    run that ends early (solver failure, t_max, max_steps) is returned with
+    ``complete`` False, ``status`` and ``message`` saying why.
+
+    Raises:
+        InvalidArgumentError: a value or combination the library refuses
+            (``.field`` names the argument, the message is the library's).
+        TypeError: an argument of the wrong type (named).
+        KeyboardInterrupt: Ctrl-C during the run (nothing is returned).
+    """
+    d = _core.simulate(**_given(profile=profile, s=s, q=q, n_granules=n_granules,
+                                exponent=exponent, radii=radii, method=method, rtol=rtol,
+                                atol=atol, window=window, last_granule=last_granule,
+                                max_order=max_order, t_max=t_max, max_steps=max_steps))
+    return Result._from_core(d, "simulate")
+
+
+def theory(*, profile: Optional[str] = None, s: Optional[Real] = None,
+           q: Optional[Real] = None, n_granules: Optional[int] = None,
+           exponent: Optional[Real] = None,
+           radii: Optional[Sequence[float]] = None) -> Result:
+    """The binary collision approximation of a chain, without integrating:
+    columns ``k R m X0 theory_v theory_T theory_t`` (v_k of eq. (9), T_k of
+    eq. (18), t_k of eq. (19) of arXiv:0905.4512).  Chain keywords as for
+    simulate()."""
+    d = _core.theory(**_given(profile=profile, s=s, q=q, n_granules=n_granules,
+                              exponent=exponent, radii=radii))
+    return Result._from_core(d, "theory")
+
+
+def run_scene(path: Union[str, "os.PathLike[str]"]) -> List[Result]:
+    """Runs a scene file as the driver ``taper`` does: read and validated by
+    the driver's own scene reader (compiled into this package), one Result per
+    value of a swept variable (one for a scene without sweep), in order.  With
+    ``&solver numerics = .false.`` the results hold the theory alone.  Writes
+    no files (&output, &fit, &table, &figure are the driver's business).
+
+    Raises:
+        SceneError: the scene is invalid; the message is the reader's
+            diagnostics, as the driver prints them (FILE:LINE: &group key: ...).
+    """
+    return [Result._from_core(d, os.fspath(path)) for d in _core.run_scene(path)]
+
+
+def plot(result, quantity: str = "v", *, ax=None, **kwargs):
+    """Draws a Result (or a list of them) as the driver's figures do; see
+    taper.plotting.plot.  Needs matplotlib."""
+    from .plotting import plot as _plot
+    return _plot(result, quantity, ax=ax, **kwargs)

@@ -1,0 +1,895 @@
+/*
+ * _core.c -- the compiled half of the Python package `taper`: libtaper
+ * through its public header (include/taper.h), written with the CPython C
+ * API and the numpy C API.  The pure-Python half (__init__.py, result.py)
+ * wraps what this returns into taper.Result objects.
+ *
+ * Keyword arguments are the scene variables (docs/scene.md) and each maps
+ * to the library setter of the same name (taper_chain_spec_set_<name>,
+ * taper_solver_spec_set_<name>): the library checks every value, and a
+ * refusal becomes taper.InvalidArgumentError (a ValueError) naming
+ * taper_error.field.  What the library cannot see (a str where a number
+ * belongs, a negative count for a size_t) is a TypeError or ValueError
+ * raised here, naming the argument too.
+ *
+ * Threads: libtaper has no global state, so every call builds its own chain
+ * and sim and runs them with the GIL released (Py_BEGIN_ALLOW_THREADS):
+ * Python threads run chains in parallel.
+ *
+ * Ctrl-C: Python's C-level SIGINT handler only records the signal; the
+ * Python handler (KeyboardInterrupt) runs when the main thread calls
+ * PyErr_CheckSignals, which needs the GIL.  The library calls our monitor
+ * after every pulse event, on the thread running the sim; at most every
+ * CHECK_INTERVAL seconds the monitor takes the GIL (PyGILState_Ensure),
+ * calls PyErr_CheckSignals, and asks the library to stop if it raised.  The
+ * run then ends with TAPER_EINTERRUPTED, the partial sim is freed, and the
+ * KeyboardInterrupt propagates: no half-built result is returned.  Taking
+ * the GIL only every CHECK_INTERVAL keeps threads from contending for it.
+ *
+ * Nothing is printed: the library's log messages (taper_solver_spec_set_log)
+ * are collected and returned (level >= 1 as warnings).
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#define NPY_NO_DEPRECATED_API NPY_1_22_API_VERSION
+#include <numpy/arrayobject.h>
+
+#include "taper.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "_scene.h"
+
+/* Seconds between two looks at Python's pending signals during a run. */
+#define CHECK_INTERVAL 0.05
+
+static PyObject *TaperError;           /* taper.TaperError(Exception)                 */
+static PyObject *InvalidArgumentError; /* taper.InvalidArgumentError(TaperError, ValueError) */
+static PyObject *SceneError;           /* taper.SceneError(TaperError, ValueError)    */
+
+/* ---- errors ---------------------------------------------------------------- */
+
+/* Short identifiers of the statuses, for Result.status and exceptions. */
+static const char *status_id(taper_status s)
+{
+    switch (s) {
+    case TAPER_OK: return "ok";
+    case TAPER_EINVAL: return "invalid";
+    case TAPER_ENOMEM: return "nomem";
+    case TAPER_ERANGE: return "range";
+    case TAPER_ESOLVER: return "solver";
+    case TAPER_EINTERRUPTED: return "interrupted";
+    case TAPER_ELIMIT: return "limit";
+    }
+    return "unknown";
+}
+
+/* Raises cls(text) with the attributes status (identifier), field (str or
+ * None) and message (the library's own text). */
+static void raise_with(PyObject *cls, const char *text, taper_status status, const char *field,
+                       const char *message)
+{
+    PyObject *exc = PyObject_CallFunction(cls, "s", text);
+    if (!exc) return;
+    PyObject *f = field ? PyUnicode_FromString(field) : Py_NewRef(Py_None);
+    PyObject *st = PyUnicode_FromString(status_id(status));
+    PyObject *m = PyUnicode_FromString(message ? message : "");
+    if (f && st && m && PyObject_SetAttrString(exc, "field", f) == 0 &&
+        PyObject_SetAttrString(exc, "status", st) == 0 &&
+        PyObject_SetAttrString(exc, "message", m) == 0)
+        PyErr_SetObject(cls, exc);
+    Py_XDECREF(f);
+    Py_XDECREF(st);
+    Py_XDECREF(m);
+    Py_DECREF(exc);
+}
+
+/* The library refused: the exception carries its message, prefixed with the
+ * argument at fault unless the message already starts with it. */
+static PyObject *raise_library(const taper_error *err)
+{
+    if (err->status == TAPER_ENOMEM) return PyErr_NoMemory();
+    const char *msg = err->message[0] ? err->message : taper_strerror(err->status);
+    PyObject *cls = (err->status == TAPER_EINVAL || err->status == TAPER_ERANGE)
+                        ? InvalidArgumentError : TaperError;
+    if (err->field && strncmp(msg, err->field, strlen(err->field)) != 0) {
+        PyObject *text = PyUnicode_FromFormat("%s: %s", err->field, msg);
+        if (!text) return NULL;
+        raise_with(cls, PyUnicode_AsUTF8(text), err->status, err->field, err->message);
+        Py_DECREF(text);
+    } else {
+        raise_with(cls, msg, err->status, err->field, err->message);
+    }
+    return NULL;
+}
+
+/* ---- settings ------------------------------------------------------------- */
+
+typedef enum kind { K_PROFILE, K_METHOD, K_REAL, K_SIZE, K_INT, K_LONG, K_BOOL, K_RADII } kind;
+
+typedef struct setting {
+    const char *name;  /* scene variable = setter suffix */
+    int chain;         /* 1: taper_chain_spec, 0: taper_solver_spec */
+    kind kind;
+} setting;
+
+/* Every setting a call may name.  The names are the library's own
+ * (taper_error.field); this table only says which spec holds each and what
+ * Python type it takes. */
+static const setting settings[] = {
+    {"profile", 1, K_PROFILE},   {"n_granules", 1, K_SIZE}, {"s", 1, K_REAL},
+    {"q", 1, K_REAL},            {"exponent", 1, K_REAL},   {"radii", 1, K_RADII},
+    {"method", 0, K_METHOD},     {"rtol", 0, K_REAL},       {"atol", 0, K_REAL},
+    {"window", 0, K_BOOL},       {"last_granule", 0, K_SIZE}, {"max_order", 0, K_INT},
+    {"t_max", 0, K_REAL},        {"max_steps", 0, K_LONG},
+};
+#define N_SETTINGS (sizeof settings / sizeof settings[0])
+
+static PyObject *type_error(const char *name, const char *want, PyObject *value)
+{
+    PyErr_Format(PyExc_TypeError, "%s must be %s, not %.100s", name, want, Py_TYPE(value)->tp_name);
+    return NULL;
+}
+
+static int is_bool(PyObject *v)
+{
+    return PyBool_Check(v) || PyArray_IsScalar(v, Bool);
+}
+
+/* A real number: float, int or a numpy scalar; never bool or str. */
+static int get_real(const char *name, PyObject *v, double *out)
+{
+    if (is_bool(v) || PyUnicode_Check(v) || PyBytes_Check(v) || PyComplex_Check(v) ||
+        !(PyFloat_Check(v) || PyLong_Check(v) || PyIndex_Check(v) || PyNumber_Check(v))) {
+        type_error(name, "a real number", v);
+        return -1;
+    }
+    double x = PyFloat_AsDouble(v);
+    if (x == -1.0 && PyErr_Occurred()) {
+        if (PyErr_ExceptionMatches(PyExc_TypeError)) {
+            PyErr_Clear();
+            type_error(name, "a real number", v);
+        }
+        return -1;
+    }
+    *out = x;
+    return 0;
+}
+
+/* An integer (int or numpy integer, never bool or float) in [lo, hi]. */
+static int get_integer(const char *name, PyObject *v, long long lo, long long hi, long long *out)
+{
+    if (is_bool(v) || !PyIndex_Check(v)) {
+        type_error(name, "an integer", v);
+        return -1;
+    }
+    PyObject *i = PyNumber_Index(v);
+    if (!i) return -1;
+    int overflow = 0;
+    long long x = PyLong_AsLongLongAndOverflow(i, &overflow);
+    Py_DECREF(i);
+    if (x == -1 && PyErr_Occurred()) return -1;
+    if (overflow || x < lo || x > hi) {
+        PyObject *text = PyUnicode_FromFormat("%s = %S is out of range", name, v);
+        if (text) raise_with(InvalidArgumentError, PyUnicode_AsUTF8(text), TAPER_EINVAL, name,
+                             PyUnicode_AsUTF8(text));
+        Py_XDECREF(text);
+        return -1;
+    }
+    *out = x;
+    return 0;
+}
+
+static int get_bool(const char *name, PyObject *v, int *out)
+{
+    if (is_bool(v) || (PyIndex_Check(v) && !PyFloat_Check(v))) {
+        int t = PyObject_IsTrue(v);
+        if (t < 0) return -1;
+        *out = t;
+        return 0;
+    }
+    type_error(name, "a bool", v);
+    return -1;
+}
+
+static int get_str(const char *name, PyObject *v, const char **out)
+{
+    if (!PyUnicode_Check(v)) {
+        type_error(name, "a str", v);
+        return -1;
+    }
+    Py_ssize_t size = 0;
+    const char *s = PyUnicode_AsUTF8AndSize(v, &size);
+    if (!s) return -1;
+    if (strlen(s) != (size_t)size) {
+        PyObject *text = PyUnicode_FromFormat("%s: must not contain NUL characters", name);
+        if (text) raise_with(InvalidArgumentError, PyUnicode_AsUTF8(text), TAPER_EINVAL, name,
+                             "must not contain NUL characters");
+        Py_XDECREF(text);
+        return -1;
+    }
+    *out = s;
+    return 0;
+}
+
+/* Applies one keyword to its spec through the library setter. */
+static int apply_setting(const setting *st, PyObject *v, taper_chain_spec *cs, taper_solver_spec *ss,
+                         Py_ssize_t *n_radii)
+{
+    taper_error err;
+    taper_status rc = TAPER_OK;
+    const char *name = st->name;
+    switch (st->kind) {
+    case K_PROFILE: {
+        const char *s;
+        taper_profile p;
+        if (get_str(name, v, &s) < 0) return -1;
+        rc = taper_profile_from_name(s, &p, &err);
+        if (rc == TAPER_OK) rc = taper_chain_spec_set_profile(cs, p, &err);
+        break;
+    }
+    case K_METHOD: {
+        const char *s;
+        taper_method m;
+        if (get_str(name, v, &s) < 0) return -1;
+        rc = taper_method_from_name(s, &m, &err);
+        if (rc == TAPER_OK) rc = taper_solver_spec_set_method(ss, m, &err);
+        break;
+    }
+    case K_REAL: {
+        double x;
+        if (get_real(name, v, &x) < 0) return -1;
+        if (strcmp(name, "s") == 0) rc = taper_chain_spec_set_s(cs, x, &err);
+        else if (strcmp(name, "q") == 0) rc = taper_chain_spec_set_q(cs, x, &err);
+        else if (strcmp(name, "exponent") == 0) rc = taper_chain_spec_set_exponent(cs, x, &err);
+        else if (strcmp(name, "rtol") == 0) rc = taper_solver_spec_set_rtol(ss, x, &err);
+        else if (strcmp(name, "atol") == 0) rc = taper_solver_spec_set_atol(ss, x, &err);
+        else rc = taper_solver_spec_set_t_max(ss, x, &err);
+        break;
+    }
+    case K_SIZE: {
+        long long x;
+        if (get_integer(name, v, 0, (long long)(SIZE_MAX < (unsigned long long)LLONG_MAX ? SIZE_MAX : LLONG_MAX), &x) < 0)
+            return -1;
+        if (strcmp(name, "n_granules") == 0) rc = taper_chain_spec_set_n_granules(cs, (size_t)x, &err);
+        else rc = taper_solver_spec_set_last_granule(ss, (size_t)x, &err);
+        break;
+    }
+    case K_INT: {
+        long long x;
+        if (get_integer(name, v, INT_MIN, INT_MAX, &x) < 0) return -1;
+        rc = taper_solver_spec_set_max_order(ss, (int)x, &err);
+        break;
+    }
+    case K_LONG: {
+        long long x;
+        if (get_integer(name, v, LONG_MIN, LONG_MAX, &x) < 0) return -1;
+        rc = taper_solver_spec_set_max_steps(ss, (long)x, &err);
+        break;
+    }
+    case K_BOOL: {
+        int b;
+        if (get_bool(name, v, &b) < 0) return -1;
+        rc = taper_solver_spec_set_window(ss, b, &err);
+        break;
+    }
+    case K_RADII: {
+        if (v == Py_None) {
+            rc = taper_chain_spec_set_radii(cs, NULL, 0, &err);
+            *n_radii = -1;
+            break;
+        }
+        if (PyUnicode_Check(v) || PyBytes_Check(v) || is_bool(v)) {
+            type_error(name, "a sequence of real numbers", v);
+            return -1;
+        }
+        PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(v, NPY_DOUBLE, 0, 0, NPY_ARRAY_CARRAY_RO);
+        if (!a) {
+            if (PyErr_ExceptionMatches(PyExc_TypeError) || PyErr_ExceptionMatches(PyExc_ValueError)) {
+                PyErr_Clear();
+                type_error(name, "a sequence of real numbers", v);
+            }
+            return -1;
+        }
+        if (PyArray_NDIM(a) != 1) {
+            Py_DECREF(a);
+            PyErr_Format(PyExc_TypeError, "%s must be a one-dimensional sequence of real numbers",
+                         name);
+            return -1;
+        }
+        Py_ssize_t n = PyArray_DIM(a, 0);
+        rc = taper_chain_spec_set_radii(cs, n ? (const double *)PyArray_DATA(a) : NULL, (size_t)n,
+                                        &err);
+        Py_DECREF(a);
+        *n_radii = n;
+        break;
+    }
+    }
+    if (rc != TAPER_OK) {
+        /* The library names the field; from_name refusals name it too. */
+        raise_library(&err);
+        return -1;
+    }
+    return 0;
+}
+
+/* Reads the keywords into fresh specs (ss may be NULL: chain settings only).
+ * An unknown keyword is a TypeError naming it. */
+static int parse_settings(PyObject *kwargs, taper_chain_spec *cs, taper_solver_spec *ss,
+                          const char *func)
+{
+    if (!kwargs) return 0;
+    PyObject *key, *value;
+    Py_ssize_t pos = 0;
+    Py_ssize_t n_radii = -1;
+    int n_given = 0;
+    while (PyDict_Next(kwargs, &pos, &key, &value)) {
+        const char *k = PyUnicode_AsUTF8(key);
+        if (!k) return -1;
+        const setting *st = NULL;
+        for (size_t i = 0; i < N_SETTINGS; i++)
+            if (strcmp(settings[i].name, k) == 0 && (settings[i].chain || ss)) st = &settings[i];
+        if (!st) {
+            PyErr_Format(PyExc_TypeError, "%s() got an unexpected keyword argument '%s'", func, k);
+            return -1;
+        }
+        if (value == Py_None && st->kind != K_RADII) continue; /* None: the library's default */
+        if (apply_setting(st, value, cs, ss, &n_radii) < 0) return -1;
+        if (strcmp(k, "n_granules") == 0) n_given = 1;
+    }
+    /* As in a scene: with radii, n_granules may be left out (N = number of
+     * radii). */
+    if (n_radii > 0 && !n_given) {
+        taper_error err;
+        if (taper_chain_spec_set_n_granules(cs, (size_t)n_radii, &err) != TAPER_OK) {
+            raise_library(&err);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* ---- results -------------------------------------------------------------- */
+
+static PyObject *double_array(const double *src, size_t n)
+{
+    npy_intp dim = (npy_intp)n;
+    PyObject *a = PyArray_SimpleNew(1, &dim, NPY_DOUBLE);
+    if (!a) return NULL;
+    double *dst = PyArray_DATA((PyArrayObject *)a);
+    if (src) memcpy(dst, src, n * sizeof(double));
+    else for (size_t i = 0; i < n; i++) dst[i] = NAN;
+    return a;
+}
+
+static int put(PyObject *dict, const char *key, PyObject *value)
+{
+    if (!value) return -1;
+    int rc = PyDict_SetItemString(dict, key, value);
+    Py_DECREF(value);
+    return rc;
+}
+
+/* k R m X0 of the chain. */
+static int chain_columns(PyObject *cols, const taper_chain *chain)
+{
+    size_t n = taper_chain_size(chain);
+    npy_intp dim = (npy_intp)n;
+    PyObject *k = PyArray_SimpleNew(1, &dim, NPY_INT64);
+    if (!k) return -1;
+    int64_t *kd = PyArray_DATA((PyArrayObject *)k);
+    for (size_t i = 0; i < n; i++) kd[i] = (int64_t)(i + 1);
+    if (put(cols, "k", k) < 0) return -1;
+    if (put(cols, "R", double_array(taper_chain_radius(chain), n)) < 0) return -1;
+    if (put(cols, "m", double_array(taper_chain_mass(chain), n)) < 0) return -1;
+    if (put(cols, "X0", double_array(taper_chain_rest_position(chain), n)) < 0) return -1;
+    return 0;
+}
+
+/* The resolved settings (every default filled in), from the specs' getters. */
+static PyObject *settings_dict(const taper_chain_spec *cs, const taper_solver_spec *ss)
+{
+    PyObject *d = PyDict_New();
+    if (!d) return NULL;
+    const char *profile = taper_profile_name(taper_chain_spec_profile(cs));
+    size_t n_radii = 0;
+    const double *radii = taper_chain_spec_radii(cs, &n_radii);
+    if (put(d, "profile", PyUnicode_FromString(profile ? profile : "")) < 0 ||
+        put(d, "n_granules", PyLong_FromSize_t(taper_chain_spec_n_granules(cs))) < 0 ||
+        put(d, "s", PyFloat_FromDouble(taper_chain_spec_s(cs))) < 0 ||
+        put(d, "q", PyFloat_FromDouble(taper_chain_spec_q(cs))) < 0 ||
+        put(d, "exponent", PyFloat_FromDouble(taper_chain_spec_exponent(cs))) < 0 ||
+        put(d, "radii", radii ? double_array(radii, n_radii) : Py_NewRef(Py_None)) < 0)
+        goto fail;
+    if (ss) {
+        const char *method = taper_method_name(taper_solver_spec_method(ss));
+        if (put(d, "method", PyUnicode_FromString(method ? method : "")) < 0 ||
+            put(d, "rtol", PyFloat_FromDouble(taper_solver_spec_rtol(ss))) < 0 ||
+            put(d, "atol", PyFloat_FromDouble(taper_solver_spec_atol(ss))) < 0 ||
+            put(d, "window", PyBool_FromLong(taper_solver_spec_window(ss))) < 0 ||
+            put(d, "last_granule", PyLong_FromSize_t(taper_solver_spec_last_granule(ss))) < 0 ||
+            put(d, "max_order", PyLong_FromLong(taper_solver_spec_max_order(ss))) < 0 ||
+            put(d, "t_max", PyFloat_FromDouble(taper_solver_spec_t_max(ss))) < 0 ||
+            put(d, "max_steps", PyLong_FromLong(taper_solver_spec_max_steps(ss))) < 0)
+            goto fail;
+    }
+    return d;
+fail:
+    Py_DECREF(d);
+    return NULL;
+}
+
+/* What happens during a run, collected without the GIL. */
+typedef struct run_ctx {
+    double last_check;      /* monotonic seconds of the last signal check   */
+    int interrupted;        /* a Python exception is pending in the thread  */
+    char **warnings;        /* copies of the level >= 1 log messages        */
+    size_t n_warnings, cap;
+    size_t n_dropped;       /* warnings lost to a failed allocation         */
+} run_ctx;
+
+static double monotonic(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int monitor(const taper_progress *progress, void *user)
+{
+    (void)progress;
+    run_ctx *ctx = user;
+    if (ctx->interrupted) return 1;
+    double now = monotonic();
+    if (now - ctx->last_check < CHECK_INTERVAL) return 0;
+    ctx->last_check = now;
+    PyGILState_STATE g = PyGILState_Ensure();
+    /* Runs the Python signal handlers (main thread only); on
+     * KeyboardInterrupt the exception stays set in this thread's state
+     * until the caller, holding the GIL again, returns NULL. */
+    if (PyErr_CheckSignals() < 0) ctx->interrupted = 1;
+    PyGILState_Release(g);
+    return ctx->interrupted;
+}
+
+static void collect_log(int level, const char *message, void *user)
+{
+    run_ctx *ctx = user;
+    if (level < 1 || !message) return;
+    if (ctx->n_warnings == ctx->cap) {
+        size_t cap = ctx->cap ? 2 * ctx->cap : 8;
+        char **w = realloc(ctx->warnings, cap * sizeof *w);
+        if (!w) {
+            ctx->n_dropped++;
+            return;
+        }
+        ctx->warnings = w;
+        ctx->cap = cap;
+    }
+    char *copy = strdup(message);
+    if (!copy) {
+        ctx->n_dropped++;
+        return;
+    }
+    ctx->warnings[ctx->n_warnings++] = copy;
+}
+
+static void ctx_free(run_ctx *ctx)
+{
+    for (size_t i = 0; i < ctx->n_warnings; i++) free(ctx->warnings[i]);
+    free(ctx->warnings);
+}
+
+static PyObject *warnings_list(const run_ctx *ctx)
+{
+    PyObject *l = PyList_New(0);
+    if (!l) return NULL;
+    for (size_t i = 0; i < ctx->n_warnings; i++) {
+        PyObject *s = PyUnicode_DecodeUTF8(ctx->warnings[i], (Py_ssize_t)strlen(ctx->warnings[i]),
+                                           "replace");
+        if (!s || PyList_Append(l, s) < 0) {
+            Py_XDECREF(s);
+            Py_DECREF(l);
+            return NULL;
+        }
+        Py_DECREF(s);
+    }
+    if (ctx->n_dropped) {
+        PyObject *s = PyUnicode_FromFormat("%zu further warnings lost (out of memory)",
+                                           ctx->n_dropped);
+        if (!s || PyList_Append(l, s) < 0) {
+            Py_XDECREF(s);
+            Py_DECREF(l);
+            return NULL;
+        }
+        Py_DECREF(s);
+    }
+    return l;
+}
+
+/* The statistics, by taper_statistic_name: counts as int, times and errors
+ * as float, complete as bool. */
+static PyObject *stats_dict(const taper_sim *sim)
+{
+    PyObject *d = PyDict_New();
+    if (!d) return NULL;
+    for (int i = 0; taper_statistic_name((taper_statistic)i); i++) {
+        double x = taper_sim_statistic(sim, (taper_statistic)i);
+        PyObject *v;
+        if (i == TAPER_STAT_COMPLETE) v = PyBool_FromLong(x != 0);
+        else if (i == TAPER_STAT_T_FINAL || i == TAPER_STAT_ENERGY_ERROR ||
+                 i == TAPER_STAT_MOMENTUM_ERROR || !isfinite(x) || x != floor(x) ||
+                 fabs(x) > 9.0e15)
+            v = PyFloat_FromDouble(x);
+        else v = PyLong_FromLongLong((long long)x);
+        if (put(d, taper_statistic_name((taper_statistic)i), v) < 0) {
+            Py_DECREF(d);
+            return NULL;
+        }
+    }
+    return d;
+}
+
+/* Builds the chain from cs and either the theory alone (ss NULL) or a full
+ * run; returns the dict Result is made from, or NULL with an exception. */
+static PyObject *run_specs(const taper_chain_spec *cs, const taper_solver_spec *ss_in)
+{
+    taper_error err;
+    taper_chain *chain = NULL;
+    taper_sim *sim = NULL;
+    taper_solver_spec *ss = NULL;
+    double *theory[4] = {NULL, NULL, NULL, NULL};
+    PyObject *out = NULL, *cols = NULL;
+    run_ctx ctx;
+    memset(&ctx, 0, sizeof ctx);
+    taper_status rc = TAPER_OK;
+
+    Py_BEGIN_ALLOW_THREADS
+    chain = taper_chain_alloc(cs, &err);
+    Py_END_ALLOW_THREADS
+    if (!chain) return raise_library(&err);
+    size_t n = taper_chain_size(chain);
+
+    if (!(out = PyDict_New()) || !(cols = PyDict_New())) goto fail;
+    if (chain_columns(cols, chain) < 0) goto fail;
+
+    if (!ss_in) {
+        /* Theory only: taper_theory_compute, no integration. */
+        int nomem = 0;
+        for (int i = 0; i < 4; i++)
+            if (!(theory[i] = malloc((n ? n : 1) * sizeof(double)))) nomem = 1;
+        if (nomem) {
+            PyErr_NoMemory();
+            goto fail;
+        }
+        Py_BEGIN_ALLOW_THREADS
+        rc = taper_theory_compute(chain, theory[0], theory[1], theory[2], theory[3], &err);
+        Py_END_ALLOW_THREADS
+        if (rc != TAPER_OK) {
+            raise_library(&err);
+            goto fail;
+        }
+        if (put(cols, "theory_v", double_array(theory[0], n)) < 0 ||
+            put(cols, "theory_T", double_array(theory[2], n)) < 0 ||
+            put(cols, "theory_t", double_array(theory[3], n)) < 0)
+            goto fail;
+        if (put(out, "stats", PyDict_New()) < 0 ||
+            put(out, "settings", settings_dict(cs, NULL)) < 0 ||
+            put(out, "status", PyUnicode_FromString("ok")) < 0 ||
+            put(out, "message", PyUnicode_FromString("")) < 0 ||
+            put(out, "warnings", PyList_New(0)) < 0)
+            goto fail;
+    } else {
+        /* A private copy of the solver settings carrying our monitor and log. */
+        if (!(ss = taper_solver_spec_alloc(&err))) {
+            raise_library(&err);
+            goto fail;
+        }
+        if (taper_solver_spec_set_method(ss, taper_solver_spec_method(ss_in), &err) != TAPER_OK ||
+            taper_solver_spec_set_rtol(ss, taper_solver_spec_rtol(ss_in), &err) != TAPER_OK ||
+            taper_solver_spec_set_atol(ss, taper_solver_spec_atol(ss_in), &err) != TAPER_OK ||
+            taper_solver_spec_set_window(ss, taper_solver_spec_window(ss_in), &err) != TAPER_OK ||
+            taper_solver_spec_set_last_granule(ss, taper_solver_spec_last_granule(ss_in), &err) !=
+                TAPER_OK ||
+            taper_solver_spec_set_max_order(ss, taper_solver_spec_max_order(ss_in), &err) !=
+                TAPER_OK ||
+            taper_solver_spec_set_t_max(ss, taper_solver_spec_t_max(ss_in), &err) != TAPER_OK ||
+            taper_solver_spec_set_max_steps(ss, taper_solver_spec_max_steps(ss_in), &err) !=
+                TAPER_OK) {
+            raise_library(&err);
+            goto fail;
+        }
+        taper_solver_spec_set_monitor(ss, monitor, &ctx);
+        taper_solver_spec_set_log(ss, collect_log, &ctx);
+        ctx.last_check = monotonic();
+
+        Py_BEGIN_ALLOW_THREADS
+        sim = taper_sim_alloc(chain, ss, &err);
+        if (sim) rc = taper_sim_run(sim, &err);
+        Py_END_ALLOW_THREADS
+        if (!sim) {
+            raise_library(&err);
+            goto fail;
+        }
+        if (ctx.interrupted) goto fail; /* KeyboardInterrupt (or a handler's exception) is set */
+        if (rc != TAPER_OK && rc != TAPER_ESOLVER && rc != TAPER_ELIMIT &&
+            rc != TAPER_EINTERRUPTED) {
+            raise_library(&err);
+            goto fail;
+        }
+        static const struct { const char *name; taper_observable o; } obs[] = {
+            {"t_pass", TAPER_T_PASS}, {"T_res", TAPER_T_RES}, {"v_peak", TAPER_V_PEAK},
+            {"t_peak", TAPER_T_PEAK}, {"X_pass", TAPER_X_PASS}};
+        for (size_t i = 0; i < sizeof obs / sizeof obs[0]; i++)
+            if (put(cols, obs[i].name, double_array(taper_sim_observable(sim, obs[i].o), n)) < 0)
+                goto fail;
+        if (put(cols, "theory_v", double_array(taper_sim_theory(sim, TAPER_THEORY_V), n)) < 0 ||
+            put(cols, "theory_T", double_array(taper_sim_theory(sim, TAPER_THEORY_T_RES), n)) < 0 ||
+            put(cols, "theory_t", double_array(taper_sim_theory(sim, TAPER_THEORY_T), n)) < 0)
+            goto fail;
+        /* The state where the run ended. */
+        PyObject *x = double_array(NULL, n), *v = double_array(NULL, n);
+        if (!x || !v) {
+            Py_XDECREF(x);
+            Py_XDECREF(v);
+            goto fail;
+        }
+        taper_error serr;
+        taper_sim_state(sim, PyArray_DATA((PyArrayObject *)x), PyArray_DATA((PyArrayObject *)v),
+                        &serr);
+        if (put(out, "x_final", x) < 0 || put(out, "v_final", v) < 0) goto fail;
+        if (put(out, "stats", stats_dict(sim)) < 0 ||
+            put(out, "settings", settings_dict(cs, ss)) < 0 ||
+            put(out, "status", PyUnicode_FromString(status_id(rc))) < 0 ||
+            put(out, "message", PyUnicode_FromString(rc == TAPER_OK ? "" : err.message)) < 0 ||
+            put(out, "warnings", warnings_list(&ctx)) < 0)
+            goto fail;
+    }
+    if (PyDict_SetItemString(out, "columns", cols) < 0) goto fail;
+    Py_DECREF(cols);
+    taper_sim_free(sim);
+    taper_solver_spec_free(ss);
+    taper_chain_free(chain);
+    for (int i = 0; i < 4; i++) free(theory[i]);
+    ctx_free(&ctx);
+    return out;
+fail:
+    Py_XDECREF(out);
+    Py_XDECREF(cols);
+    taper_sim_free(sim);
+    taper_solver_spec_free(ss);
+    taper_chain_free(chain);
+    for (int i = 0; i < 4; i++) free(theory[i]);
+    ctx_free(&ctx);
+    return NULL;
+}
+
+/* ---- module functions ------------------------------------------------------ */
+
+static int no_positional(PyObject *args, const char *func)
+{
+    if (PyTuple_GET_SIZE(args) == 0) return 0;
+    PyErr_Format(PyExc_TypeError, "%s() takes keyword arguments only (%zd positional given)", func,
+                 PyTuple_GET_SIZE(args));
+    return -1;
+}
+
+static PyObject *py_simulate(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    if (no_positional(args, "simulate") < 0) return NULL;
+    taper_error err;
+    taper_chain_spec *cs = taper_chain_spec_alloc(&err);
+    if (!cs) return raise_library(&err);
+    taper_solver_spec *ss = taper_solver_spec_alloc(&err);
+    if (!ss) {
+        taper_chain_spec_free(cs);
+        return raise_library(&err);
+    }
+    PyObject *r = NULL;
+    if (parse_settings(kwargs, cs, ss, "simulate") == 0) r = run_specs(cs, ss);
+    taper_solver_spec_free(ss);
+    taper_chain_spec_free(cs);
+    return r;
+}
+
+static PyObject *py_theory(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    if (no_positional(args, "theory") < 0) return NULL;
+    taper_error err;
+    taper_chain_spec *cs = taper_chain_spec_alloc(&err);
+    if (!cs) return raise_library(&err);
+    PyObject *r = NULL;
+    if (parse_settings(kwargs, cs, NULL, "theory") == 0) r = run_specs(cs, NULL);
+    taper_chain_spec_free(cs);
+    return r;
+}
+
+/* run_scene(path): the driver's own scene reader (drivers/taper/scene,
+ * through _scene.c), then one run per value of the swept variable. */
+static PyObject *py_run_scene(PyObject *self, PyObject *arg)
+{
+    (void)self;
+    PyObject *bytes = NULL;
+    if (!PyUnicode_FSConverter(arg, &bytes)) return NULL;
+    const char *path = PyBytes_AS_STRING(bytes);
+    pyscene *sc = NULL;
+    char *diag = NULL;
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = pyscene_load(path, &sc, &diag);
+    Py_END_ALLOW_THREADS
+    if (rc != 0) {
+        if (rc == -2) PyErr_NoMemory();
+        else raise_with(SceneError, diag ? diag : "invalid scene", TAPER_EINVAL, NULL,
+                        diag ? diag : "");
+        free(diag);
+        pyscene_free(sc);
+        Py_DECREF(bytes);
+        return NULL;
+    }
+    PyObject *list = PyList_New(0);
+    size_t n = list ? pyscene_runs(sc) : 0;
+    for (size_t i = 0; list && i < n; i++) {
+        taper_error err;
+        taper_chain_spec *cs = taper_chain_spec_alloc(&err);
+        taper_solver_spec *ss = cs ? taper_solver_spec_alloc(&err) : NULL;
+        PyObject *r = NULL;
+        if (!cs || !ss) {
+            raise_library(&err);
+        } else if (pyscene_specs(sc, i, cs, ss, &err) != TAPER_OK) {
+            raise_library(&err);
+        } else {
+            r = run_specs(cs, pyscene_numerics(sc) ? ss : NULL);
+            if (r && put(r, "scene", PyUnicode_DecodeFSDefault(path)) < 0) Py_CLEAR(r);
+        }
+        taper_solver_spec_free(ss);
+        taper_chain_spec_free(cs);
+        if (!r || PyList_Append(list, r) < 0) {
+            Py_XDECREF(r);
+            Py_CLEAR(list);
+            break;
+        }
+        Py_DECREF(r);
+    }
+    pyscene_free(sc);
+    Py_DECREF(bytes);
+    return list;
+}
+
+static PyObject *py_collision_time(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    static char *kw[] = {"mu", "r", "zdot0", "n", NULL};
+    PyObject *o[4] = {NULL, NULL, NULL, NULL};
+    double x[4] = {0, 0, 0, 2.5};
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OOO|O:collision_time", kw, &o[0], &o[1], &o[2],
+                                     &o[3]))
+        return NULL;
+    for (int i = 0; i < 4; i++)
+        if (o[i] && get_real(kw[i], o[i], &x[i]) < 0) return NULL;
+    return PyFloat_FromDouble(taper_theory_collision_time(x[0], x[1], x[2], x[3]));
+}
+
+static PyObject *names_tuple(const char *(*name)(int))
+{
+    PyObject *l = PyList_New(0);
+    if (!l) return NULL;
+    for (int i = 0; name(i); i++) {
+        PyObject *s = PyUnicode_FromString(name(i));
+        if (!s || PyList_Append(l, s) < 0) {
+            Py_XDECREF(s);
+            Py_DECREF(l);
+            return NULL;
+        }
+        Py_DECREF(s);
+    }
+    PyObject *t = PyList_AsTuple(l);
+    Py_DECREF(l);
+    return t;
+}
+
+static const char *profile_name_i(int i) { return taper_profile_name((taper_profile)i); }
+static const char *method_name_i(int i) { return taper_method_name((taper_method)i); }
+static const char *statistic_name_i(int i) { return taper_statistic_name((taper_statistic)i); }
+
+static PyObject *py_version(PyObject *self, PyObject *unused)
+{
+    (void)self;
+    (void)unused;
+    return PyUnicode_FromString(taper_version());
+}
+
+static PyObject *py_setting_names(PyObject *self, PyObject *unused)
+{
+    (void)self;
+    (void)unused;
+    PyObject *t = PyTuple_New((Py_ssize_t)N_SETTINGS);
+    if (!t) return NULL;
+    for (size_t i = 0; i < N_SETTINGS; i++) {
+        PyObject *s = PyUnicode_FromString(settings[i].name);
+        if (!s) {
+            Py_DECREF(t);
+            return NULL;
+        }
+        PyTuple_SET_ITEM(t, (Py_ssize_t)i, s);
+    }
+    return t;
+}
+
+/* status identifier -> (code, taper_strerror text), for read_granules. */
+static PyObject *py_statuses(PyObject *self, PyObject *unused)
+{
+    (void)self;
+    (void)unused;
+    PyObject *d = PyDict_New();
+    if (!d) return NULL;
+    for (int s = TAPER_OK; s <= TAPER_ELIMIT; s++)
+        if (put(d, status_id((taper_status)s), Py_BuildValue("(is)", s, taper_strerror((taper_status)s))) < 0) {
+            Py_DECREF(d);
+            return NULL;
+        }
+    return d;
+}
+
+static PyMethodDef methods[] = {
+    {"simulate", (PyCFunction)(void (*)(void))py_simulate, METH_VARARGS | METH_KEYWORDS,
+     "simulate(**settings) -> dict: build the chain, integrate it (GIL released), return its "
+     "columns, statistics and status."},
+    {"theory", (PyCFunction)(void (*)(void))py_theory, METH_VARARGS | METH_KEYWORDS,
+     "theory(**chain_settings) -> dict: the binary collision columns alone."},
+    {"run_scene", py_run_scene, METH_O,
+     "run_scene(path) -> list of dict: the scene read by the driver's reader, one run per "
+     "swept value."},
+    {"collision_time", (PyCFunction)(void (*)(void))py_collision_time, METH_VARARGS | METH_KEYWORDS,
+     "collision_time(mu, r, zdot0, n=2.5) -> float: residence time of one binary collision, "
+     "eq. (18)."},
+    {"version", py_version, METH_NOARGS, "version() -> str: the version of libtaper linked in."},
+    {"setting_names", py_setting_names, METH_NOARGS, "The keyword arguments simulate() takes."},
+    {"statuses", py_statuses, METH_NOARGS, "{identifier: (code, description)} of taper_status."},
+    {NULL, NULL, 0, NULL}};
+
+static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "taper._core",
+                                    "libtaper, compiled in (see the package taper).", -1, methods,
+                                    NULL, NULL, NULL, NULL};
+
+PyMODINIT_FUNC PyInit__core(void)
+{
+    import_array();
+    PyObject *m = PyModule_Create(&module);
+    if (!m) return NULL;
+    TaperError = PyErr_NewExceptionWithDoc(
+        "taper.TaperError",
+        "A libtaper failure: .status (identifier), .field (the argument at fault, or None), "
+        ".message (the library's message).",
+        NULL, NULL);
+    PyObject *bases = TaperError ? PyTuple_Pack(2, TaperError, PyExc_ValueError) : NULL;
+    if (bases) {
+        InvalidArgumentError = PyErr_NewExceptionWithDoc(
+            "taper.InvalidArgumentError",
+            "A value the library refused; .field names the argument (taper_error.field).", bases,
+            NULL);
+        SceneError = PyErr_NewExceptionWithDoc(
+            "taper.SceneError", "A scene file the driver's reader rejects (its diagnostics).",
+            bases, NULL);
+        Py_DECREF(bases);
+    }
+    if (!TaperError || !InvalidArgumentError || !SceneError ||
+        PyModule_AddObject(m, "TaperError", Py_NewRef(TaperError)) < 0 ||
+        PyModule_AddObject(m, "InvalidArgumentError", Py_NewRef(InvalidArgumentError)) < 0 ||
+        PyModule_AddObject(m, "SceneError", Py_NewRef(SceneError)) < 0 ||
+        PyModule_AddObject(m, "PROFILES", names_tuple(profile_name_i)) < 0 ||
+        PyModule_AddObject(m, "METHODS", names_tuple(method_name_i)) < 0 ||
+        PyModule_AddObject(m, "STATISTICS", names_tuple(statistic_name_i)) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
+}

@@ -1,0 +1,85 @@
+/*
+ * _scene.c -- taper.run_scene's access to the driver's scene reader
+ * (drivers/taper/scene/scene.h): the same parser, validation and defaults
+ * as `taper SCENE.nml`, so a scene means the same thing from Python as from
+ * the command line.  Nothing here reads the file itself.
+ */
+#include "_scene.h"
+
+#include "scene/scene.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct pyscene {
+    scene *sc;
+};
+
+int pyscene_load(const char *path, pyscene **out, char **diag)
+{
+    *out = NULL;
+    *diag = NULL;
+    pyscene *ps = calloc(1, sizeof *ps);
+    taper_solver_spec *lib = taper_solver_spec_alloc(NULL);
+    if (!ps || !lib) {
+        free(ps);
+        taper_solver_spec_free(lib);
+        return -2;
+    }
+    ps->sc = scene_new(path, lib);
+    taper_solver_spec_free(lib);
+    if (!ps->sc) {
+        free(ps);
+        return -2;
+    }
+    if (scene_load(ps->sc) == 0 && scene_validate(ps->sc) == 0) {
+        *out = ps;
+        return 0;
+    }
+    int rc = ps->sc->n_errors ? -1 : -2;
+    if (rc == -1) {
+        /* The diagnostics exactly as the driver prints them on stderr. */
+        size_t len = 0;
+        FILE *mem = open_memstream(diag, &len);
+        if (mem) {
+            scene_print_diags(ps->sc, mem);
+            fclose(mem);
+            /* One message: drop the final newline. */
+            if (*diag && len && (*diag)[len - 1] == '\n') (*diag)[len - 1] = '\0';
+        }
+    }
+    pyscene_free(ps);
+    return rc;
+}
+
+void pyscene_free(pyscene *ps)
+{
+    if (!ps) return;
+    scene_free(ps->sc);
+    free(ps);
+}
+
+size_t pyscene_runs(const pyscene *ps)
+{
+    int sv = scene_sweep_var(ps->sc);
+    return sv < 0 ? 1 : ps->sc->values[sv].count;
+}
+
+int pyscene_numerics(const pyscene *ps)
+{
+    return scene_bool(ps->sc, "solver", "numerics");
+}
+
+taper_status pyscene_specs(const pyscene *ps, size_t i, taper_chain_spec *chain,
+                           taper_solver_spec *solver, taper_error *err)
+{
+    scene_chain_spec(ps->sc, i, chain);
+    scene_solver_spec(ps->sc, solver);
+    if (err) {
+        err->status = TAPER_OK;
+        err->field = NULL;
+        err->message[0] = '\0';
+    }
+    return TAPER_OK;
+}
