@@ -11,7 +11,7 @@
  * sums and products of taper_theory_compute.  Equation numbers are those
  * printed in arXiv:0905.4512.
  */
-#include "core/taper_internal.h"
+#include "taper.h"
 
 #include <gsl/gsl_sf_gamma.h>
 #include <math.h>

@@ -13,7 +13,6 @@
  */
 #include "core/taper_internal.h"
 
-#include <float.h>
 #include <gsl/gsl_blas.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_multifit_nlinear.h>
@@ -443,9 +442,9 @@ static int run_solver(const model *m, const double th0[3], const taper_fit_spec 
 
 /* ---- assembling results -------------------------------------------------- */
 
-static void result_reset(taper_fit_result *r, taper_fit_model model, size_t np)
+static void result_reset(taper_fit_result *r, taper_fit_model which, size_t np)
 {
-    r->model = model;
+    r->model = which;
     r->n_params = np;
     for (int j = 0; j < 3; j++) r->param[j] = r->param_err[j] = NAN;
     r->n_points = r->n_skipped = 0;
