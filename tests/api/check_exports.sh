@@ -1,12 +1,14 @@
 #!/bin/sh
-# check_exports.sh LIBTAPER.so TAPER.h -- the shared library exports exactly
-# the functions the public header declares: every dynamic symbol it defines
-# is declared in taper.h (hence taper_-prefixed), and every declared
-# function is exported.  Internal helpers (taper_fail, the SUNDIALS and GSL
-# glue) must stay hidden.
+# check_exports.sh LIBTAPER.so TAPER.h [SOVERSION] -- the shared library
+# exports exactly the functions the public header declares: every dynamic
+# symbol it defines is a taper_ function declared in taper.h, and every
+# declared function is exported.  Internal helpers (taper_fail, the
+# SUNDIALS and GSL glue, the dynamics' internals) must stay hidden.  With
+# SOVERSION, the library's SONAME is libtaper.so.SOVERSION.
 set -eu
 lib=$1
 header=$2
+soversion=${3:-}
 CC=${CC:-cc}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -43,5 +45,12 @@ if [ -n "$missing" ]; then
     echo "$missing" | sed 's/^/  /' >&2
     status=1
 fi
-[ $status -eq 0 ] && echo "$(wc -l <"$tmp/exported") exported symbols = the functions of $(basename "$header")"
+if [ -n "$soversion" ]; then
+    soname=$(objdump -p "$lib" | awk '$1 == "SONAME" { print $2 }')
+    if [ "$soname" != "libtaper.so.$soversion" ]; then
+        echo "SONAME of $lib is '$soname', expected libtaper.so.$soversion" >&2
+        status=1
+    fi
+fi
+[ $status -eq 0 ] && echo "$(wc -l <"$tmp/exported") exported symbols = the functions of $(basename "$header")${soversion:+; SONAME libtaper.so.$soversion}"
 exit $status

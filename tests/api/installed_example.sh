@@ -3,7 +3,9 @@
 # `meson install` into a temporary root, then share/examples/pulse.c is
 # compiled with nothing but `pkg-config --cflags --libs taper` from there and
 # run against the installed libtaper.so (never the build tree's).  Checks the
-# installed files, the versioned soname and the example's output.
+# installed files, the versioned soname (libtaper.so.1 since the opaque
+# settings of 0.2.0) and the example's output: the table close to the theory
+# and the run's statistics, every one by its library name.
 set -eu
 build=$1
 src=$2
@@ -31,11 +33,13 @@ includedir=$($PC --variable=includedir taper)
 
 fail=0
 [ -f "$includedir/taper.h" ] || { echo "taper.h not installed in $includedir" >&2; fail=1; }
-for f in libtaper.so libtaper.so.0 "libtaper.so.$version"; do
+soversion=1
+for f in libtaper.so "libtaper.so.$soversion" "libtaper.so.$version"; do
     [ -e "$libdir/$f" ] || { echo "$libdir/$f not installed" >&2; fail=1; }
 done
 soname=$(objdump -p "$libdir/libtaper.so" | awk '$1 == "SONAME" { print $2 }')
-[ "$soname" = libtaper.so.0 ] || { echo "soname is '$soname', expected libtaper.so.0" >&2; fail=1; }
+[ "$soname" = "libtaper.so.$soversion" ] ||
+    { echo "soname is '$soname', expected libtaper.so.$soversion" >&2; fail=1; }
 [ $fail -eq 0 ] || exit 1
 
 # shellcheck disable=SC2046
@@ -45,16 +49,24 @@ LD_LIBRARY_PATH=$libdir "$tmp/pulse" >"$tmp/out"
 cat "$tmp/out"
 
 # It ran against the installed library...
-LD_LIBRARY_PATH=$libdir ldd "$tmp/pulse" | grep -q "$libdir/libtaper.so.0" || {
-    echo "pulse did not load $libdir/libtaper.so.0:" >&2
+LD_LIBRARY_PATH=$libdir ldd "$tmp/pulse" | grep -q "$libdir/libtaper.so.$soversion" || {
+    echo "pulse did not load $libdir/libtaper.so.$soversion:" >&2
     LD_LIBRARY_PATH=$libdir ldd "$tmp/pulse" >&2
     exit 1
 }
-# ...and printed the whole table with numerics close to the theory.
+# ...and printed the whole table with numerics close to the theory, and the
+# statistics of a complete run.
 awk -v version="$version" '
     /^# libtaper/ { if ($3 != version ":") { print "version " $3 " != " version; bad = 1 } }
+    /^# Final statistics/ { in_stats = 1; next }
+    in_stats && /^#   [a-z_]+ += / { stats++; value[$2] = $4 }
     !/^#/ { rows++; rel = ($2 - $3) / $3; if (rel < 0) rel = -rel
             if (rel > 0.05) { print "k = " $1 ": t_pass " $2 " vs theory " $3; bad = 1 }
             if (!($4 > 0 && $4 <= 1)) { print "k = " $1 ": v_peak " $4; bad = 1 } }
-    END { if (rows < 10) { print rows " rows"; bad = 1 } exit bad }' "$tmp/out" >&2
+    END { if (rows < 10) { print rows " rows"; bad = 1 }
+          if (stats < 14) { print stats " statistics"; bad = 1 }
+          if (value["complete"] != 1 || !(value["steps"] > 0) || !(value["energy_error"] < 1e-6)) {
+              print "statistics: complete " value["complete"] ", steps " value["steps"] \
+                    ", energy_error " value["energy_error"]; bad = 1 }
+          exit bad }' "$tmp/out" >&2
 echo "installed example OK (libtaper $version from $root$prefix)"

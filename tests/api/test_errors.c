@@ -5,8 +5,16 @@
  * failure path (invalid arguments, solver failure with CVODE's own message,
  * step and time limits, interruption by the monitor, invalid fits, domain
  * errors of the theory) must return its status with a message and leave
- * both files empty.  The verdict is printed after the descriptors are
- * restored.  Uses only the public API of the shared library.
+ * both files empty.  Besides:
+ *  - every setter's refusal names its setting in err.field, spelt as the
+ *    setter's suffix, and leaves the spec unchanged; relations between
+ *    settings, checked later, name the setting to change;
+ *  - a success clears err (TAPER_OK, field NULL, empty message);
+ *  - a message longer than the buffer ends in "..." (never cut silently);
+ *  - the name lists (profiles, methods, fit models, statistics) end in
+ *    NULL and read back through their *_from_name.
+ * The verdict is printed after the descriptors are restored.  Uses only the
+ * public API of the shared library.
  */
 #include "taper.h"
 
@@ -16,7 +24,7 @@
 #include <string.h>
 #include <unistd.h>
 
-static char report[16384];
+static char report[65536];
 static int fails;
 
 #define CHECK(cond, ...)                                                                   \
@@ -32,24 +40,44 @@ static int fails;
         }                                                                                  \
     } while (0)
 
-static taper_chain *chain_of(int profile, size_t n, double s)
+/* err names `field` (NULL: no single setting) after a refusal with status. */
+static int refused(taper_status got, const taper_error *err, taper_status status,
+                   const char *field)
 {
-    taper_chain_spec spec;
-    taper_chain_spec_init(&spec);
-    spec.profile = profile;
-    spec.n_granules = n;
-    spec.s = s;
-    return taper_chain_alloc(&spec, NULL);
+    if (got != status || err->status != status || !err->message[0]) return 0;
+    if (!field || !err->field) return field == err->field;
+    return strcmp(field, err->field) == 0;
 }
 
-/* Runs chain with solver; returns the status and fills err and stats. */
-static int run(const taper_chain *chain, const taper_solver_spec *solver, taper_error *err,
-               taper_stats *stats)
+#define FIELD(e) ((e).field ? (e).field : "(null)")
+
+/* err holds a success: TAPER_OK, no field, no message. */
+static int cleared(const taper_error *err)
+{
+    return err->status == TAPER_OK && err->field == NULL && err->message[0] == '\0';
+}
+
+static taper_chain *chain_of(taper_profile profile, size_t n, double s)
+{
+    taper_chain_spec *spec = taper_chain_spec_alloc(NULL);
+    taper_chain *chain = NULL;
+    if (spec && taper_chain_spec_set_profile(spec, profile, NULL) == TAPER_OK &&
+        taper_chain_spec_set_n_granules(spec, n, NULL) == TAPER_OK &&
+        taper_chain_spec_set_s(spec, s, NULL) == TAPER_OK)
+        chain = taper_chain_alloc(spec, NULL);
+    taper_chain_spec_free(spec);
+    return chain;
+}
+
+/* Runs chain with solver; returns the status and fills err and the
+ * statistics (NaN if there was no sim). */
+static taper_status run(const taper_chain *chain, const taper_solver_spec *solver,
+                        taper_error *err, double stats[TAPER_N_STATISTICS])
 {
     taper_sim *sim = taper_sim_alloc(chain, solver, err);
-    if (!sim) return err->status;
-    int status = taper_sim_run(sim, err);
-    taper_sim_stats(sim, stats);
+    taper_status status = sim ? taper_sim_run(sim, err) : err->status;
+    for (int i = 0; i < TAPER_N_STATISTICS; i++)
+        stats[i] = taper_sim_statistic(sim, (taper_statistic)i);
     taper_sim_free(sim);
     return status;
 }
@@ -63,115 +91,343 @@ static int stop_now(const taper_progress *p, void *user)
 static void solver_failures(void)
 {
     taper_chain *chain = chain_of(TAPER_BACKWARD_LINEAR, 40, 0.1);
-    taper_solver_spec spec;
+    taper_solver_spec *spec = taper_solver_spec_alloc(NULL);
     taper_error err;
-    taper_stats stats;
+    double stats[TAPER_N_STATISTICS];
+    CHECK(chain && spec, "set-up");
+    if (!chain || !spec) return;
 
     /* A tolerance the integrator cannot meet: CVODE fails, and its own
      * message (normally printed to stderr) arrives in err.message. */
-    taper_solver_spec_init(&spec);
-    spec.rtol = 2.3e-15;
-    spec.atol = 1e-300;
-    int status = run(chain, &spec, &err, &stats);
-    CHECK(status == TAPER_ESOLVER, "status %d", status);
+    taper_solver_spec_set_rtol(spec, TAPER_RTOL_MIN, NULL);
+    taper_solver_spec_set_atol(spec, 1e-300, NULL);
+    taper_status status = run(chain, spec, &err, stats);
+    CHECK(status == TAPER_ESOLVER, "status %d (%s)", status, err.message);
     CHECK(err.status == status, "err.status %d", err.status);
+    CHECK(err.field == NULL, "a solver failure is no setting's: field %s", FIELD(err));
     CHECK(strstr(err.message, "CVODE") && strstr(err.message, "flag"), "message '%s'", err.message);
     CHECK(strstr(err.message, "corrector convergence") || strstr(err.message, "error test"),
           "CVODE's own text missing: '%s'", err.message);
-    CHECK(!stats.complete, "complete after a failure");
+    CHECK(stats[TAPER_STAT_COMPLETE] == 0.0, "complete after a failure");
+    taper_solver_spec_free(spec);
 
-    taper_solver_spec_init(&spec);
-    spec.max_steps = 10;
-    status = run(chain, &spec, &err, &stats);
+    spec = taper_solver_spec_alloc(NULL);
+    taper_solver_spec_set_max_steps(spec, 10, NULL);
+    status = run(chain, spec, &err, stats);
     CHECK(status == TAPER_ELIMIT, "max_steps: status %d", status);
     CHECK(strstr(err.message, "max_steps") != NULL, "message '%s'", err.message);
-    CHECK(!stats.complete && stats.steps >= 10, "steps %ld", stats.steps);
+    CHECK(stats[TAPER_STAT_COMPLETE] == 0.0 && stats[TAPER_STAT_STEPS] >= 10, "steps %g",
+          stats[TAPER_STAT_STEPS]);
+    taper_solver_spec_free(spec);
 
-    taper_solver_spec_init(&spec);
-    spec.t_max = 1e-3;
-    status = run(chain, &spec, &err, &stats);
+    spec = taper_solver_spec_alloc(NULL);
+    taper_solver_spec_set_t_max(spec, 1e-3, NULL);
+    status = run(chain, spec, &err, stats);
     CHECK(status == TAPER_ELIMIT, "t_max: status %d", status);
     CHECK(strstr(err.message, "t_max") != NULL, "message '%s'", err.message);
-    CHECK(stats.granule_reached == 0 && !stats.complete, "reached %zu", stats.granule_reached);
+    CHECK(stats[TAPER_STAT_GRANULE_REACHED] == 0.0 && stats[TAPER_STAT_COMPLETE] == 0.0,
+          "reached %g", stats[TAPER_STAT_GRANULE_REACHED]);
+    taper_solver_spec_free(spec);
 
     int calls = 0;
-    taper_solver_spec_init(&spec);
-    spec.monitor = stop_now;
-    spec.monitor_data = &calls;
-    status = run(chain, &spec, &err, &stats);
+    spec = taper_solver_spec_alloc(NULL);
+    taper_solver_spec_set_monitor(spec, stop_now, &calls);
+    status = run(chain, spec, &err, stats);
     CHECK(status == TAPER_EINTERRUPTED, "monitor: status %d", status);
     CHECK(strstr(err.message, "interrupted") != NULL, "message '%s'", err.message);
-    CHECK(stats.granule_reached >= 1 && stats.granule_reached < 39, "reached %zu", stats.granule_reached);
+    CHECK(stats[TAPER_STAT_GRANULE_REACHED] >= 1 && stats[TAPER_STAT_GRANULE_REACHED] < 39,
+          "reached %g", stats[TAPER_STAT_GRANULE_REACHED]);
+    taper_solver_spec_free(spec);
 
     /* Both methods, windowed or not, with the BDF Newton path. */
-    taper_solver_spec_init(&spec);
-    spec.method = TAPER_BDF;
-    spec.window = 0;
-    spec.rtol = 2.3e-15;
-    spec.atol = 1e-300;
-    status = run(chain, &spec, &err, &stats);
-    CHECK(status == TAPER_ESOLVER || status == TAPER_ELIMIT, "bdf: status %d (%s)", status, err.message);
+    spec = taper_solver_spec_alloc(NULL);
+    taper_solver_spec_set_method(spec, TAPER_BDF, NULL);
+    taper_solver_spec_set_window(spec, 0, NULL);
+    taper_solver_spec_set_rtol(spec, TAPER_RTOL_MIN, NULL);
+    taper_solver_spec_set_atol(spec, 1e-300, NULL);
+    status = run(chain, spec, &err, stats);
+    CHECK(status == TAPER_ESOLVER || status == TAPER_ELIMIT || status == TAPER_OK,
+          "bdf: status %d (%s)", status, err.message);
+    taper_solver_spec_free(spec);
     taper_chain_free(chain);
 }
 
-static void invalid_arguments(void)
+/* Every setter refuses a value out of its range, names its own setting,
+ * and leaves the spec as it was. */
+static void setter_refusals(void)
 {
     taper_error err;
-    taper_chain_spec cs;
-    taper_chain_spec_init(&cs);
-    cs.n_granules = 1;
-    CHECK(taper_chain_alloc(&cs, &err) == NULL && err.status == TAPER_EINVAL && err.message[0],
-          "N = 1: %d '%s'", err.status, err.message);
-    taper_chain_spec_init(&cs);
-    cs.profile = TAPER_FORWARD_LINEAR;
-    cs.s = 0.5;
-    cs.n_granules = 10;
-    CHECK(taper_chain_alloc(&cs, &err) == NULL && err.status == TAPER_EINVAL, "forward N: %d", err.status);
-    taper_chain_spec_init(&cs);
-    cs.profile = TAPER_BACKWARD_EXPONENTIAL;
-    cs.q = 0.9;
-    cs.n_granules = 100000;
-    CHECK(taper_chain_alloc(&cs, &err) == NULL && err.status == TAPER_ERANGE, "overflow: %d '%s'",
-          err.status, err.message);
-    taper_chain_spec_init(&cs);
-    cs.profile = TAPER_CUSTOM; /* radii NULL */
-    CHECK(taper_chain_alloc(&cs, &err) == NULL && err.status == TAPER_EINVAL, "custom: %d", err.status);
+    taper_chain_spec *cs = taper_chain_spec_alloc(&err);
+    CHECK(cs && cleared(&err), "chain spec alloc: '%s'", err.message);
+    if (!cs) return;
+
+#define REFUSE(call, name, getter, before)                                                    \
+    do {                                                                                    \
+        taper_status st_ = (call);                                                          \
+        CHECK(refused(st_, &err, TAPER_EINVAL, name), "%s: status %d field %s '%s'", #call, \
+              st_, FIELD(err), err.message);                                                \
+        CHECK((getter) == (before), "%s changed the spec", #call);                           \
+    } while (0)
+
+    REFUSE(taper_chain_spec_set_profile(cs, (taper_profile)TAPER_N_PROFILES, &err), "profile",
+           taper_chain_spec_profile(cs), TAPER_MONODISPERSE);
+    REFUSE(taper_chain_spec_set_profile(cs, (taper_profile)-1, &err), "profile",
+           taper_chain_spec_profile(cs), TAPER_MONODISPERSE);
+    REFUSE(taper_chain_spec_set_n_granules(cs, TAPER_N_GRANULES_MIN - 1, &err), "n_granules",
+           taper_chain_spec_n_granules(cs), 100);
+    REFUSE(taper_chain_spec_set_n_granules(cs, (size_t)TAPER_N_GRANULES_MAX + 1, &err),
+           "n_granules", taper_chain_spec_n_granules(cs), 100);
+    REFUSE(taper_chain_spec_set_s(cs, -0.1, &err), "s", taper_chain_spec_s(cs), 0.0);
+    REFUSE(taper_chain_spec_set_s(cs, NAN, &err), "s", taper_chain_spec_s(cs), 0.0);
+    REFUSE(taper_chain_spec_set_s(cs, TAPER_S_MAX * 2, &err), "s", taper_chain_spec_s(cs), 0.0);
+    REFUSE(taper_chain_spec_set_q(cs, -0.1, &err), "q", taper_chain_spec_q(cs), 0.0);
+    REFUSE(taper_chain_spec_set_q(cs, INFINITY, &err), "q", taper_chain_spec_q(cs), 0.0);
+    REFUSE(taper_chain_spec_set_exponent(cs, TAPER_EXPONENT_MIN, &err), "exponent",
+           taper_chain_spec_exponent(cs), 2.5);
+    REFUSE(taper_chain_spec_set_exponent(cs, TAPER_EXPONENT_MAX * 2, &err), "exponent",
+           taper_chain_spec_exponent(cs), 2.5);
+    REFUSE(taper_chain_spec_set_exponent(cs, NAN, &err), "exponent",
+           taper_chain_spec_exponent(cs), 2.5);
+    const double bad_radii[3] = {1.0, -2.0, 1.0}, nan_radii[2] = {1.0, NAN};
+    size_t n_radii = 99;
+    REFUSE(taper_chain_spec_set_radii(cs, bad_radii, 3, &err), "radii",
+           taper_chain_spec_radii(cs, &n_radii), NULL);
+    REFUSE(taper_chain_spec_set_radii(cs, nan_radii, 2, &err), "radii",
+           taper_chain_spec_radii(cs, &n_radii), NULL);
+    REFUSE(taper_chain_spec_set_radii(cs, NULL, 5, &err), "radii",
+           taper_chain_spec_radii(cs, &n_radii), NULL);
+    CHECK(n_radii == 0, "no radii: n = %zu", n_radii);
+    CHECK(taper_chain_spec_set_n_granules(cs, 7, &err) == TAPER_OK && cleared(&err),
+          "a success clears err: %d %s '%s'", err.status, FIELD(err), err.message);
+
+    taper_solver_spec *ss = taper_solver_spec_alloc(&err);
+    CHECK(ss && cleared(&err), "solver spec alloc: '%s'", err.message);
+    if (ss) {
+        const double rtol = taper_solver_spec_rtol(ss), atol = taper_solver_spec_atol(ss);
+        REFUSE(taper_solver_spec_set_method(ss, (taper_method)TAPER_N_METHODS, &err), "method",
+               taper_solver_spec_method(ss), TAPER_ADAMS);
+        REFUSE(taper_solver_spec_set_rtol(ss, TAPER_RTOL_MIN / 2, &err), "rtol",
+               taper_solver_spec_rtol(ss), rtol);
+        REFUSE(taper_solver_spec_set_rtol(ss, TAPER_RTOL_MAX * 2, &err), "rtol",
+               taper_solver_spec_rtol(ss), rtol);
+        REFUSE(taper_solver_spec_set_rtol(ss, NAN, &err), "rtol", taper_solver_spec_rtol(ss), rtol);
+        REFUSE(taper_solver_spec_set_atol(ss, 0.0, &err), "atol", taper_solver_spec_atol(ss), atol);
+        REFUSE(taper_solver_spec_set_atol(ss, TAPER_ATOL_MAX * 2, &err), "atol",
+               taper_solver_spec_atol(ss), atol);
+        REFUSE(taper_solver_spec_set_atol(ss, NAN, &err), "atol", taper_solver_spec_atol(ss), atol);
+        REFUSE(taper_solver_spec_set_last_granule(ss, (size_t)TAPER_N_GRANULES_MAX + 1, &err),
+               "last_granule", taper_solver_spec_last_granule(ss), 0);
+        REFUSE(taper_solver_spec_set_max_order(ss, -1, &err), "max_order",
+               taper_solver_spec_max_order(ss), 0);
+        REFUSE(taper_solver_spec_set_max_order(ss, TAPER_MAX_ORDER_ADAMS + 1, &err), "max_order",
+               taper_solver_spec_max_order(ss), 0);
+        REFUSE(taper_solver_spec_set_t_max(ss, -1.0, &err), "t_max", taper_solver_spec_t_max(ss),
+               0.0);
+        REFUSE(taper_solver_spec_set_t_max(ss, NAN, &err), "t_max", taper_solver_spec_t_max(ss),
+               0.0);
+        REFUSE(taper_solver_spec_set_max_steps(ss, -1, &err), "max_steps",
+               taper_solver_spec_max_steps(ss), 0);
+        CHECK(taper_solver_spec_set_rtol(ss, 1e-8, &err) == TAPER_OK && cleared(&err),
+              "a success clears err");
+    }
+
+    taper_fit_spec *fb = taper_fit_spec_alloc(TAPER_FIT_DIVERGENCE_B, &err);
+    CHECK(fb && cleared(&err), "fit spec alloc: '%s'", err.message);
+    if (fb) {
+        REFUSE(taper_fit_spec_set_exponent(fb, -1.0, &err), "exponent",
+               taper_fit_spec_exponent(fb), 1.5);
+        REFUSE(taper_fit_spec_set_exponent(fb, NAN, &err), "exponent",
+               taper_fit_spec_exponent(fb), 1.5);
+        REFUSE(taper_fit_spec_set_index_window(fb, 5, 3, &err), "index_window",
+               taper_fit_spec_model(fb), TAPER_FIT_DIVERGENCE_B);
+        REFUSE(taper_fit_spec_set_x_window(fb, 2.0, 1.0, &err), "x_window",
+               taper_fit_spec_model(fb), TAPER_FIT_DIVERGENCE_B);
+        REFUSE(taper_fit_spec_set_x_window(fb, NAN, 1.0, &err), "x_window",
+               taper_fit_spec_model(fb), TAPER_FIT_DIVERGENCE_B);
+        REFUSE(taper_fit_spec_set_max_iter(fb, 0, &err), "max_iter", taper_fit_spec_model(fb),
+               TAPER_FIT_DIVERGENCE_B);
+        REFUSE(taper_fit_spec_set_xtol(fb, 0.0, &err), "xtol", taper_fit_spec_model(fb),
+               TAPER_FIT_DIVERGENCE_B);
+        REFUSE(taper_fit_spec_set_xtol(fb, NAN, &err), "xtol", taper_fit_spec_model(fb),
+               TAPER_FIT_DIVERGENCE_B);
+    }
+    CHECK(taper_fit_spec_alloc((taper_fit_model)TAPER_N_FIT_MODELS, &err) == NULL &&
+              refused(err.status, &err, TAPER_EINVAL, "model"),
+          "unknown fit model: field %s", FIELD(err));
+#undef REFUSE
+
+    /* NULL specs: a status, never a crash. */
+    CHECK(taper_chain_spec_set_s(NULL, 0.5, &err) == TAPER_EINVAL, "set_s(NULL)");
+    CHECK(taper_solver_spec_set_rtol(NULL, 1e-8, &err) == TAPER_EINVAL, "set_rtol(NULL)");
+    CHECK(taper_fit_spec_set_xtol(NULL, 1e-8, &err) == TAPER_EINVAL, "set_xtol(NULL)");
+    taper_chain_spec_free(NULL);
+    taper_solver_spec_free(NULL);
+    taper_fit_spec_free(NULL);
+    taper_fit_result_free(NULL);
+    taper_dynamics_free(NULL);
+
+    taper_fit_spec_free(fb);
+    taper_solver_spec_free(ss);
+    taper_chain_spec_free(cs);
+}
+
+/* Relations between settings are checked when the spec is used, and name
+ * the setting to change. */
+static void relation_refusals(void)
+{
+    taper_error err;
+    taper_chain_spec *cs = taper_chain_spec_alloc(NULL);
+    if (!cs) return;
+    taper_chain_spec_set_profile(cs, TAPER_FORWARD_LINEAR, NULL);
+    taper_chain_spec_set_s(cs, 0.5, NULL);
+    taper_chain_spec_set_n_granules(cs, 10, NULL);
+    CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "n_granules"),
+          "forward_linear N >= 1 + 1/S: field %s '%s'", FIELD(err), err.message);
+    CHECK(taper_chain_alloc(cs, &err) == NULL &&
+              refused(err.status, &err, TAPER_EINVAL, "n_granules"),
+          "forward_linear alloc: field %s", FIELD(err));
+    taper_chain_spec_set_n_granules(cs, 2, NULL);
+    CHECK(taper_chain_spec_check(cs, &err) == TAPER_OK && cleared(&err), "forward_linear N = 2");
+
+    taper_chain_spec_set_profile(cs, TAPER_BACKWARD_EXPONENTIAL, NULL);
+    taper_chain_spec_set_q(cs, 1.5, NULL);
+    CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "q"),
+          "backward_exponential q >= 1: field %s", FIELD(err));
+    taper_chain_spec_set_q(cs, 0.9, NULL);
+    taper_chain_spec_set_n_granules(cs, 100000, NULL);
+    CHECK(taper_chain_alloc(cs, &err) == NULL && err.status == TAPER_ERANGE && err.message[0] &&
+              err.field && strcmp(err.field, "n_granules") == 0,
+          "overflow: %d field %s '%s'", err.status, FIELD(err), err.message);
+
+    taper_chain_spec_set_profile(cs, TAPER_CUSTOM, NULL);
+    taper_chain_spec_set_n_granules(cs, 3, NULL);
+    CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "radii"),
+          "custom without radii: field %s", FIELD(err));
+    const double two[2] = {1.0, 2.0}, off[3] = {2.0, 1.0, 1.0};
+    taper_chain_spec_set_radii(cs, two, 2, NULL);
+    CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "radii"),
+          "custom with 2 radii for 3 granules: field %s", FIELD(err));
+    taper_chain_spec_set_radii(cs, off, 3, NULL);
+    CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "radii"),
+          "custom with R_1 != 1: field %s", FIELD(err));
+    CHECK(taper_chain_alloc(NULL, &err) == NULL && err.status == TAPER_EINVAL, "NULL spec");
     CHECK(taper_chain_alloc(NULL, NULL) == NULL, "NULL spec, NULL err");
-    cs.profile = 99;
-    CHECK(taper_chain_alloc(&cs, NULL) == NULL, "bad profile, NULL err");
+    taper_chain_spec_free(cs);
 
     taper_chain *chain = chain_of(TAPER_MONODISPERSE, 10, 0.0);
-    taper_solver_spec ss;
-    taper_solver_spec_init(&ss);
-    ss.rtol = -1;
-    CHECK(taper_sim_alloc(chain, &ss, &err) == NULL && err.status == TAPER_EINVAL &&
-              strstr(err.message, "rtol"), "rtol: '%s'", err.message);
-    taper_solver_spec_init(&ss);
-    ss.method = 7;
-    CHECK(taper_sim_alloc(chain, &ss, &err) == NULL && err.status == TAPER_EINVAL, "method");
-    taper_solver_spec_init(&ss);
-    ss.last_granule = 11;
-    CHECK(taper_sim_alloc(chain, &ss, &err) == NULL && err.status == TAPER_EINVAL, "last_granule");
+    taper_solver_spec *ss = taper_solver_spec_alloc(NULL);
+    CHECK(chain && ss, "set-up");
+    if (!chain || !ss) return;
+    taper_solver_spec_set_last_granule(ss, 11, NULL);
+    CHECK(taper_sim_alloc(chain, ss, &err) == NULL &&
+              refused(err.status, &err, TAPER_EINVAL, "last_granule"),
+          "last_granule > N: field %s", FIELD(err));
+    taper_solver_spec_set_last_granule(ss, 0, NULL);
+    taper_solver_spec_set_method(ss, TAPER_BDF, NULL);
+    taper_solver_spec_set_max_order(ss, TAPER_MAX_ORDER_BDF + 1, NULL);
+    CHECK(taper_sim_alloc(chain, ss, &err) == NULL &&
+              refused(err.status, &err, TAPER_EINVAL, "max_order"),
+          "BDF max_order 6: field %s", FIELD(err));
+    taper_solver_spec_free(ss);
+
     CHECK(taper_sim_alloc(NULL, NULL, &err) == NULL && err.status == TAPER_EINVAL, "NULL chain");
     CHECK(taper_sim_run(NULL, &err) == TAPER_EINVAL, "run NULL");
     CHECK(taper_theory_compute(NULL, NULL, NULL, NULL, NULL, &err) == TAPER_EINVAL, "theory NULL");
+    CHECK(taper_dynamics_alloc(NULL, &err) == NULL && err.status == TAPER_EINVAL, "dynamics NULL");
 
     taper_sim *sim = taper_sim_alloc(chain, NULL, &err);
-    CHECK(sim != NULL, "default spec: '%s'", err.message);
+    CHECK(sim != NULL && cleared(&err), "default spec: '%s'", err.message);
     CHECK(taper_sim_state(sim, NULL, NULL, &err) == TAPER_EINVAL, "state before run");
-    CHECK(taper_sim_run(sim, &err) == TAPER_OK, "run: '%s'", err.message);
+    CHECK(taper_sim_run(sim, &err) == TAPER_OK && cleared(&err), "run: '%s'", err.message);
     CHECK(taper_sim_run(sim, &err) == TAPER_EINVAL && strstr(err.message, "already"), "second run");
-    CHECK(taper_sim_observable(sim, -1) == NULL && taper_sim_observable(sim, TAPER_N_OBSERVABLES) == NULL,
+    CHECK(taper_sim_observable(sim, (taper_observable)-1) == NULL &&
+              taper_sim_observable(sim, (taper_observable)TAPER_N_OBSERVABLES) == NULL,
           "unknown observable");
+    CHECK(taper_sim_theory(sim, (taper_theory_quantity)TAPER_N_THEORY_QUANTITIES) == NULL,
+          "unknown theory quantity");
+    CHECK(isnan(taper_sim_statistic(sim, (taper_statistic)TAPER_N_STATISTICS)) &&
+              isnan(taper_sim_statistic(NULL, TAPER_STAT_STEPS)),
+          "unknown statistic");
     taper_sim_free(sim);
     taper_chain_free(chain);
     taper_chain_free(NULL);
     taper_sim_free(NULL);
+}
 
-    int p = -1;
-    CHECK(taper_profile_from_name("no_such_profile", &p) == TAPER_EINVAL, "profile name");
-    CHECK(taper_profile_name(42) == NULL, "profile 42");
-    CHECK(strcmp(taper_strerror(12345), "unknown status") == 0, "strerror");
+/* The one list of each kind of name: NULL past the end, and back through
+ * *_from_name (any case); unknown names name their setting. */
+static void names(void)
+{
+    taper_error err;
+    int i;
+    for (i = 0; taper_profile_name((taper_profile)i); i++) {
+        taper_profile p = (taper_profile)-1;
+        CHECK(taper_profile_from_name(taper_profile_name((taper_profile)i), &p, &err) == TAPER_OK &&
+                  p == (taper_profile)i && cleared(&err),
+              "profile %d", i);
+    }
+    CHECK(i == TAPER_N_PROFILES, "%d profile names", i);
+    for (i = 0; taper_method_name((taper_method)i); i++) {
+        taper_method m = (taper_method)-1;
+        CHECK(taper_method_from_name(taper_method_name((taper_method)i), &m, &err) == TAPER_OK &&
+                  m == (taper_method)i,
+              "method %d", i);
+    }
+    CHECK(i == TAPER_N_METHODS, "%d method names", i);
+    for (i = 0; taper_fit_model_name((taper_fit_model)i); i++) {
+        taper_fit_model m = (taper_fit_model)-1;
+        CHECK(taper_fit_model_from_name(taper_fit_model_name((taper_fit_model)i), &m, &err) ==
+                      TAPER_OK && m == (taper_fit_model)i,
+              "fit model %d", i);
+    }
+    CHECK(i == TAPER_N_FIT_MODELS, "%d fit model names", i);
+    for (i = 0; taper_statistic_name((taper_statistic)i); i++) continue;
+    CHECK(i == TAPER_N_STATISTICS, "%d statistic names", i);
+    taper_profile p;
+    CHECK(taper_profile_from_name("BACKWARD_Linear", &p, &err) == TAPER_OK &&
+              p == TAPER_BACKWARD_LINEAR,
+          "case-insensitive");
+    CHECK(refused(taper_profile_from_name("no_such_profile", &p, &err), &err, TAPER_EINVAL,
+                  "profile") && strstr(err.message, "backward_linear"),
+          "unknown profile: field %s '%s'", FIELD(err), err.message);
+    taper_method m;
+    CHECK(refused(taper_method_from_name("rk4", &m, &err), &err, TAPER_EINVAL, "method"),
+          "unknown method: field %s", FIELD(err));
+    taper_fit_model fm;
+    CHECK(refused(taper_fit_model_from_name("cubic", &fm, &err), &err, TAPER_EINVAL, "model"),
+          "unknown fit model: field %s", FIELD(err));
+    CHECK(taper_profile_name((taper_profile)42) == NULL && taper_method_name((taper_method)-1) == NULL,
+          "names outside the enums");
+    CHECK(strcmp(taper_strerror((taper_status)12345), "unknown status") == 0, "strerror");
+    for (int s = TAPER_OK; s <= TAPER_ELIMIT; s++)
+        CHECK(strcmp(taper_strerror((taper_status)s), "unknown status") != 0, "strerror(%d)", s);
+}
+
+/* A message that does not fit says so: it ends in "..." at the end of the
+ * buffer. */
+static void long_messages(void)
+{
+    char name[3 * TAPER_MESSAGE_SIZE];
+    memset(name, 'x', sizeof name - 1);
+    name[sizeof name - 1] = '\0';
+    taper_error err;
+    taper_profile p;
+    CHECK(taper_profile_from_name(name, &p, &err) == TAPER_EINVAL, "long profile name");
+    size_t len = strnlen(err.message, sizeof err.message);
+    CHECK(len == TAPER_MESSAGE_SIZE - 1 && strcmp(err.message + len - 3, "...") == 0,
+          "a long message: length %zu, ends '%s'", len, err.message + (len > 8 ? len - 8 : 0));
+    taper_method m;
+    CHECK(taper_method_from_name(name, &m, &err) == TAPER_EINVAL &&
+              strcmp(err.message + TAPER_MESSAGE_SIZE - 4, "...") == 0,
+          "long method name");
+    taper_fit_model fm;
+    CHECK(taper_fit_model_from_name(name, &fm, &err) == TAPER_EINVAL &&
+              strcmp(err.message + TAPER_MESSAGE_SIZE - 4, "...") == 0,
+          "long fit model name");
+    /* A short one is not marked. */
+    CHECK(taper_profile_from_name("nope", &p, &err) == TAPER_EINVAL &&
+              strlen(err.message) < TAPER_MESSAGE_SIZE - 1,
+          "a short message: '%s'", err.message);
 }
 
 /* Domain errors return NaN or a status: GSL's handler (which aborts by
@@ -185,20 +441,24 @@ static void domain_errors(void)
     CHECK(isnan(taper_asymptotic_C0(0.5, NAN)) && isnan(taper_asymptotic_C(NAN, 2.5)), "C");
     CHECK(isnan(taper_asymptotic_timescale(NAN, 2.5)) && isnan(taper_asymptotic_M(-1, 2.5)), "tau");
     CHECK(isnan(taper_asymptotic_f(0, 2.5)) && isnan(taper_asymptotic_eta(2, 2.5)), "f, eta");
-    CHECK(isnan(taper_asymptotic_exponent(99, 2.5)), "law 99");
+    CHECK(isnan(taper_asymptotic_exponent((taper_law)99, 2.5)), "law 99");
 
-    taper_fit_spec fs;
-    taper_fit_result fr;
     taper_error err;
     double x[3] = {1, 2, 3}, y[3] = {1, -1, NAN};
-    taper_fit_spec_init(&fs, TAPER_FIT_POWER);
-    CHECK(taper_fit(&fs, x, y, 3, &fr, &err) == TAPER_EINVAL && err.message[0], "fit: '%s'", err.message);
-    CHECK(isnan(fr.param[0]), "fit param after failure");
-    taper_fit_spec_init(&fs, TAPER_FIT_DIVERGENCE_C);
+    taper_fit_spec *fs = taper_fit_spec_alloc(TAPER_FIT_POWER, NULL);
+    CHECK(fs != NULL, "fit spec");
+    taper_fit_result *fr = taper_fit(fs, x, y, 3, &err);
+    CHECK(fr == NULL && err.status == TAPER_EINVAL && err.message[0], "fit: '%s'", err.message);
+    taper_fit_result_free(fr);
+    taper_fit_spec_free(fs);
+    fs = taper_fit_spec_alloc(TAPER_FIT_DIVERGENCE_C, NULL);
     double xs[6] = {1, 1, 1, 1, 1, 1}, ys[6] = {1, 2, 3, 4, 5, 6};
-    int status = taper_fit(&fs, xs, ys, 6, &fr, &err);
-    CHECK(status == TAPER_EINVAL || status == TAPER_ESOLVER, "degenerate fit: %d", status);
-    CHECK(taper_fit(NULL, x, y, 3, &fr, &err) == TAPER_EINVAL, "fit NULL spec");
+    fr = taper_fit(fs, xs, ys, 6, &err);
+    CHECK(fr == NULL && (err.status == TAPER_EINVAL || err.status == TAPER_ESOLVER),
+          "degenerate fit: %d", err.status);
+    taper_fit_result_free(fr);
+    taper_fit_spec_free(fs);
+    CHECK(taper_fit(NULL, x, y, 3, &err) == NULL && err.status == TAPER_EINVAL, "fit NULL spec");
 }
 
 /* Size of an open file (the redirected descriptors). */
@@ -228,7 +488,10 @@ int main(void)
     dup2(fileno(out), 1);
     dup2(fileno(errf), 2);
 
-    invalid_arguments();
+    setter_refusals();
+    relation_refusals();
+    names();
+    long_messages();
     solver_failures();
     domain_errors();
 
@@ -243,6 +506,6 @@ int main(void)
         fprintf(stderr, "%s%d failures\n", report, fails);
         return 1;
     }
-    printf("errors: statuses and messages correct, nothing printed, nothing aborted\n");
+    printf("errors: statuses, fields and messages correct, nothing printed, nothing aborted\n");
     return 0;
 }

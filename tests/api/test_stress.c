@@ -64,19 +64,27 @@ static const char *const KNOWN_MULTISCALE =
     "steps (use method = 'bdf')";
 
 typedef struct stress_case {
-    int profile;
+    taper_profile profile;
     double param;      /* s or q                                           */
     size_t n;
     double exponent;
     double rtol, atol; /* atol 0: rtol * 1e-3                              */
-    int method;
+    taper_method method;
     const char *known; /* non-NULL: a known limitation, why                */
 } stress_case;
 
+/* The statistics the contract reads (taper_sim_statistic). */
+typedef struct run_stats {
+    int complete;
+    long steps;
+    size_t granule_reached;
+    double t_final, energy_error;
+} run_stats;
+
 typedef struct outcome {
-    int status;
+    taper_status status;
     char message[TAPER_MESSAGE_SIZE];
-    taper_stats stats;
+    run_stats stats;
     double seconds;
     double *t_pass;    /* copy, length n (NULL if the chain was rejected)  */
     double *v_peak;
@@ -118,10 +126,43 @@ static int wall_monitor(const taper_progress *p, void *user)
     return now() - w->start > w->limit;
 }
 
-static const char *profile_label(int profile)
+static const char *profile_label(taper_profile profile)
 {
-    static const char *const short_names[] = {"mono", "BL", "FL", "BE", "FE", "custom"};
-    return profile >= 0 && profile <= 5 ? short_names[profile] : "?";
+    static const char *const short_names[TAPER_N_PROFILES] = {"mono", "BL", "FL", "BE", "FE",
+                                                              "custom"};
+    return (int)profile >= 0 && profile < TAPER_N_PROFILES ? short_names[profile] : "?";
+}
+
+static int is_exponential(taper_profile profile)
+{
+    return profile == TAPER_BACKWARD_EXPONENTIAL || profile == TAPER_FORWARD_EXPONENTIAL;
+}
+
+/* The chain of case c, or NULL with the reason in err: the profile's
+ * tapering parameter (s for linear profiles, q for exponential ones) is
+ * c->param. */
+static taper_chain *build_chain(const stress_case *c, taper_error *err)
+{
+    taper_chain *chain = NULL;
+    taper_chain_spec *cs = taper_chain_spec_alloc(err);
+    if (cs && taper_chain_spec_set_profile(cs, c->profile, err) == TAPER_OK &&
+        taper_chain_spec_set_n_granules(cs, c->n, err) == TAPER_OK &&
+        taper_chain_spec_set_exponent(cs, c->exponent, err) == TAPER_OK &&
+        (c->profile == TAPER_MONODISPERSE ||
+         (is_exponential(c->profile) ? taper_chain_spec_set_q(cs, c->param, err)
+                                     : taper_chain_spec_set_s(cs, c->param, err)) == TAPER_OK))
+        chain = taper_chain_alloc(cs, err);
+    taper_chain_spec_free(cs);
+    return chain;
+}
+
+static void read_stats(const taper_sim *sim, run_stats *st)
+{
+    st->complete = taper_sim_statistic(sim, TAPER_STAT_COMPLETE) != 0.0;
+    st->steps = (long)taper_sim_statistic(sim, TAPER_STAT_STEPS);
+    st->granule_reached = (size_t)taper_sim_statistic(sim, TAPER_STAT_GRANULE_REACHED);
+    st->t_final = taper_sim_statistic(sim, TAPER_STAT_T_FINAL);
+    st->energy_error = taper_sim_statistic(sim, TAPER_STAT_ENERGY_ERROR);
 }
 
 static void outcome_free(outcome *o)
@@ -135,16 +176,9 @@ static void outcome_free(outcome *o)
 static void run_case(const stress_case *c, double rtol, outcome *o)
 {
     memset(o, 0, sizeof *o);
-    taper_chain_spec cs;
-    taper_chain_spec_init(&cs);
-    cs.profile = c->profile;
-    cs.n_granules = c->n;
-    cs.s = cs.q = c->param;
-    if (c->profile == TAPER_MONODISPERSE) cs.s = cs.q = 0.0;
-    cs.exponent = c->exponent;
     taper_error err = {0};
     double t0 = now();
-    taper_chain *chain = taper_chain_alloc(&cs, &err);
+    taper_chain *chain = build_chain(c, &err);
     if (!chain) {
         o->status = err.status;
         snprintf(o->message, sizeof o->message, "%s", err.message);
@@ -160,20 +194,21 @@ static void run_case(const stress_case *c, double rtol, outcome *o)
     free(T);
     if (!(t_max > 0.0) || !isfinite(t_max) || t_max > 1e300) t_max = 0.0;
 
-    taper_solver_spec ss;
-    taper_solver_spec_init(&ss);
-    ss.method = c->method;
-    ss.rtol = rtol;
-    ss.atol = c->atol > 0.0 ? c->atol * (rtol / c->rtol) : rtol * 1e-3;
-    if (ss.atol >= 1.0) ss.atol = 0.5;
-    ss.t_max = t_max;
-    ss.max_steps = g_max_steps;
+    double atol = c->atol > 0.0 ? c->atol * (rtol / c->rtol) : rtol * 1e-3;
+    if (atol > TAPER_ATOL_MAX) atol = TAPER_ATOL_MAX;
     wall w = {now(), g_wall_limit};
-    ss.monitor = wall_monitor;
-    ss.monitor_data = &w;
-    ss.log = count_untimed;
-    ss.log_data = o;
-    taper_sim *sim = taper_sim_alloc(chain, &ss, &err);
+    taper_sim *sim = NULL;
+    taper_solver_spec *ss = taper_solver_spec_alloc(&err);
+    if (ss && taper_solver_spec_set_method(ss, c->method, &err) == TAPER_OK &&
+        taper_solver_spec_set_rtol(ss, rtol, &err) == TAPER_OK &&
+        taper_solver_spec_set_atol(ss, atol, &err) == TAPER_OK &&
+        taper_solver_spec_set_t_max(ss, t_max, &err) == TAPER_OK &&
+        taper_solver_spec_set_max_steps(ss, g_max_steps, &err) == TAPER_OK) {
+        taper_solver_spec_set_monitor(ss, wall_monitor, &w);
+        taper_solver_spec_set_log(ss, count_untimed, o);
+        sim = taper_sim_alloc(chain, ss, &err);
+    }
+    taper_solver_spec_free(ss);
     if (!sim) {
         o->status = err.status;
         snprintf(o->message, sizeof o->message, "%s", err.message);
@@ -183,7 +218,7 @@ static void run_case(const stress_case *c, double rtol, outcome *o)
     }
     o->status = taper_sim_run(sim, &err);
     snprintf(o->message, sizeof o->message, "%s", o->status ? err.message : "");
-    taper_sim_stats(sim, &o->stats);
+    read_stats(sim, &o->stats);
     o->n = c->n;
     o->t_pass = malloc(c->n * sizeof *o->t_pass);
     o->v_peak = malloc(c->n * sizeof *o->v_peak);
@@ -289,9 +324,8 @@ static int is_forward(const stress_case *c)
 static void case_label(const stress_case *c, double rtol, char *buf, size_t size)
 {
     snprintf(buf, size, "%-6s %s=%-8.3g N=%-6zu n=%-4.3g rtol=%-7.1e %s", profile_label(c->profile),
-             c->profile == TAPER_BACKWARD_EXPONENTIAL || c->profile == TAPER_FORWARD_EXPONENTIAL ? "q"
-                                                                                                 : "S",
-             c->param, c->n, c->exponent, rtol, c->method == TAPER_BDF ? "bdf" : "adams");
+             is_exponential(c->profile) ? "q" : "S", c->param, c->n, c->exponent, rtol,
+             taper_method_name(c->method));
 }
 
 static void verdict(const stress_case *c, double rtol, const outcome *o, const char *problem,
@@ -330,13 +364,7 @@ static const char *const KNOWN_RESOLUTION =
  * with v_limit > 0, the first whose theoretical velocity is below it. */
 static size_t theory_limit(const stress_case *c, double v_limit)
 {
-    taper_chain_spec cs;
-    taper_chain_spec_init(&cs);
-    cs.profile = c->profile;
-    cs.n_granules = c->n;
-    cs.s = cs.q = c->param;
-    cs.exponent = c->exponent;
-    taper_chain *chain = taper_chain_alloc(&cs, NULL);
+    taper_chain *chain = build_chain(c, NULL);
     double *T = malloc(c->n * sizeof *T), *t = malloc(c->n * sizeof *t);
     double *v = malloc(c->n * sizeof *v);
     size_t limit = 0;
@@ -426,7 +454,7 @@ static const char *const KNOWN_ORDER =
     "granule k+1 overtakes k before k overtakes k-1; a pass outside the ring of armed slots is "
     "missed and the run never completes (stops at t_max)";
 
-static const char *known_for(int profile, double param, size_t n)
+static const char *known_for(taper_profile profile, double param, size_t n)
 {
     if (profile == TAPER_BACKWARD_EXPONENTIAL && param >= 0.3 && n > 20) return KNOWN_ATOL;
     if (profile == TAPER_FORWARD_EXPONENTIAL && param >= 0.3) return n > 20 ? KNOWN_MULTISCALE : KNOWN_ORDER;
@@ -439,7 +467,7 @@ static const char *known_for(int profile, double param, size_t n)
 
 static void quick_matrix(void)
 {
-    const int A = TAPER_ADAMS;
+    const taper_method A = TAPER_ADAMS;
     /* Parameter ranges at moderate N and the default tolerance. */
     const double S_values[] = {1e-4, 0.1, 1.0, 10.0};
     const double q_values[] = {1e-4, 0.1, 0.5};
@@ -501,7 +529,7 @@ static void quick_matrix(void)
 
 static void full_matrix(size_t n_max)
 {
-    const int A = TAPER_ADAMS;
+    const taper_method A = TAPER_ADAMS;
     const size_t ns[] = {2, 10, 100, 1000, 10000, 100000};
     const double S_values[] = {1e-4, 1e-2, 0.1, 0.5, 1.0, 3.0, 10.0};
     const double q_values[] = {1e-4, 1e-3, 1e-2, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5};
