@@ -86,12 +86,6 @@ static N_Vector window_new_like(taper_window *w, SUNContext ctx, N_Vector ops_fr
 
 static N_Vector window_clone(N_Vector v) { return window_new_like(CONTENT(v)->w, v->sunctx, v); }
 
-static N_Vector window_clone_empty(N_Vector v)
-{
-    (void)v;
-    return NULL; /* never needed by CVODE with these solvers */
-}
-
 static void window_space(N_Vector v, sunindextype *lrw, sunindextype *liw)
 {
     *lrw = (sunindextype)CONTENT(v)->w->capacity;
@@ -334,7 +328,6 @@ static void set_ops(N_Vector v)
     struct _generic_N_Vector_Ops *o = v->ops;
     o->nvgetvectorid = window_id;
     o->nvclone = window_clone;
-    o->nvcloneempty = window_clone_empty;
     o->nvdestroy = window_destroy;
     o->nvspace = window_space;
     o->nvgetarraypointer = window_array;

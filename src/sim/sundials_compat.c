@@ -8,8 +8,6 @@
 #include <cvode/cvode.h>
 #include <sundials/sundials_version.h>
 
-#include <stdio.h>
-
 #if SUNDIALS_VERSION_MAJOR >= 7
 #error "taper: port src/sim/sundials_compat.c to SUNDIALS 7 (SUN_COMM_NULL, SUNContext_PushErrHandler)"
 #endif
@@ -30,14 +28,10 @@ static void forward_error(int code, const char *module, const char *function, ch
      * such a call, not something to warn a user about. */
     if (code == CV_TOO_MUCH_WORK) return;
     const taper_solver_messages *sink = data;
-    char text[400];
-    snprintf(text, sizeof text, "%s (CVODE %s, flag %d)", msg, function, code);
-    sink->fn(text, sink->user);
+    sink->fn(msg, function, code, sink->user);
 }
 
 int taper_sundials_capture_errors(void *cvode_mem, taper_solver_messages *sink)
 {
     return CVodeSetErrHandlerFn(cvode_mem, forward_error, sink);
 }
-
-const char *taper_sundials_version(void) { return SUNDIALS_VERSION; }
