@@ -1,5 +1,5 @@
 /*
- * dynamics.c -- right-hand side of eq. (motion_rescaled) in the variables
+ * dynamics.c -- right-hand side of eq. (6) in the variables
  * of dynamics.h.  This is the hot path: no allocation, no pow() for n = 5/2.
  */
 #include "dynamics.h"

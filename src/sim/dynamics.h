@@ -1,5 +1,5 @@
 /*
- * dynamics.h -- the rescaled equations of motion (eq. motion_rescaled) in
+ * dynamics.h -- the rescaled equations of motion (eq. (6) of arXiv:0905.4512) in
  * difference variables, on a window of granules.
  *
  * State layout (absolute indices into a 2N vector):  v_k at 2(k-1), and

@@ -1,0 +1,63 @@
+/*
+ * dynamics_api.c -- taper_dynamics: the equations taper_sim integrates,
+ * eq. (6), over the whole chain (window lo = 1, hi = N), for integrators
+ * outside the library (the peers of taper-bench, a user's own).  A thin
+ * shell over taper_dyn: the same floating-point operations as the sim's
+ * own right-hand side.
+ */
+#include "dynamics.h"
+
+#include "core/taper_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+struct taper_dynamics {
+    taper_dyn dyn;
+};
+
+taper_dynamics *taper_dynamics_alloc(const taper_chain *chain, taper_error *err)
+{
+    if (!chain) {
+        taper_fail(err, TAPER_EINVAL, "taper_dynamics_alloc: chain is NULL");
+        return NULL;
+    }
+    taper_dynamics *d = calloc(1, sizeof *d);
+    if (!d || taper_dyn_init(&d->dyn, taper_chain_size(chain), taper_chain_exponent(chain),
+                             taper_chain_mass(chain), taper_chain_contact(chain)) != 0) {
+        free(d);
+        taper_fail(err, TAPER_ENOMEM, "cannot allocate the dynamics of %zu granules",
+                   taper_chain_size(chain));
+        return NULL;
+    }
+    /* taper_dyn_init's window is the whole chain: lo = 1, hi = N. */
+    taper_ok(err);
+    return d;
+}
+
+void taper_dynamics_free(taper_dynamics *dyn)
+{
+    if (!dyn) return;
+    taper_dyn_release(&dyn->dyn);
+    free(dyn);
+}
+
+void taper_dynamics_rhs(const taper_dynamics *dyn, const double *y, double *ydot)
+{
+    taper_dyn_rhs(&dyn->dyn, y, ydot);
+}
+
+void taper_dynamics_energy_momentum(const taper_dynamics *dyn, const double *y, double *energy,
+                                    double *momentum)
+{
+    double e, p;
+    taper_dyn_energy_momentum(&dyn->dyn, y, &e, &p);
+    if (energy) *energy = e;
+    if (momentum) *momentum = p;
+}
+
+double taper_dynamics_peak_function(const taper_dynamics *dyn, const double *y, size_t k)
+{
+    if (k < 1 || k > dyn->dyn.n) return NAN;
+    return taper_dyn_peak_function(&dyn->dyn, y, k);
+}
