@@ -1,5 +1,8 @@
 /*
- * events.c -- pulse events located exactly by CVODE's root finder.
+ * events.c -- pulse events located exactly by CVODE's root finder.  Writes
+ * only sim->pulse (the rings, the references, the observables); tells the
+ * run loop what a root return asks of the window (taper_root_report) and
+ * leaves the window to it.
  *
  *  pass(k): g = v_{k+1} - v_k crosses zero upward (the pulse passes k);
  *  peak(k): the acceleration of k changes sign downward while v_k > 0,
@@ -47,12 +50,12 @@ static double velocity(const taper_sim *sim, const double *y, size_t k)
  * them apart (CVODE locates roots to ~1e-14 in time). */
 #define GENUINE_ROOT 1e-3
 
-static int known(const taper_sim *sim, size_t k, unsigned bit) { return sim->events[k - 1] & bit; }
+static int known(const taper_sim *sim, size_t k, unsigned bit) { return sim->pulse.events[k - 1] & bit; }
 
 static int pass_armed(const taper_sim *sim, const double *y, size_t k)
 {
     if (k > sim->pass_limit || k > sim->dyn.hi || known(sim, k, TAPER_EV_PASS)) return 0;
-    return k == sim->next_pass || velocity(sim, y, k) > ARM_FRACTION * sim->v_ref;
+    return k == sim->pulse.next_pass || velocity(sim, y, k) > ARM_FRACTION * sim->pulse.v_ref;
 }
 
 static double pass_function(const taper_sim *sim, const double *y, size_t k)
@@ -64,7 +67,7 @@ static double pass_function(const taper_sim *sim, const double *y, size_t k)
 static int peak_armed(const taper_sim *sim, const double *y, size_t k)
 {
     if (k > sim->target || k > sim->dyn.hi || known(sim, k, TAPER_EV_PEAK)) return 0;
-    return velocity(sim, y, k) > ARM_FRACTION * sim->v_ref;
+    return velocity(sim, y, k) > ARM_FRACTION * sim->pulse.v_ref;
 }
 
 static double peak_function(const taper_sim *sim, const double *y, size_t k)
@@ -114,12 +117,12 @@ int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, yv);
     for (size_t i = 0; i < TAPER_PASS_SLOTS; i++)
-        g[i] = pass_function(sim, y, slot_granule(sim->next_pass, i, TAPER_PASS_SLOTS));
+        g[i] = pass_function(sim, y, slot_granule(sim->pulse.next_pass, i, TAPER_PASS_SLOTS));
     for (size_t i = 0; i < TAPER_PEAK_SLOTS; i++)
         g[TAPER_PASS_SLOTS + i] =
-            peak_function(sim, y, slot_granule(sim->next_peak, i, TAPER_PEAK_SLOTS));
+            peak_function(sim, y, slot_granule(sim->pulse.next_peak, i, TAPER_PEAK_SLOTS));
     g[TAPER_SLOT_GROW] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1] : -1.0;
-    g[TAPER_SLOT_GAP] = d->lo > 1 ? y[0] - sim->gap_watch[d->lo - 2] : -1.0;
+    g[TAPER_SLOT_GAP] = d->lo > 1 ? y[0] - sim->out.gap_watch[d->lo - 2] : -1.0;
     return 0;
 }
 
@@ -132,31 +135,31 @@ void taper_events_directions(int *directions)
 static void record_pass(taper_sim *sim, const double *y, size_t k)
 {
     const taper_dyn *d = &sim->dyn;
-    sim->events[k - 1] |= TAPER_EV_PASS;
+    sim->pulse.events[k - 1] |= TAPER_EV_PASS;
     double g = velocity(sim, y, k + 1) - velocity(sim, y, k);
     if (fabs(g) > GENUINE_ROOT * fmax(fabs(velocity(sim, y, k)), fabs(velocity(sim, y, k + 1)))) {
-        sim->untimed_passes++; /* passed before its slot was armed */
+        sim->pulse.untimed_passes++; /* passed before its slot was armed */
         return;
     }
-    sim->obs[TAPER_T_PASS][k - 1] = sim->t;
-    sim->obs[TAPER_X_PASS][k - 1] = sim->chain->rest[k - 1] + taper_dyn_position(d, y, k);
+    sim->pulse.obs[TAPER_T_PASS][k - 1] = sim->t;
+    sim->pulse.obs[TAPER_X_PASS][k - 1] = sim->rest[k - 1] + taper_dyn_position(d, y, k);
     double v = velocity(sim, y, k + 1);
-    if (v > 0.0) sim->v_ref = v;
+    if (v > 0.0) sim->pulse.v_ref = v;
     double z = taper_dyn_z(d, y, k);
-    if (z > 0.0) sim->z_ref = z;
+    if (z > 0.0) sim->pulse.z_ref = z;
 }
 
 static void record_peak(taper_sim *sim, const double *y, size_t k)
 {
     double v = velocity(sim, y, k);
     if (!(v > 0.0)) return; /* a maximum while moving backwards is no pulse peak */
-    sim->events[k - 1] |= TAPER_EV_PEAK;
+    sim->pulse.events[k - 1] |= TAPER_EV_PEAK;
     if (!genuine_peak_root(sim, y, k)) {
-        sim->untimed_peaks++; /* peaked before its slot was armed */
+        sim->pulse.untimed_peaks++; /* peaked before its slot was armed */
         return;
     }
-    sim->obs[TAPER_V_PEAK][k - 1] = v;
-    sim->obs[TAPER_T_PEAK][k - 1] = sim->t;
+    sim->pulse.obs[TAPER_V_PEAK][k - 1] = v;
+    sim->pulse.obs[TAPER_T_PEAK][k - 1] = sim->t;
 }
 
 /* Moves the rings past known events.  A granule that enters a ring with its
@@ -168,44 +171,48 @@ static void advance_rings(taper_sim *sim, const double *y)
 {
     for (int moved = 1; moved;) {
         moved = 0;
-        while (sim->next_pass <= sim->pass_limit && known(sim, sim->next_pass, TAPER_EV_PASS))
-            sim->next_pass++;
-        while (sim->next_peak <= sim->target && known(sim, sim->next_peak, TAPER_EV_PEAK))
-            sim->next_peak++;
-        for (size_t k = sim->next_pass; k < sim->next_pass + TAPER_PASS_SLOTS; k++)
+        while (sim->pulse.next_pass <= sim->pass_limit && known(sim, sim->pulse.next_pass, TAPER_EV_PASS))
+            sim->pulse.next_pass++;
+        while (sim->pulse.next_peak <= sim->target && known(sim, sim->pulse.next_peak, TAPER_EV_PEAK))
+            sim->pulse.next_peak++;
+        for (size_t k = sim->pulse.next_pass; k < sim->pulse.next_pass + TAPER_PASS_SLOTS; k++)
             if (pass_armed(sim, y, k) && pass_function(sim, y, k) > 0.0) {
-                sim->events[k - 1] |= TAPER_EV_PASS;
-                sim->untimed_passes++;
+                sim->pulse.events[k - 1] |= TAPER_EV_PASS;
+                sim->pulse.untimed_passes++;
                 moved = 1;
             }
-        for (size_t k = sim->next_peak; k < sim->next_peak + TAPER_PEAK_SLOTS; k++)
+        for (size_t k = sim->pulse.next_peak; k < sim->pulse.next_peak + TAPER_PEAK_SLOTS; k++)
             if (peak_armed(sim, y, k) && peak_function(sim, y, k) < 0.0) {
-                sim->events[k - 1] |= TAPER_EV_PEAK;
-                sim->untimed_peaks++;
+                sim->pulse.events[k - 1] |= TAPER_EV_PEAK;
+                sim->pulse.untimed_peaks++;
                 moved = 1;
             }
     }
 }
 
-void taper_events_record(taper_sim *sim, const int *roots_found, int *grow, int *gap_closed)
+taper_root_report taper_events_record(taper_sim *sim, const int *roots_found)
 {
-    const double *y = taper_sim_data(sim, sim->y);
+    const double *y = taper_sim_data(sim, sim->cv.y);
+    const size_t passed_before = sim->pulse.next_pass;
     /* Granules in increasing order, mapped with the ring as it was when
      * CVODE evaluated the slots. */
-    for (size_t k = sim->next_pass; k < sim->next_pass + TAPER_PASS_SLOTS; k++)
+    for (size_t k = sim->pulse.next_pass; k < sim->pulse.next_pass + TAPER_PASS_SLOTS; k++)
         if (roots_found[(k - 1) % TAPER_PASS_SLOTS] > 0 && k <= sim->pass_limit)
             record_pass(sim, y, k);
-    for (size_t k = sim->next_peak; k < sim->next_peak + TAPER_PEAK_SLOTS; k++)
+    for (size_t k = sim->pulse.next_peak; k < sim->pulse.next_peak + TAPER_PEAK_SLOTS; k++)
         if (roots_found[TAPER_PASS_SLOTS + (k - 1) % TAPER_PEAK_SLOTS] < 0 && k <= sim->target)
             record_peak(sim, y, k);
     advance_rings(sim, y);
-    *grow = roots_found[TAPER_SLOT_GROW] > 0;
-    *gap_closed = roots_found[TAPER_SLOT_GAP] > 0;
+    return (taper_root_report){
+        .grow = roots_found[TAPER_SLOT_GROW] > 0,
+        .gap_closed = roots_found[TAPER_SLOT_GAP] > 0,
+        .passed = sim->pulse.next_pass != passed_before,
+    };
 }
 
-int taper_events_passes_complete(const taper_sim *sim) { return sim->next_pass > sim->pass_limit; }
+int taper_events_passes_complete(const taper_sim *sim) { return sim->pulse.next_pass > sim->pass_limit; }
 
 int taper_events_complete(const taper_sim *sim)
 {
-    return taper_events_passes_complete(sim) && sim->next_peak > sim->target;
+    return taper_events_passes_complete(sim) && sim->pulse.next_peak > sim->target;
 }

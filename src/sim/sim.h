@@ -1,15 +1,41 @@
 /*
- * sim.h -- the simulation object shared by solve.c (CVODE set-up and the
- * run loop), events.c (root functions: pulse events and window edges) and
- * window.c (moving the active window).
+ * sim.h -- the simulation object (struct taper_sim) and the interfaces of
+ * the files of src/sim.  Private to src/sim and its unit tests.
+ *
+ * Layering (a file calls only files below it; nothing calls upward):
+ *
+ *   solve.c        the run: CVODE set-up and callbacks, the loop, statistics,
+ *                  taper_sim_run.  Asks events.c what happened at a root and
+ *                  window.c what the window must do, and applies the answers
+ *                  (moving the window, restarting CVODE).
+ *     |-> events.c   pulse events: the root function CVODE calls, and the
+ *     |              recording of a root return (observables, rings), which
+ *     |              returns a taper_root_report.
+ *     |-> window.c   the window policy, read-only on the sim: growth
+ *     |              thresholds, which granule may leave and how
+ *     |              (taper_departure), whether one must come back.
+ *     v
+ *   sim.c          the state: allocation, free, the theory and tolerance
+ *                  scales, the results' accessors, the log, and the only
+ *                  code that moves the window (taper_sim_move_window) and
+ *                  that moves granules out of it and back.
+ *     v
+ *   solver_spec.c, dynamics.c, dynamics_api.c, nvector_window.c,
+ *   sundials_compat.c  (leaves: they call nothing else in src/sim)
+ *
+ * Who writes what after taper_sim_alloc:
+ *   sim->pulse               events.c (taper_events_record)
+ *   sim->dyn.lo/hi/v_left    sim.c, in taper_sim_move_window only
+ *   sim->out, y's entries    sim.c (taper_sim_release_granule / _recall_granule)
+ *   sim->cv, sim->t, stats   solve.c
  */
 #ifndef TAPER_SIM_H
 #define TAPER_SIM_H
 
 #include "dynamics.h"
 #include "nvector_window.h"
+#include "solver_spec.h"
 #include "sundials_compat.h"
-#include "core/taper_internal.h"
 
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>
@@ -23,85 +49,164 @@
 #define TAPER_SLOT_GAP (TAPER_SLOT_GROW + 1)
 #define TAPER_N_SLOTS (TAPER_SLOT_GAP + 1)
 
-struct taper_sim {
-    const taper_chain *chain;
-    taper_solver_spec spec;
-    taper_dyn dyn;
-    size_t target;          /* last granule requested                       */
-    size_t pass_limit;      /* last granule with a pass time: min(target, N-1) */
-    double *obs[TAPER_N_OBSERVABLES];
+/* Event bits of a granule: known (timed, or found to have happened before
+ * its root function could see it, "untimed": its value stays NaN). */
+#define TAPER_EV_PASS 1u
+#define TAPER_EV_PEAK 2u
 
-    /* pulse-event bookkeeping */
+/* CVODE's counters.  CVodeReInit resets them, so the run keeps the sum of
+ * those of earlier restarts. */
+typedef struct taper_cvode_counters {
+    long steps;
+    long rhs_evals;
+    long root_evals;
+    long jac_evals;
+    long nonlin_iters;
+    long err_test_fails;
+} taper_cvode_counters;
+
+/* The statistics of a run (taper_sim_statistic reads them by
+ * TAPER_STAT_*). */
+typedef struct taper_run_statistics {
+    taper_cvode_counters cvode;
+    long window_changes;
+    long restarts;
+    size_t max_window;
+    size_t granule_reached;
+    double t_final;
+    double energy_error;
+    double momentum_error;
+    int complete;
+} taper_run_statistics;
+
+/* Pulse-event bookkeeping and the observables (written by events.c). */
+typedef struct taper_pulse {
+    double *obs[TAPER_N_OBSERVABLES];
     size_t next_pass;       /* lowest granule whose t_pass is unknown       */
     size_t next_peak;       /* lowest granule whose peak is unknown         */
     double v_ref;           /* pulse velocity at the last pass event        */
     double z_ref;           /* compression z_k at the last pass event of k:
                                the pair's largest compression (dz_k/dt =
                                v_k - v_{k+1} = 0 there)                     */
-    double *grow_z;         /* grow_z[k-1]: z_k above which granule k+1 joins
-                               the window (k = hi)                           */
     unsigned char *events;  /* per granule: TAPER_EV_* bits                  */
     size_t untimed_passes, untimed_peaks;
+} taper_pulse;
 
-    /* granules that left the window: x_j(t) = x_free[j] + v_free[j] t;
-     * gap_watch[j]: compression of the gap z_j above which granule j is taken
-     * back while it is the last granule out (0: it left in exact free flight,
-     * > 0: it left at rest within the tolerance, see window.c) */
+/* Granules that left the window: x_j(t) = x_free[j] + v_free[j] t;
+ * gap_watch[j]: compression of the gap z_j above which granule j is taken
+ * back while it is the last granule out (0: it left in exact free flight,
+ * > 0: it left at rest within the tolerance, see window.c). */
+typedef struct taper_out {
     double *x_free, *v_free, *gap_watch;
     double energy_free, momentum_free;
+    long left_resting;      /* granules that left at rest within tolerance  */
+} taper_out;
 
-    /* Absolute-tolerance scale of each granule's velocity and compression:
-     * the binary collision values v_k and z_max(k), so that atol is relative
-     * to the pulse wherever it is (it decays by 1e-60 over a strongly
-     * tapered backward chain). */
-    double *v_scale, *z_scale;
-
-    /* CVODE */
+/* CVODE and its state vector (set up by solve.c, freed by sim.c). */
+typedef struct taper_cvode {
     SUNContext ctx;
-    void *cvode;
+    void *mem;
     N_Vector y;
     taper_window *window;   /* NULL: plain serial vector, whole chain       */
     SUNMatrix band;
     SUNLinearSolver linear;
     SUNNonlinearSolver nonlinear;
     taper_solver_messages messages;
-    char solver_message[400];
+    char *message;          /* CVODE's last message (NULL: none yet)        */
+    taper_cvode_counters before_restart; /* summed over earlier restarts    */
+} taper_cvode;
 
+struct taper_sim {
+    /* read-only after taper_sim_alloc */
+    const taper_chain *chain;
+    size_t n;               /* N                                            */
+    double exponent;        /* n of the contact law                         */
+    const double *mass, *contact, *rest; /* the chain's arrays (getters)    */
+    taper_solver_spec spec;
+    size_t target;          /* last granule requested                       */
+    size_t pass_limit;      /* last granule with a pass time: min(target, N-1) */
+    double *theory[TAPER_N_THEORY_QUANTITIES]; /* taper_theory_compute's columns */
+    /* Absolute-tolerance scale of each granule's velocity and compression:
+     * the binary collision values v_k and z_max(k), so that atol is relative
+     * to the pulse wherever it is (it decays by 1e-60 over a strongly
+     * tapered backward chain). */
+    double *v_scale, *z_scale;
+    double *grow_z;         /* grow_z[k-1]: z_k above which granule k+1 joins
+                               the window (k = hi); window.c's thresholds    */
+
+    taper_dyn dyn;          /* the equations on the window lo..hi           */
+    taper_pulse pulse;
+    taper_out out;
+    taper_cvode cv;
     double t;               /* time of the current state                    */
     int ran;
-    int stop_reason;        /* status the run ends with                     */
-    taper_stats stats;
-    long counters_before_restart[6]; /* CVODE counters reset by CVodeReInit */
-    long left_resting;      /* granules that left at rest within tolerance  */
+    taper_run_statistics stats;
 };
 
-/* Event bits of a granule: known (timed, or found to have happened before
- * its root function could see it, "untimed": its value stays NaN). */
-#define TAPER_EV_PASS 1u
-#define TAPER_EV_PEAK 2u
-
+/* ---- sim.c: the state ------------------------------------------------------ */
 /* Pointer to the entry at absolute index taper_dyn_begin() of a state vector. */
 double *taper_sim_data(const taper_sim *sim, N_Vector v);
 
-/* events.c */
+/* Hands a message to the caller's taper_log_fn, if any (level 0:
+ * information, 1: warning).  Never cut: a long message is formatted into
+ * an allocated buffer. */
+void taper_sim_log(const taper_sim *sim, int level, const char *fmt, ...) TAPER_PRINTF(3, 4);
+
+/* The one place the window's extent changes: granules lo..hi are
+ * integrated, v_left is the frozen velocity of granule lo-1.  Moves the
+ * window vector's range (entries newly covered on the right are zero).
+ * 0, or -1 when the vector cannot grow (nothing changed then). */
+int taper_sim_move_window(taper_sim *sim, size_t lo, size_t hi, double v_left);
+
+/* Granule lo leaves the window, flying freely at its velocity from now on;
+ * `watch` is the gap compression that takes it back (window.c). */
+void taper_sim_release_granule(taper_sim *sim, double watch, int at_rest);
+
+/* Granule lo-1 returns with its ballistic state (its gap closed).  The
+ * Nordsieck history is then wrong for that component: the caller restarts
+ * CVODE.  0, or -1 when the window cannot grow. */
+int taper_sim_recall_granule(taper_sim *sim);
+
+/* ---- events.c: pulse events -------------------------------------------------- */
+/* What a root return asks of the window. */
+typedef struct taper_root_report {
+    int grow;        /* the front reached the growth threshold of hi         */
+    int gap_closed;  /* the gap behind the window closed                     */
+    int passed;      /* a pass event moved next_pass: the back may leave     */
+} taper_root_report;
+
 int taper_events_root_function(double t, N_Vector y, double *g, void *user);
 void taper_events_directions(int *directions);
-/* Records the events of one CVODE root return; sets *window_event when the
- * window must grow (1) or take back the granule behind it (-1). */
-void taper_events_record(taper_sim *sim, const int *roots_found, int *grow, int *gap_closed);
+/* Records the events of one CVODE root return at the current state. */
+taper_root_report taper_events_record(taper_sim *sim, const int *roots_found);
 int taper_events_complete(const taper_sim *sim);
 int taper_events_passes_complete(const taper_sim *sim);
 
-/* solve.c: hand a message to the caller's taper_log_fn, if any
- * (level 0: information, 1: warning). */
-void taper_sim_log(const taper_sim *sim, int level, const char *fmt, ...) TAPER_PRINTF(3, 4);
+/* ---- window.c: the window policy (decisions only) ---------------------------- */
+/* How granule lo may leave the window (criteria 1 and 2 of window.c). */
+typedef enum taper_departure_kind {
+    TAPER_STAYS = 0,
+    TAPER_LEAVES_FREE = 1,    /* exact free flight                            */
+    TAPER_LEAVES_AT_REST = 2  /* at rest within the tolerance                 */
+} taper_departure_kind;
 
-/* solve.c: re-initialise CVODE at the current state (counters are kept). */
-int taper_solver_restart(taper_sim *sim, taper_error *err);
+typedef struct taper_departure {
+    taper_departure_kind kind;
+    double watch;             /* gap_watch for the granule leaving            */
+} taper_departure;
 
-/* window.c */
-int taper_window_grow(taper_sim *sim, taper_error *err);
-int taper_window_take_back(taper_sim *sim, taper_error *err);
-int taper_window_shrink(taper_sim *sim, taper_error *err);
+/* What the window must do after a root return, in this order: take granule
+ * lo-1 back, grow by granule hi+1, then let granules leave while
+ * taper_window_departure says so. */
+typedef struct taper_window_plan {
+    int take_back;
+    int grow;
+    int shrink;
+} taper_window_plan;
+
+/* grow_z[k-1] for k = 1..N (INFINITY for k = N). */
+void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z);
+taper_window_plan taper_window_plan_for(const taper_sim *sim, taper_root_report report);
+taper_departure taper_window_departure(const taper_sim *sim);
 
 #endif

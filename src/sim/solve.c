@@ -1,6 +1,8 @@
 /*
- * solve.c -- the simulation object: CVODE set-up, the run loop that hands
- * root returns to events.c and window.c, and the results.
+ * solve.c -- the run: CVODE set-up and callbacks, and the loop that asks
+ * events.c what a root return means and window.c what the window must do,
+ * and applies the answers (sim.c moves the window; CVODE is restarted here
+ * and nowhere else).  Then the statistics and the end of the run.
  *
  * The run starts from the impulse (v_1 = 1, everything else at rest and just
  * touching) and ends by itself as soon as every requested observable is
@@ -16,8 +18,6 @@
 
 #include <float.h>
 #include <math.h>
-#include <stdarg.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -32,187 +32,6 @@
 /* The end of time when no t_max is given (pass times of exponential chains
  * grow like e^{eta k}: 1e30 is reached within a few hundred granules). */
 #define NO_TIME_LIMIT 1e300
-
-void taper_solver_spec_init(taper_solver_spec *spec)
-{
-    if (!spec) return;
-    memset(spec, 0, sizeof *spec);
-    spec->method = TAPER_ADAMS;
-    /* Measured (docs/design.md, "Defaults"): with atol relative to each
-     * granule's binary-collision scale, t_pass and v_peak stay within 1.2e-9
-     * and 6.7e-9 of a rtol = 1e-13 reference on the five paper profiles up to
-     * N = 1000: an 8x margin on the 1e-8 / 1e-7 targets. */
-    spec->rtol = 1e-10;
-    spec->atol = 1e-13;
-    spec->last_granule = 0;
-    spec->window = 1;
-}
-
-double *taper_sim_data(const taper_sim *sim, N_Vector v)
-{
-    return sim->window ? taper_window_data(v) : N_VGetArrayPointer(v);
-}
-
-/* ---- allocation ------------------------------------------------------ */
-static int validate_spec(const taper_chain *chain, const taper_solver_spec *s, taper_error *err)
-{
-    if (s->method != TAPER_ADAMS && s->method != TAPER_BDF)
-        return taper_fail(err, TAPER_EINVAL, "method = %d: use TAPER_ADAMS or TAPER_BDF", s->method);
-    if (!(s->rtol > 0.0 && s->rtol < 1.0))
-        return taper_fail(err, TAPER_EINVAL, "rtol = %g: must lie in (0, 1)", s->rtol);
-    if (s->rtol < 10.0 * DBL_EPSILON)
-        return taper_fail(err, TAPER_EINVAL, "rtol = %g is below what double precision resolves "
-                          "(use rtol >= %g)", s->rtol, 10.0 * DBL_EPSILON);
-    if (!(s->atol > 0.0 && s->atol < 1.0))
-        return taper_fail(err, TAPER_EINVAL, "atol = %g: must lie in (0, 1)", s->atol);
-    if (s->last_granule > chain->n)
-        return taper_fail(err, TAPER_EINVAL, "last_granule = %zu exceeds n_granules = %zu",
-                          s->last_granule, chain->n);
-    if (s->max_order < 0 || s->max_order > (s->method == TAPER_BDF ? 5 : 12))
-        return taper_fail(err, TAPER_EINVAL, "max_order = %d: CVODE allows 1..%d for this method "
-                          "(0: default)", s->max_order, s->method == TAPER_BDF ? 5 : 12);
-    if (!(s->t_max >= 0.0) || s->max_steps < 0)
-        return taper_fail(err, TAPER_EINVAL, "t_max and max_steps must be >= 0 (0: no limit)");
-    return TAPER_OK;
-}
-
-/* z_k at which granule k+1 joins the window (k = hi).  Two bounds on the
- * neglected force r_k z^(n-1), the smaller threshold wins:
- *  - over the collision: z below a fraction f of the contact's compression
- *    scale z_scale (the binary-collision z_max), f^(n-1) = 1e-40, so over
- *    the collision time the force changes the velocity of granule k+1 by
- *    1e-40 of its binary-collision velocity.  Mass and time scales cancel.
- *    A per-unit-time bound alone fails on long time scales: a backward
- *    exponential chain (q = 0.05) runs at t ~ 1e40 by granule 1300, granules
- *    were pushed unseen and energy was created (energy error 6e3 at
- *    N = 2000; tests/unit/test_window.c, long_backward_exponential).
- *  - per unit time: the force changes the velocity of the lighter of k, k+1
- *    by less than 1e-40 of its binary-collision velocity per unit time.  On
- *    steep forward chains, whose tiny last granules are struck on short
- *    times by a train far from binary collisions, this bound is the smaller
- *    one; joining later there lets the last granule peak within the step
- *    that arms its peak slot (forward exponential q = 0.05, N = 150).
- * The floor keeps root values clear of underflow (exponents n < 1.4). */
-static void growth_thresholds(taper_sim *sim)
-{
-    const taper_chain *c = sim->chain;
-    const double power = 1.0 / (c->exponent - 1.0);
-    const double fraction = fmax(pow(1e-40, power), 1e-200);
-    for (size_t k = 1; k < c->n; k++) {
-        double m = fmin(c->mass[k - 1], c->mass[k]);
-        double v = fmin(sim->v_scale[k - 1], sim->v_scale[k]);
-        double per_time = pow(1e-40 * m * v / c->contact[k - 1], power);
-        double per_collision = fraction * sim->z_scale[k - 1];
-        sim->grow_z[k - 1] = fmax(fmin(per_time, per_collision), 1e-290);
-    }
-    sim->grow_z[c->n - 1] = INFINITY; /* nothing beyond the last granule */
-}
-
-static int alloc_arrays(taper_sim *sim)
-{
-    size_t n = sim->chain->n;
-    for (int i = 0; i < TAPER_N_OBSERVABLES; i++) {
-        sim->obs[i] = malloc(n * sizeof(double));
-        if (!sim->obs[i]) return -1;
-        for (size_t k = 0; k < n; k++) sim->obs[i][k] = NAN;
-    }
-    sim->x_free = calloc(n, sizeof(double));
-    sim->v_free = calloc(n, sizeof(double));
-    sim->gap_watch = calloc(n, sizeof(double));
-    sim->grow_z = malloc(n * sizeof(double));
-    sim->events = calloc(n, 1);
-    if (!sim->grow_z || !sim->events) return -1;
-    sim->v_scale = malloc(n * sizeof(double));
-    sim->z_scale = malloc(n * sizeof(double));
-    if (!sim->x_free || !sim->v_free || !sim->gap_watch || !sim->v_scale || !sim->z_scale) return -1;
-    return taper_dyn_init(&sim->dyn, n, sim->chain->exponent, sim->chain->mass, sim->chain->contact);
-}
-
-/* Velocity and compression scales of granule k from the binary collision
- * approximation: v_k (eq. recv) and z_max = (n mu_k / (2 r_k) v_k^2)^(1/n)
- * (the maximum compression of the collision k, k+1).  Floored so that
- * weights stay finite. */
-static int tolerance_scales(taper_sim *sim, taper_error *err)
-{
-    const taper_chain *c = sim->chain;
-    const size_t n = c->n;
-    double *mu = malloc(n * sizeof(double));
-    if (!mu) return taper_fail(err, TAPER_ENOMEM, "cannot allocate tolerance scales");
-    int status = taper_theory_compute(c, sim->v_scale, mu, NULL, NULL, err);
-    for (size_t k = 1; status == TAPER_OK && k <= n; k++) {
-        size_t j = k < n ? k : n - 1; /* z_N = x_N: scale of the last contact */
-        double v = sim->v_scale[j - 1];
-        double z = pow(c->exponent * mu[j - 1] / (2.0 * c->contact[j - 1]) * v * v, 1.0 / c->exponent);
-        sim->v_scale[k - 1] = fmax(sim->v_scale[k - 1], 1e-280);
-        sim->z_scale[k - 1] = isfinite(z) ? fmax(z, 1e-280) : 1.0;
-    }
-    free(mu);
-    return status;
-}
-
-taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec, taper_error *err)
-{
-    taper_solver_spec defaults;
-    if (!chain) {
-        taper_fail(err, TAPER_EINVAL, "taper_sim_alloc: chain is NULL");
-        return NULL;
-    }
-    if (!spec) {
-        taper_solver_spec_init(&defaults);
-        spec = &defaults;
-    }
-    if (validate_spec(chain, spec, err) != TAPER_OK) return NULL;
-    taper_sim *sim = calloc(1, sizeof *sim);
-    if (!sim) {
-        taper_fail(err, TAPER_ENOMEM, "cannot allocate the simulation");
-        return NULL;
-    }
-    sim->chain = chain;
-    sim->spec = *spec;
-    if (alloc_arrays(sim) != 0) {
-        taper_sim_free(sim);
-        taper_fail(err, TAPER_ENOMEM, "cannot allocate results for %zu granules", chain->n);
-        return NULL;
-    }
-    if (tolerance_scales(sim, err) != TAPER_OK) {
-        taper_sim_free(sim);
-        return NULL;
-    }
-    sim->target = spec->last_granule ? spec->last_granule : chain->n;
-    sim->pass_limit = sim->target < chain->n ? sim->target : chain->n - 1;
-    sim->next_pass = 1;
-    sim->next_peak = 2;
-    sim->obs[TAPER_V_PEAK][0] = 1.0; /* the impulse itself */
-    sim->obs[TAPER_T_PEAK][0] = 0.0;
-    sim->v_ref = 1.0;
-    sim->z_ref = 1.0;
-    growth_thresholds(sim);
-    sim->events[0] |= TAPER_EV_PEAK;
-    taper_ok(err);
-    return sim;
-}
-
-void taper_sim_free(taper_sim *sim)
-{
-    if (!sim) return;
-    if (sim->cvode) CVodeFree(&sim->cvode);
-    if (sim->nonlinear) SUNNonlinSolFree(sim->nonlinear);
-    if (sim->linear) SUNLinSolFree(sim->linear);
-    if (sim->band) SUNMatDestroy(sim->band);
-    if (sim->y) N_VDestroy(sim->y);
-    taper_window_free(sim->window);
-    taper_sundials_context_free(&sim->ctx);
-    taper_dyn_release(&sim->dyn);
-    for (int i = 0; i < TAPER_N_OBSERVABLES; i++) free(sim->obs[i]);
-    free(sim->x_free);
-    free(sim->v_free);
-    free(sim->gap_watch);
-    free(sim->grow_z);
-    free(sim->events);
-    free(sim->v_scale);
-    free(sim->z_scale);
-    free(sim);
-}
 
 /* ---- CVODE callbacks --------------------------------------------------- */
 static int rhs(double t, N_Vector y, N_Vector ydot, void *user)
@@ -267,187 +86,286 @@ static int error_weights(N_Vector yv, N_Vector wv, void *user)
     return 0;
 }
 
-void taper_sim_log(const taper_sim *sim, int level, const char *fmt, ...)
-{
-    if (!sim->spec.log) return;
-    char text[TAPER_MESSAGE_SIZE];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
-    va_end(ap);
-    sim->spec.log(level, text, sim->spec.log_data);
-}
-
-/* CVODE's errors and warnings: kept for the error message of a failed run
- * and passed on to the caller's log. */
-static void keep_solver_message(const char *message, void *user)
+/* CVODE's errors and warnings: the last one is kept for the error message
+ * of a failed run (whole: the message decides its own length), and each is
+ * passed on to the caller's log. */
+static void keep_solver_message(const char *message, const char *function, int code, void *user)
 {
     taper_sim *sim = user;
-    strncpy(sim->solver_message, message, sizeof sim->solver_message - 1);
-    taper_sim_log(sim, 1, "%s", message);
+    const char *format = "%s (CVODE %s, flag %d)";
+    int needed = snprintf(NULL, 0, format, message, function, code);
+    if (needed < 0) return;
+    char *text = malloc((size_t)needed + 1);
+    if (text) {
+        snprintf(text, (size_t)needed + 1, format, message, function, code);
+        free(sim->cv.message);
+        sim->cv.message = text;
+    }
+    taper_sim_log(sim, 1, format, message, function, code);
+}
+
+static const char *solver_message(const taper_sim *sim)
+{
+    return sim->cv.message ? sim->cv.message : "";
 }
 
 /* ---- set-up ------------------------------------------------------------ */
 static int make_state(taper_sim *sim)
 {
-    taper_dyn *d = &sim->dyn;
+    taper_cvode *cv = &sim->cv;
     if (sim->spec.window && sim->spec.method == TAPER_ADAMS) {
-        d->lo = d->hi = 1; /* only granule 1 moves; contact (1,2) joins at once */
-        sim->window = taper_window_alloc(0, 2, 64);
-        if (!sim->window) return -1;
-        sim->y = taper_window_vector_new(sim->window, sim->ctx);
+        cv->window = taper_window_alloc(0, 2, 64);
+        if (!cv->window) return -1;
+        cv->y = taper_window_vector_new(cv->window, cv->ctx);
+        if (!cv->y) return -1;
+        /* only granule 1 moves; contact (1,2) joins at once */
+        if (taper_sim_move_window(sim, 1, 1, 0.0) != 0) return -1;
     } else {
-        d->lo = 1;
-        d->hi = d->n;
-        sim->y = N_VNew_Serial((sunindextype)(2 * d->n), sim->ctx);
-        if (sim->y) N_VConst(0.0, sim->y);
+        cv->y = N_VNew_Serial((sunindextype)(2 * sim->n), cv->ctx);
+        if (!cv->y) return -1;
+        N_VConst(0.0, cv->y);
+        if (taper_sim_move_window(sim, 1, sim->n, 0.0) != 0) return -1;
     }
-    if (!sim->y) return -1;
-    sim->stats.max_window = d->hi - d->lo + 1;
-    taper_sim_data(sim, sim->y)[0] = 1.0; /* v_1 = 1: the impulse */
+    sim->stats.max_window = sim->dyn.hi - sim->dyn.lo + 1;
+    taper_sim_data(sim, cv->y)[0] = 1.0; /* v_1 = 1: the impulse */
     return 0;
 }
 
-static int check(int flag, const char *what, taper_sim *sim, taper_error *err)
+static int check(int flag, const char *what, const taper_sim *sim, taper_error *err)
 {
     if (flag >= 0) return TAPER_OK;
     return taper_fail(err, TAPER_ESOLVER, "CVODE set-up failed in %s (flag %d): %s", what, flag,
-                      sim->solver_message);
+                      solver_message(sim));
 }
 
 static int attach_solvers(taper_sim *sim, taper_error *err)
 {
-    void *cv = sim->cvode;
+    taper_cvode *cv = &sim->cv;
     if (sim->spec.method == TAPER_ADAMS) {
         /* Non-stiff: fixed-point iteration needs no Jacobian at all. */
-        sim->nonlinear = SUNNonlinSol_FixedPoint(sim->y, 0, sim->ctx);
-        if (!sim->nonlinear) return taper_fail(err, TAPER_ENOMEM, "cannot create the fixed-point solver");
-        return check(CVodeSetNonlinearSolver(cv, sim->nonlinear), "CVodeSetNonlinearSolver", sim, err);
+        cv->nonlinear = SUNNonlinSol_FixedPoint(cv->y, 0, cv->ctx);
+        if (!cv->nonlinear) return taper_fail(err, TAPER_ENOMEM, "cannot create the fixed-point solver");
+        return check(CVodeSetNonlinearSolver(cv->mem, cv->nonlinear), "CVodeSetNonlinearSolver", sim, err);
     }
-    sunindextype n = (sunindextype)(2 * sim->dyn.n);
-    sim->band = SUNBandMatrix(n, 1, 1, sim->ctx);
-    if (!sim->band) return taper_fail(err, TAPER_ENOMEM, "cannot create the band matrix");
-    sim->linear = SUNLinSol_Band(sim->y, sim->band, sim->ctx);
-    if (!sim->linear) return taper_fail(err, TAPER_ENOMEM, "cannot create the band solver");
-    int status = check(CVodeSetLinearSolver(cv, sim->linear, sim->band), "CVodeSetLinearSolver", sim, err);
+    sunindextype n = (sunindextype)(2 * sim->n);
+    cv->band = SUNBandMatrix(n, 1, 1, cv->ctx);
+    if (!cv->band) return taper_fail(err, TAPER_ENOMEM, "cannot create the band matrix");
+    cv->linear = SUNLinSol_Band(cv->y, cv->band, cv->ctx);
+    if (!cv->linear) return taper_fail(err, TAPER_ENOMEM, "cannot create the band solver");
+    int status = check(CVodeSetLinearSolver(cv->mem, cv->linear, cv->band), "CVodeSetLinearSolver", sim, err);
     if (status != TAPER_OK) return status;
-    return check(CVodeSetJacFn(cv, jacobian), "CVodeSetJacFn", sim, err);
+    return check(CVodeSetJacFn(cv->mem, jacobian), "CVodeSetJacFn", sim, err);
 }
 
 static int setup_cvode(taper_sim *sim, taper_error *err)
 {
-    if (taper_sundials_context_new(&sim->ctx) != 0)
+    taper_cvode *cv = &sim->cv;
+    taper_window_growth_thresholds(sim, sim->grow_z);
+    if (taper_sundials_context_new(&cv->ctx) != 0)
         return taper_fail(err, TAPER_ENOMEM, "cannot create the SUNDIALS context");
     if (make_state(sim) != 0) return taper_fail(err, TAPER_ENOMEM, "cannot allocate the state");
-    sim->cvode = CVodeCreate(sim->spec.method == TAPER_BDF ? CV_BDF : CV_ADAMS, sim->ctx);
-    if (!sim->cvode) return taper_fail(err, TAPER_ENOMEM, "cannot create CVODE");
-    void *cv = sim->cvode;
-    sim->messages.fn = keep_solver_message;
-    sim->messages.user = sim;
+    cv->mem = CVodeCreate(sim->spec.method == TAPER_BDF ? CV_BDF : CV_ADAMS, cv->ctx);
+    if (!cv->mem) return taper_fail(err, TAPER_ENOMEM, "cannot create CVODE");
+    void *mem = cv->mem;
+    cv->messages.fn = keep_solver_message;
+    cv->messages.user = sim;
     int directions[TAPER_N_SLOTS];
     taper_events_directions(directions);
     int status = TAPER_OK;
-    if (!status) status = check(taper_sundials_capture_errors(cv, &sim->messages), "error handler", sim, err);
-    if (!status) status = check(CVodeInit(cv, rhs, 0.0, sim->y), "CVodeInit", sim, err);
-    if (!status) status = check(CVodeWFtolerances(cv, error_weights), "CVodeWFtolerances", sim, err);
-    if (!status) status = check(CVodeSetUserData(cv, sim), "CVodeSetUserData", sim, err);
-    if (!status) status = check(CVodeSetMaxNumSteps(cv, STEPS_PER_CALL), "CVodeSetMaxNumSteps", sim, err);
+    if (!status) status = check(taper_sundials_capture_errors(mem, &cv->messages), "error handler", sim, err);
+    if (!status) status = check(CVodeInit(mem, rhs, 0.0, cv->y), "CVodeInit", sim, err);
+    if (!status) status = check(CVodeWFtolerances(mem, error_weights), "CVodeWFtolerances", sim, err);
+    if (!status) status = check(CVodeSetUserData(mem, sim), "CVodeSetUserData", sim, err);
+    if (!status) status = check(CVodeSetMaxNumSteps(mem, STEPS_PER_CALL), "CVodeSetMaxNumSteps", sim, err);
     /* An explicit first step: CVODE's estimate would use the (unbounded) tout. */
-    if (!status) status = check(CVodeSetInitStep(cv, INITIAL_STEP), "CVodeSetInitStep", sim, err);
-    if (!status) status = check(CVodeRootInit(cv, TAPER_N_SLOTS, taper_events_root_function), "CVodeRootInit", sim, err);
-    if (!status) status = check(CVodeSetRootDirection(cv, directions), "CVodeSetRootDirection", sim, err);
-    if (!status) status = check(CVodeSetNoInactiveRootWarn(cv), "CVodeSetNoInactiveRootWarn", sim, err);
+    if (!status) status = check(CVodeSetInitStep(mem, INITIAL_STEP), "CVodeSetInitStep", sim, err);
+    if (!status) status = check(CVodeRootInit(mem, TAPER_N_SLOTS, taper_events_root_function), "CVodeRootInit", sim, err);
+    if (!status) status = check(CVodeSetRootDirection(mem, directions), "CVodeSetRootDirection", sim, err);
+    if (!status) status = check(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn", sim, err);
     /* "t + h = t": the pulse of a steep forward chain crosses its last,
      * lightest granules faster than double precision resolves t (finding C,
      * docs/robustness.md; the affected values end up nan and are counted in
      * the log).  Once says it; CVODE's default repeated it ten times. */
-    if (!status) status = check(CVodeSetMaxHnilWarns(cv, 1), "CVodeSetMaxHnilWarns", sim, err);
+    if (!status) status = check(CVodeSetMaxHnilWarns(mem, 1), "CVodeSetMaxHnilWarns", sim, err);
     /* Adams above order 6 buys few steps here (the force is only C^1 at
      * contact onset) and each step costs O(q^2) vector operations. */
     int order = sim->spec.max_order ? sim->spec.max_order : (sim->spec.method == TAPER_ADAMS ? 6 : 5);
-    if (!status) status = check(CVodeSetMaxOrd(cv, order), "CVodeSetMaxOrd", sim, err);
+    if (!status) status = check(CVodeSetMaxOrd(mem, order), "CVodeSetMaxOrd", sim, err);
     if (!status) status = attach_solvers(sim, err);
     return status;
 }
 
 /* ---- counters ------------------------------------------------------------ */
-static void read_counters(const taper_sim *sim, long c[6])
+/* CVODE's counters since its last (re-)initialisation. */
+static taper_cvode_counters read_counters(const taper_sim *sim)
 {
-    long v = 0;
-    memset(c, 0, 6 * sizeof(long));
-    if (!sim->cvode) return;
-    CVodeGetNumSteps(sim->cvode, &v), c[0] = v;
-    CVodeGetNumRhsEvals(sim->cvode, &v), c[1] = v;
-    CVodeGetNumGEvals(sim->cvode, &v), c[2] = v;
-    if (sim->linear) CVodeGetNumJacEvals(sim->cvode, &v), c[3] = v;
-    CVodeGetNumNonlinSolvIters(sim->cvode, &v), c[4] = v;
-    CVodeGetNumErrTestFails(sim->cvode, &v), c[5] = v;
+    taper_cvode_counters c = {0};
+    void *mem = sim->cv.mem;
+    if (!mem) return c;
+    CVodeGetNumSteps(mem, &c.steps);
+    CVodeGetNumRhsEvals(mem, &c.rhs_evals);
+    CVodeGetNumGEvals(mem, &c.root_evals);
+    if (sim->cv.linear) CVodeGetNumJacEvals(mem, &c.jac_evals);
+    CVodeGetNumNonlinSolvIters(mem, &c.nonlin_iters);
+    CVodeGetNumErrTestFails(mem, &c.err_test_fails);
+    return c;
 }
 
-static long total_steps(const taper_sim *sim)
+static taper_cvode_counters add_counters(taper_cvode_counters a, taper_cvode_counters b)
 {
-    long c[6];
-    read_counters(sim, c);
-    return c[0] + sim->counters_before_restart[0];
+    a.steps += b.steps;
+    a.rhs_evals += b.rhs_evals;
+    a.root_evals += b.root_evals;
+    a.jac_evals += b.jac_evals;
+    a.nonlin_iters += b.nonlin_iters;
+    a.err_test_fails += b.err_test_fails;
+    return a;
 }
 
-int taper_solver_restart(taper_sim *sim, taper_error *err)
+/* The run's counters so far, over every restart. */
+static taper_cvode_counters total_counters(const taper_sim *sim)
 {
-    long c[6];
-    read_counters(sim, c);
-    for (int i = 0; i < 6; i++) sim->counters_before_restart[i] += c[i];
-    if (CVodeReInit(sim->cvode, sim->t, sim->y) != CV_SUCCESS)
-        return taper_fail(err, TAPER_ESOLVER, "cannot restart CVODE at t = %.17g: %s", sim->t,
-                          sim->solver_message);
-    CVodeSetInitStep(sim->cvode, INITIAL_STEP * 1e-2);
-    sim->stats.restarts++;
-    return TAPER_OK;
+    return add_counters(read_counters(sim), sim->cv.before_restart);
 }
 
-/* ---- the run -------------------------------------------------------------- */
-static int call_monitor(taper_sim *sim)
+/* ---- why a run stops early -------------------------------------------------- */
+typedef enum stop_reason {
+    STOP_INTERRUPTED,    /* the monitor asked                                */
+    STOP_MAX_STEPS,      /* spec max_steps                                    */
+    STOP_T_MAX,          /* spec t_max                                        */
+    STOP_END_OF_TIME,    /* NO_TIME_LIMIT without a t_max                     */
+    STOP_SOLVER,         /* CVODE failed                                      */
+    STOP_ROOT_INFO,      /* CVodeGetRootInfo failed                           */
+    STOP_WINDOW_MEMORY,  /* the window could not grow                         */
+    STOP_RESTART         /* CVodeReInit failed                                */
+} stop_reason;
+
+static taper_status stop_status(stop_reason why)
 {
-    if (!sim->spec.monitor) return 0;
-    taper_progress p = {
-        .granule = sim->next_pass - 1, .target = sim->pass_limit, .t = sim->t,
-        .steps = total_steps(sim), .window_lo = sim->dyn.lo, .window_hi = sim->dyn.hi,
-    };
-    return sim->spec.monitor(&p, sim->spec.monitor_data);
+    switch (why) {
+    case STOP_INTERRUPTED: return TAPER_EINTERRUPTED;
+    case STOP_MAX_STEPS:
+    case STOP_T_MAX:
+    case STOP_END_OF_TIME: return TAPER_ELIMIT;
+    case STOP_WINDOW_MEMORY: return TAPER_ENOMEM;
+    case STOP_SOLVER:
+    case STOP_ROOT_INFO:
+    case STOP_RESTART: break;
+    }
+    return TAPER_ESOLVER;
 }
 
 /* What a user can change when a run stops early. */
-static const char *advice(int status, const char *why)
+static const char *advice(stop_reason why)
 {
-    if (status == TAPER_EINTERRUPTED) return "";
-    if (strstr(why, "max_steps")) return "; raise max_steps (0: no limit)";
-    if (strstr(why, "1e300"))
+    switch (why) {
+    case STOP_INTERRUPTED: return "";
+    case STOP_MAX_STEPS: return "; raise max_steps (0: no limit)";
+    case STOP_END_OF_TIME:
         return "; the pulse cannot cross this chain in finite double-precision time: fewer "
                "granules or a weaker taper";
-    if (strstr(why, "t_max")) return "; raise t_max (0: no limit)";
+    case STOP_T_MAX: return "; raise t_max (0: no limit)";
+    default: break;
+    }
     return "; try a looser rtol, method 'bdf' (strongly forward-tapered chains, whose lightest "
            "granules collide on tiny time scales), or fewer granules";
 }
 
-static int stop(taper_sim *sim, taper_error *err, int status, const char *why)
+/* Ends the run early: the reason, where the pulse was, what to change.
+ * flag: CVODE's flag for STOP_SOLVER. */
+static taper_status stop(const taper_sim *sim, taper_error *err, stop_reason why, int flag)
 {
-    return taper_fail(err, status,
-                      "%s at t = %.17g with the pulse past granule %zu of %zu "
-                      "(observables found so far are kept)%s",
-                      why, sim->t, sim->next_pass - 1, sim->pass_limit, advice(status, why));
+    const taper_status status = stop_status(why);
+    switch (why) {
+    case STOP_WINDOW_MEMORY:
+        /* not a stop of the integration: nothing to keep or advise */
+        return taper_fail(err, status, "cannot enlarge the active window to %zu granules",
+                          sim->dyn.hi - sim->dyn.lo + 2);
+    case STOP_RESTART:
+        return taper_fail(err, status, "cannot restart CVODE at t = %.17g: %s", sim->t,
+                          solver_message(sim));
+    case STOP_INTERRUPTED: taper_fail(err, status, "interrupted"); break;
+    case STOP_MAX_STEPS: taper_fail(err, status, "max_steps reached"); break;
+    case STOP_T_MAX: taper_fail(err, status, "t_max reached"); break;
+    case STOP_END_OF_TIME: taper_fail(err, status, "time 1e300 reached (no t_max given)"); break;
+    case STOP_ROOT_INFO: taper_fail(err, status, "CVodeGetRootInfo failed"); break;
+    case STOP_SOLVER:
+        taper_fail(err, status, "CVODE failed (flag %d: %s)", flag, solver_message(sim));
+        break;
+    }
+    taper_fail_append(err, " at t = %.17g with the pulse past granule %zu of %zu "
+                           "(observables found so far are kept)%s",
+                      sim->t, sim->pulse.next_pass - 1, sim->pass_limit, advice(why));
+    return status;
 }
 
-static int handle_roots(taper_sim *sim, taper_error *err)
+/* ---- applying the window's decisions ------------------------------------------ */
+static void window_changed(taper_sim *sim)
 {
-    int roots[TAPER_N_SLOTS], grow = 0, gap_closed = 0;
-    if (CVodeGetRootInfo(sim->cvode, roots) < 0) return stop(sim, err, TAPER_ESOLVER, "CVodeGetRootInfo failed");
-    size_t passed_before = sim->next_pass;
-    taper_events_record(sim, roots, &grow, &gap_closed);
-    int status = TAPER_OK;
-    if (gap_closed) status = taper_window_take_back(sim, err);
-    if (!status && grow) status = taper_window_grow(sim, err);
-    if (!status && sim->next_pass != passed_before) {
-        status = taper_window_shrink(sim, err);
-        if (!status && call_monitor(sim)) status = stop(sim, err, TAPER_EINTERRUPTED, "interrupted");
+    sim->stats.window_changes++;
+    size_t size = sim->dyn.hi - sim->dyn.lo + 1;
+    if (size > sim->stats.max_window) sim->stats.max_window = size;
+}
+
+/* Re-initialises CVODE at the current state; the counters so far are kept. */
+static taper_status restart(taper_sim *sim, taper_error *err)
+{
+    sim->cv.before_restart = total_counters(sim);
+    if (CVodeReInit(sim->cv.mem, sim->t, sim->cv.y) != CV_SUCCESS) return stop(sim, err, STOP_RESTART, 0);
+    CVodeSetInitStep(sim->cv.mem, INITIAL_STEP * 1e-2);
+    sim->stats.restarts++;
+    return TAPER_OK;
+}
+
+static taper_status take_back(taper_sim *sim, taper_error *err)
+{
+    if (taper_sim_recall_granule(sim) != 0) return stop(sim, err, STOP_WINDOW_MEMORY, 0);
+    window_changed(sim);
+    taper_sim_log(sim, 0, "granule %zu rejoins the window at t = %.17g (its gap closed)", sim->dyn.lo,
+                  sim->t);
+    return restart(sim, err);
+}
+
+static taper_status grow(taper_sim *sim, taper_error *err)
+{
+    const taper_dyn *d = &sim->dyn;
+    if (taper_sim_move_window(sim, d->lo, d->hi + 1, d->v_left) != 0)
+        return stop(sim, err, STOP_WINDOW_MEMORY, 0);
+    window_changed(sim);
+    return TAPER_OK;
+}
+
+static void shrink(taper_sim *sim)
+{
+    const size_t lo = sim->dyn.lo;
+    for (taper_departure d; (d = taper_window_departure(sim)).kind != TAPER_STAYS;)
+        taper_sim_release_granule(sim, d.watch, d.kind == TAPER_LEAVES_AT_REST);
+    if (sim->dyn.lo != lo) window_changed(sim);
+}
+
+/* ---- the run -------------------------------------------------------------- */
+static int call_monitor(const taper_sim *sim)
+{
+    if (!sim->spec.monitor) return 0;
+    taper_progress p = {
+        .granule = sim->pulse.next_pass - 1, .target = sim->pass_limit, .t = sim->t,
+        .steps = total_counters(sim).steps, .window_lo = sim->dyn.lo, .window_hi = sim->dyn.hi,
+    };
+    return sim->spec.monitor(&p, sim->spec.monitor_data);
+}
+
+static taper_status handle_roots(taper_sim *sim, taper_error *err)
+{
+    int roots[TAPER_N_SLOTS];
+    if (CVodeGetRootInfo(sim->cv.mem, roots) < 0) return stop(sim, err, STOP_ROOT_INFO, 0);
+    const taper_root_report report = taper_events_record(sim, roots);
+    const taper_window_plan plan = taper_window_plan_for(sim, report);
+    taper_status status = TAPER_OK;
+    if (plan.take_back) status = take_back(sim, err);
+    if (!status && plan.grow) status = grow(sim, err);
+    if (!status && report.passed) {
+        if (plan.shrink) shrink(sim);
+        if (call_monitor(sim)) status = stop(sim, err, STOP_INTERRUPTED, 0);
     }
     return status;
 }
@@ -459,60 +377,58 @@ static int handle_roots(taper_sim *sim, taper_error *err)
  * residence times.  Called once per run: O(N) is fine. */
 static double grace_time(const taper_sim *sim)
 {
-    const double *tp = sim->obs[TAPER_T_PASS];
+    const double *tp = sim->pulse.obs[TAPER_T_PASS];
     double longest = 0.0;
     for (size_t k = 1; k <= sim->pass_limit; k++)
         longest = fmax(longest, tp[k - 1] - (k > 1 ? tp[k - 2] : 0.0));
     return sim->t + PEAK_GRACE * fmax(longest, 1e-3);
 }
 
-static int step_once(taper_sim *sim, double *tout, int *grace, taper_error *err)
+static taper_status step_once(taper_sim *sim, double tout, int grace, taper_error *err)
 {
     double t = sim->t;
-    int flag = CVode(sim->cvode, *tout, sim->y, &t, CV_NORMAL);
+    int flag = CVode(sim->cv.mem, tout, sim->cv.y, &t, CV_NORMAL);
     sim->t = t;
     if (flag == CV_ROOT_RETURN) return handle_roots(sim, err);
     if (flag == CV_TOO_MUCH_WORK) {
-        if (call_monitor(sim)) return stop(sim, err, TAPER_EINTERRUPTED, "interrupted");
+        if (call_monitor(sim)) return stop(sim, err, STOP_INTERRUPTED, 0);
         return TAPER_OK;
     }
     if (flag == CV_SUCCESS || flag == CV_TSTOP_RETURN) {
-        if (*grace) return TAPER_OK; /* remaining peaks do not exist */
-        return stop(sim, err, TAPER_ELIMIT,
-                    sim->spec.t_max > 0.0 ? "t_max reached" : "time 1e300 reached (no t_max given)");
+        if (grace) return TAPER_OK; /* remaining peaks do not exist */
+        return stop(sim, err, sim->spec.t_max > 0.0 ? STOP_T_MAX : STOP_END_OF_TIME, 0);
     }
-    char why[600];
-    snprintf(why, sizeof why, "CVODE failed (flag %d: %s)", flag, sim->solver_message);
-    return stop(sim, err, TAPER_ESOLVER, why);
+    return stop(sim, err, STOP_SOLVER, flag);
 }
 
-static int integrate(taper_sim *sim, taper_error *err)
+static taper_status integrate(taper_sim *sim, taper_error *err)
 {
     double tout = sim->spec.t_max > 0.0 ? sim->spec.t_max : NO_TIME_LIMIT;
     int grace = 0;
     while (!taper_events_complete(sim)) {
-        if (sim->spec.max_steps > 0 && total_steps(sim) >= sim->spec.max_steps)
-            return stop(sim, err, TAPER_ELIMIT, "max_steps reached");
+        if (sim->spec.max_steps > 0 && total_counters(sim).steps >= sim->spec.max_steps)
+            return stop(sim, err, STOP_MAX_STEPS, 0);
         if (!grace && taper_events_passes_complete(sim)) {
             grace = 1;
             double tg = grace_time(sim);
             if (tg < tout) tout = tg;
-            CVodeSetStopTime(sim->cvode, tout);
+            CVodeSetStopTime(sim->cv.mem, tout);
         }
         double t_before = sim->t;
-        int status = step_once(sim, &tout, &grace, err);
+        taper_status status = step_once(sim, tout, grace, err);
         if (status != TAPER_OK) return status;
         if (grace && sim->t >= tout && sim->t > t_before) break;
     }
-    if (sim->next_peak <= sim->target) {
+    const size_t next_peak = sim->pulse.next_peak;
+    if (next_peak <= sim->target) {
         size_t missing = 0;
-        for (size_t k = sim->next_peak; k <= sim->target; k++)
-            missing += isnan(sim->obs[TAPER_T_PEAK][k - 1]);
+        for (size_t k = next_peak; k <= sim->target; k++)
+            missing += isnan(sim->pulse.obs[TAPER_T_PEAK][k - 1]);
         taper_sim_log(sim, 1,
                       "%zu of granules %zu..%zu reached no forward velocity maximum within %g "
                       "times the longest residence time after the last pass (the run ended at "
                       "t = %.6g): their v_peak is nan",
-                      missing, sim->next_peak, sim->target, PEAK_GRACE, sim->t);
+                      missing, next_peak, sim->target, PEAK_GRACE, sim->t);
     }
     return TAPER_OK;
 }
@@ -535,10 +451,10 @@ static int integrate(taper_sim *sim, taper_error *err)
  * noise. */
 static size_t residence_times(taper_sim *sim)
 {
-    const double *tp = sim->obs[TAPER_T_PASS];
-    double *tr = sim->obs[TAPER_T_RES];
+    const double *tp = sim->pulse.obs[TAPER_T_PASS];
+    double *tr = sim->pulse.obs[TAPER_T_RES];
     size_t unresolved = 0;
-    for (size_t k = 1; k <= sim->chain->n; k++) {
+    for (size_t k = 1; k <= sim->n; k++) {
         double before = k > 1 ? tp[k - 2] : 0.0, T = tp[k - 1] - before;
         if (fabs(T) < PASS_TIME_RESOLUTION * fabs(tp[k - 1])) {
             T = NAN;
@@ -552,12 +468,12 @@ static size_t residence_times(taper_sim *sim)
 /* What the caller's log should know about values left NaN on purpose. */
 static void report_untimed(const taper_sim *sim, size_t unresolved_residences)
 {
-    if (sim->untimed_passes || sim->untimed_peaks)
+    if (sim->pulse.untimed_passes || sim->pulse.untimed_peaks)
         taper_sim_log(sim, 1,
                       "%zu pass times and %zu peaks happened before their root functions were "
                       "armed (light granules overtaking in the precursor of a steeply tapered "
                       "chain): written as nan, not guessed",
-                      sim->untimed_passes, sim->untimed_peaks);
+                      sim->pulse.untimed_passes, sim->pulse.untimed_peaks);
     if (unresolved_residences)
         taper_sim_log(sim, 1,
                       "%zu residence times are below the resolution of the pass times "
@@ -584,29 +500,25 @@ static void warn_of_drift(const taper_sim *sim)
                       e, sim->stats.t_final);
 }
 
-static void finish(taper_sim *sim, int status)
+static void finish(taper_sim *sim, taper_status status)
 {
-    const taper_chain *c = sim->chain;
     report_untimed(sim, residence_times(sim));
-    long cnt[6];
-    read_counters(sim, cnt);
-    for (int i = 0; i < 6; i++) cnt[i] += sim->counters_before_restart[i];
-    taper_stats *s = &sim->stats;
-    s->steps = cnt[0], s->rhs_evals = cnt[1], s->root_evals = cnt[2], s->jac_evals = cnt[3];
-    s->nonlin_iters = cnt[4], s->err_test_fails = cnt[5];
-    s->granule_reached = sim->next_pass - 1;
+    taper_run_statistics *s = &sim->stats;
+    s->cvode = total_counters(sim);
+    s->granule_reached = sim->pulse.next_pass - 1;
     s->t_final = sim->t;
     s->complete = status == TAPER_OK;
+    const taper_dyn *d = &sim->dyn;
+    const double *y = sim->cv.y ? taper_sim_data(sim, sim->cv.y) : NULL;
     double e = 0.0, p = 0.0, p_abs = 0.0;
-    if (sim->y) taper_dyn_energy_momentum(&sim->dyn, taper_sim_data(sim, sim->y), &e, &p);
-    e += sim->energy_free;
-    p += sim->momentum_free;
-    for (size_t k = 1; sim->y && k <= c->n; k++) {
-        double v = k < sim->dyn.lo ? sim->v_free[k - 1]
-                   : k <= sim->dyn.hi ? taper_dyn_v(&sim->dyn, taper_sim_data(sim, sim->y), k) : 0.0;
-        p_abs += c->mass[k - 1] * fabs(v);
+    if (y) taper_dyn_energy_momentum(d, y, &e, &p);
+    e += sim->out.energy_free;
+    p += sim->out.momentum_free;
+    for (size_t k = 1; y && k <= sim->n; k++) {
+        double v = k < d->lo ? sim->out.v_free[k - 1] : k <= d->hi ? taper_dyn_v(d, y, k) : 0.0;
+        p_abs += sim->mass[k - 1] * fabs(v);
     }
-    const double e0 = 0.5 * c->mass[0], p0 = c->mass[0];
+    const double e0 = 0.5 * sim->mass[0], p0 = sim->mass[0];
     s->energy_error = fabs(e - e0) / e0;
     /* Relative to the momentum in motion: in backward chains granules carry
      * momenta far above P0 in opposite directions. */
@@ -614,50 +526,14 @@ static void finish(taper_sim *sim, int status)
     warn_of_drift(sim);
 }
 
-int taper_sim_run(taper_sim *sim, taper_error *err)
+taper_status taper_sim_run(taper_sim *sim, taper_error *err)
 {
     if (!sim) return taper_fail(err, TAPER_EINVAL, "taper_sim_run: sim is NULL");
     if (sim->ran) return taper_fail(err, TAPER_EINVAL, "taper_sim_run: this sim has already run");
     sim->ran = 1;
-    int status = setup_cvode(sim, err);
+    taper_status status = setup_cvode(sim, err);
     if (status == TAPER_OK) status = integrate(sim, err);
     finish(sim, status);
     if (status == TAPER_OK) taper_ok(err);
     return status;
-}
-
-/* ---- results ------------------------------------------------------------ */
-const double *taper_sim_observable(const taper_sim *sim, int which)
-{
-    if (!sim || which < 0 || which >= TAPER_N_OBSERVABLES) return NULL;
-    return sim->obs[which];
-}
-
-void taper_sim_stats(const taper_sim *sim, taper_stats *stats)
-{
-    if (sim && stats) *stats = sim->stats;
-}
-
-int taper_sim_state(const taper_sim *sim, double *x, double *v, taper_error *err)
-{
-    if (!sim) return taper_fail(err, TAPER_EINVAL, "taper_sim_state: sim is NULL");
-    if (!sim->y) return taper_fail(err, TAPER_EINVAL, "taper_sim_state: the sim has not run");
-    const taper_dyn *d = &sim->dyn;
-    const double *y = taper_sim_data(sim, sim->y);
-    /* From the right: x_k = z_k + x_{k+1} inside the window, O(N) in all. */
-    double x_window = 0.0;
-    for (size_t k = d->n; k >= 1; k--) {
-        double xk = 0.0, vk = 0.0;
-        if (k < d->lo) {
-            vk = sim->v_free[k - 1];
-            xk = sim->x_free[k - 1] + vk * sim->t;
-        } else if (k <= d->hi) {
-            vk = taper_dyn_v(d, y, k);
-            x_window += taper_dyn_z(d, y, k);
-            xk = x_window;
-        }
-        if (x) x[k - 1] = xk;
-        if (v) v[k - 1] = vk;
-    }
-    return taper_ok(err);
 }

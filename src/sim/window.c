@@ -1,5 +1,7 @@
 /*
- * window.c -- the active window of granules (see dynamics.h).
+ * window.c -- the policy of the active window of granules (see dynamics.h):
+ * it decides, the run loop (solve.c) acts.  Every function here only reads
+ * the sim; the loop moves the window (sim.c) and restarts CVODE.
  *
  *  grow:      granule hi+1 joins when z_hi reaches the growth threshold.
  *             Its state and Nordsieck history are zero in every vector, which
@@ -16,7 +18,7 @@
  *     z_eps = REST_FACTOR (rtol z_ref + atol z_scale)
  * (v_ref, z_ref: velocity of granule k+1 and compression z_k at the last pass
  * event, the pulse's largest; v_scale, z_scale: the granule's own binary
- * collision scales that make atol relative, see solve.c).
+ * collision scales that make atol relative, see sim.c).
  *
  * Criterion 1, exact free flight (the clean case, e.g. backward chains): the
  * gaps on both sides of lo are open by more than z_eps and not closing
@@ -68,22 +70,47 @@
  * times the pulse force (resting_compression). */
 #define FORCE_FRACTION 0.01
 
-static int apply_range(taper_sim *sim, taper_error *err)
+/* z_k at which granule k+1 joins the window (k = hi).  Two bounds on the
+ * neglected force r_k z^(n-1), the smaller threshold wins:
+ *  - over the collision: z below a fraction f of the contact's compression
+ *    scale z_scale (the binary-collision z_max), f^(n-1) = 1e-40, so over
+ *    the collision time the force changes the velocity of granule k+1 by
+ *    1e-40 of its binary-collision velocity.  Mass and time scales cancel.
+ *    A per-unit-time bound alone fails on long time scales: a backward
+ *    exponential chain (q = 0.05) runs at t ~ 1e40 by granule 1300, granules
+ *    were pushed unseen and energy was created (energy error 6e3 at
+ *    N = 2000; tests/unit/test_window.c, long_backward_exponential).
+ *  - per unit time: the force changes the velocity of the lighter of k, k+1
+ *    by less than 1e-40 of its binary-collision velocity per unit time.  On
+ *    steep forward chains, whose tiny last granules are struck on short
+ *    times by a train far from binary collisions, this bound is the smaller
+ *    one; joining later there lets the last granule peak within the step
+ *    that arms its peak slot (forward exponential q = 0.05, N = 150).
+ * The floor keeps root values clear of underflow (exponents n < 1.4). */
+void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
 {
-    if (taper_window_set_range(sim->window, taper_dyn_begin(&sim->dyn), taper_dyn_end(&sim->dyn)) != 0)
-        return taper_fail(err, TAPER_ENOMEM, "cannot enlarge the active window to %zu granules",
-                          sim->dyn.hi - sim->dyn.lo + 1);
-    sim->stats.window_changes++;
-    size_t size = sim->dyn.hi - sim->dyn.lo + 1;
-    if (size > sim->stats.max_window) sim->stats.max_window = size;
-    return TAPER_OK;
+    const double power = 1.0 / (sim->exponent - 1.0);
+    const double fraction = fmax(pow(1e-40, power), 1e-200);
+    for (size_t k = 1; k < sim->n; k++) {
+        double m = fmin(sim->mass[k - 1], sim->mass[k]);
+        double v = fmin(sim->v_scale[k - 1], sim->v_scale[k]);
+        double per_time = pow(1e-40 * m * v / sim->contact[k - 1], power);
+        double per_collision = fraction * sim->z_scale[k - 1];
+        grow_z[k - 1] = fmax(fmin(per_time, per_collision), 1e-290);
+    }
+    grow_z[sim->n - 1] = INFINITY; /* nothing beyond the last granule */
 }
 
-int taper_window_grow(taper_sim *sim, taper_error *err)
+/* Take back first: the granule returns into the state the growth and the
+ * departures are then decided on.  Growing needs no restart: granule hi+1
+ * is at rest, its state and Nordsieck history zero in every vector. */
+taper_window_plan taper_window_plan_for(const taper_sim *sim, taper_root_report report)
 {
-    if (sim->dyn.hi >= sim->dyn.n) return TAPER_OK;
-    sim->dyn.hi++;
-    return apply_range(sim, err);
+    return (taper_window_plan){
+        .take_back = report.gap_closed && sim->dyn.lo > 1,
+        .grow = report.grow && sim->dyn.hi < sim->dyn.n,
+        .shrink = report.passed && sim->cv.window != NULL,
+    };
 }
 
 /* The largest compression a contact may keep when granule j leaves at rest
@@ -97,31 +124,34 @@ int taper_window_grow(taper_sim *sim, taper_error *err)
  * unit: smaller compressions are noise, indistinguishable from zero. */
 static double resting_compression(const taper_sim *sim, size_t j, double z_eps)
 {
-    const double n = sim->chain->exponent, rtol = sim->spec.rtol;
-    const double unit = rtol * fabs(sim->z_ref) + sim->spec.atol * sim->z_scale[j - 1];
-    const double z_force = pow(FORCE_FRACTION * rtol, 1.0 / (n - 1.0)) * fabs(sim->z_ref);
+    const double n = sim->exponent, rtol = sim->spec.rtol;
+    const double z_ref = sim->pulse.z_ref;
+    const double unit = rtol * fabs(z_ref) + sim->spec.atol * sim->z_scale[j - 1];
+    const double z_force = pow(FORCE_FRACTION * rtol, 1.0 / (n - 1.0)) * fabs(z_ref);
     return fmin(z_eps, fmax(unit, z_force));
 }
 
-/* How granule j may leave: 0 not at all, 1 exact free flight, 2 at rest
- * within the tolerance (criteria 1 and 2 above). */
-static int can_leave(const taper_sim *sim, const double *y, size_t j, double *watch)
+/* Whether granule lo may leave now, and how (criteria 1 and 2 above). */
+taper_departure taper_window_departure(const taper_sim *sim)
 {
+    const taper_departure stays = {TAPER_STAYS, 0.0};
+    if (!sim->cv.window) return stays;
     const taper_dyn *d = &sim->dyn;
-    if (j + 2 >= d->hi || j >= sim->next_pass || j >= sim->next_peak) return 0;
+    const double *y = taper_sim_data(sim, sim->cv.y);
+    const size_t j = d->lo;
+    if (j + 2 >= d->hi || j >= sim->pulse.next_pass || j >= sim->pulse.next_peak) return stays;
     const double v = taper_dyn_v(d, y, j), v_next = taper_dyn_v(d, y, j + 1);
     const double z = taper_dyn_z(d, y, j);
     const double z_back = j > 1 ? y[0] : -INFINITY; /* gap z_{j-1} */
     const double v_back = j > 1 ? d->v_left : -INFINITY;
     const double rtol = sim->spec.rtol, atol = sim->spec.atol;
-    const double v_eps = REST_FACTOR * (rtol * fabs(sim->v_ref) + atol * sim->v_scale[j - 1]);
-    const double z_eps = REST_FACTOR * (rtol * fabs(sim->z_ref) + atol * sim->z_scale[j - 1]);
-    const double z_eps_back = j > 1 ? REST_FACTOR * (rtol * fabs(sim->z_ref) + atol * sim->z_scale[j - 2]) : 0.0;
+    const double v_ref = sim->pulse.v_ref, z_ref = sim->pulse.z_ref;
+    const double v_eps = REST_FACTOR * (rtol * fabs(v_ref) + atol * sim->v_scale[j - 1]);
+    const double z_eps = REST_FACTOR * (rtol * fabs(z_ref) + atol * sim->z_scale[j - 1]);
+    const double z_eps_back = j > 1 ? REST_FACTOR * (rtol * fabs(z_ref) + atol * sim->z_scale[j - 2]) : 0.0;
     /* Criterion 1: gaps open beyond the tolerance's compression and not closing. */
-    if (z < -z_eps && v <= v_next && z_back < -z_eps_back && v_back <= v) {
-        *watch = 0.0;
-        return 1;
-    }
+    if (z < -z_eps && v <= v_next && z_back < -z_eps_back && v_back <= v)
+        return (taper_departure){TAPER_LEAVES_FREE, 0.0};
     /* Criterion 2: at rest within the tolerance, relative to the granule
      * behind (which left before and flies freely; rest itself for j = 1);
      * open gaps of any size are harmless (no force), only compressions are
@@ -129,63 +159,7 @@ static int can_leave(const taper_sim *sim, const double *y, size_t j, double *wa
      * tolerance. */
     const double v_rest = j > 1 ? v_back : 0.0;
     const double z_rest = resting_compression(sim, j, z_eps);
-    if (fabs(v - v_rest) <= v_eps && z <= z_rest && z_back <= z_rest) {
-        *watch = WATCH_FACTOR / REST_FACTOR * z_rest;
-        return 2;
-    }
-    return 0;
-}
-
-static void leave(taper_sim *sim, const double *y, size_t j, double watch)
-{
-    taper_dyn *d = &sim->dyn;
-    double v = taper_dyn_v(d, y, j);
-    double x = taper_dyn_position(d, y, j);
-    sim->x_free[j - 1] = x - v * sim->t;
-    sim->v_free[j - 1] = v;
-    sim->energy_free += 0.5 * d->mass[j - 1] * v * v;
-    sim->momentum_free += d->mass[j - 1] * v;
-    sim->gap_watch[j - 1] = watch;
-    d->v_left = v;
-    d->lo = j + 1;
-}
-
-int taper_window_shrink(taper_sim *sim, taper_error *err)
-{
-    if (!sim->window) return TAPER_OK;
-    size_t lo = sim->dyn.lo;
-    /* y's data pointer follows the window's begin: re-read after each drop */
-    double watch = 0.0;
-    int how;
-    while ((how = can_leave(sim, taper_sim_data(sim, sim->y), sim->dyn.lo, &watch)) != 0) {
-        if (how == 2) sim->left_resting++;
-        leave(sim, taper_sim_data(sim, sim->y), sim->dyn.lo, watch);
-        sim->window->begin = taper_dyn_begin(&sim->dyn); /* shrinking needs no copy */
-    }
-    if (sim->dyn.lo != lo) return apply_range(sim, err);
-    return TAPER_OK;
-}
-
-static double free_position(const taper_sim *sim, size_t j)
-{
-    return sim->x_free[j - 1] + sim->v_free[j - 1] * sim->t;
-}
-
-int taper_window_take_back(taper_sim *sim, taper_error *err)
-{
-    taper_dyn *d = &sim->dyn;
-    if (d->lo <= 1) return TAPER_OK;
-    size_t j = d->lo - 1;
-    double v = sim->v_free[j - 1];
-    sim->energy_free -= 0.5 * d->mass[j - 1] * v * v;
-    sim->momentum_free -= d->mass[j - 1] * v;
-    d->lo = j;
-    d->v_left = j > 1 ? sim->v_free[j - 2] : 0.0;
-    int status = apply_range(sim, err);
-    if (status != TAPER_OK) return status;
-    taper_sim_log(sim, 0, "granule %zu rejoins the window at t = %.17g (its gap closed)", j, sim->t);
-    double *y = taper_sim_data(sim, sim->y);
-    y[taper_idx_v(j) - taper_dyn_begin(d)] = v;
-    if (j > 1) y[0] = free_position(sim, j - 1) - free_position(sim, j);
-    return taper_solver_restart(sim, err);
+    if (fabs(v - v_rest) <= v_eps && z <= z_rest && z_back <= z_rest)
+        return (taper_departure){TAPER_LEAVES_AT_REST, WATCH_FACTOR / REST_FACTOR * z_rest};
+    return stays;
 }
