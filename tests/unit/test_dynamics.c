@@ -8,26 +8,54 @@
 #include "test_util.h"
 #include "taper.h"
 
+#include <float.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
-static taper_chain *make_chain(int profile, size_t n, double param, const double *radii)
+static taper_chain *make_chain(taper_profile profile, size_t n, double param, const double *radii)
 {
     return test_chain(profile, n, param, param, 2.5, radii);
 }
 
-static taper_sim *run(const taper_chain *c, double rtol, double atol, int method, int window,
-                      int expect)
+/* A solver spec with the defaults; fails the test if it cannot be made. */
+static taper_solver_spec *new_spec(void)
 {
-    taper_solver_spec spec;
-    taper_solver_spec_init(&spec);
-    if (rtol > 0) spec.rtol = rtol, spec.atol = atol;
-    spec.method = method;
-    spec.window = window;
     taper_error err;
-    taper_sim *sim = taper_sim_alloc(c, &spec, &err);
+    taper_solver_spec *spec = taper_solver_spec_alloc(&err);
+    assert_non_null(spec);
+    return spec;
+}
+
+/* A setter call that must succeed. */
+#define SET(call)                                                                       \
+    do {                                                                                \
+        taper_error e_;                                                                 \
+        taper_status s_ = (call);                                                       \
+        if (s_ != TAPER_OK) print_error("%s: %s\n", #call, e_.message);                 \
+        assert_int_equal(s_, TAPER_OK);                                                 \
+    } while (0)
+
+static double stat(const taper_sim *sim, taper_statistic which)
+{
+    return taper_sim_statistic(sim, which);
+}
+
+static taper_sim *run(const taper_chain *c, double rtol, double atol, taper_method method,
+                      int window, taper_status expect)
+{
+    taper_solver_spec *spec = new_spec();
+    if (rtol > 0) {
+        SET(taper_solver_spec_set_rtol(spec, rtol, &e_));
+        SET(taper_solver_spec_set_atol(spec, atol, &e_));
+    }
+    SET(taper_solver_spec_set_method(spec, method, &e_));
+    SET(taper_solver_spec_set_window(spec, window, &e_));
+    taper_error err;
+    taper_sim *sim = taper_sim_alloc(c, spec, &err);
+    taper_solver_spec_free(spec);
     assert_non_null(sim);
-    int status = taper_sim_run(sim, &err);
+    taper_status status = taper_sim_run(sim, &err);
     if (status != expect) print_error("run: status %d: %s\n", status, err.message);
     assert_int_equal(status, expect);
     return sim;
@@ -45,7 +73,7 @@ static double max_rel_diff(const double *a, const double *b, size_t n)
 }
 
 /* ---- the two-body collision is exact ---------------------------------- */
-/* N = 2: t_pass(1) is the time to maximum compression, eq. (compress-time)
+/* N = 2: t_pass(1) is the time to maximum compression, eq. (18)
  * with v_1 = 1; once the contact opens the velocities are the elastic ones. */
 static void check_two_body(double r2)
 {
@@ -88,7 +116,7 @@ static void two_body_bdf(void **state)
 
 /* ---- the five profiles: conservation and convergence ------------------ */
 typedef struct {
-    int profile;
+    taper_profile profile;
     size_t n;
     double param;
 } chain_case;
@@ -116,17 +144,17 @@ static void default_accuracy_all_profiles(void **state)
                                  taper_sim_observable(ref, TAPER_T_PASS), cc->n);
         double ev = max_rel_diff(taper_sim_observable(dflt, TAPER_V_PEAK),
                                  taper_sim_observable(ref, TAPER_V_PEAK), cc->n);
-        taper_stats s;
-        taper_sim_stats(dflt, &s);
+        const double energy = stat(dflt, TAPER_STAT_ENERGY_ERROR);
+        const double momentum = stat(dflt, TAPER_STAT_MOMENTUM_ERROR);
         print_message("%-22s N=%zu  t_pass err %.2e  v_peak err %.2e  energy %.1e  momentum %.1e\n",
-                      taper_profile_name(cc->profile), cc->n, et, ev, s.energy_error, s.momentum_error);
-        assert_true(s.complete);
-        assert_int_equal(s.granule_reached, cc->n - 1);
+                      taper_profile_name(cc->profile), cc->n, et, ev, energy, momentum);
+        assert_true(stat(dflt, TAPER_STAT_COMPLETE) == 1.0);
+        assert_true(stat(dflt, TAPER_STAT_GRANULE_REACHED) == (double)(cc->n - 1));
         assert_true(et <= 1e-8);
         assert_true(ev <= 1e-7);
         /* energy and momentum are conserved to the tolerance's order */
-        assert_true(s.energy_error <= 1e-7);
-        assert_true(s.momentum_error <= 1e-7);
+        assert_true(energy <= 1e-7);
+        assert_true(momentum <= 1e-7);
         taper_sim_free(dflt);
         taper_sim_free(ref);
         taper_chain_free(c);
@@ -163,7 +191,7 @@ static void methods_agree(void **state)
     taper_sim *a = run(c, 1e-12, 1e-15, TAPER_ADAMS, 1, TAPER_OK);
     taper_sim *b = run(c, 1e-12, 1e-15, TAPER_ADAMS, 0, TAPER_OK);
     taper_sim *d = run(c, 1e-11, 1e-15, TAPER_BDF, 0, TAPER_OK);
-    for (int o = 0; o < TAPER_N_OBSERVABLES; o++) {
+    for (taper_observable o = 0; o < TAPER_N_OBSERVABLES; o++) {
         const double *x = taper_sim_observable(a, o);
         assert_true(max_rel_diff(x, taper_sim_observable(b, o), 40) <= 1e-9);
         assert_true(max_rel_diff(x, taper_sim_observable(d, o), 40) <= 1e-7);
@@ -263,18 +291,16 @@ static void stops_at_last_granule(void **state)
 {
     (void)state;
     taper_chain *c = make_chain(TAPER_BACKWARD_LINEAR, 100, 0.5, NULL);
-    taper_solver_spec spec;
-    taper_solver_spec_init(&spec);
-    spec.last_granule = 20;
-    taper_sim *sim = taper_sim_alloc(c, &spec, NULL);
+    taper_solver_spec *spec = new_spec();
+    SET(taper_solver_spec_set_last_granule(spec, 20, &e_));
+    taper_sim *sim = taper_sim_alloc(c, spec, NULL);
+    taper_solver_spec_free(spec);
     assert_int_equal(taper_sim_run(sim, NULL), TAPER_OK);
-    taper_stats s;
-    taper_sim_stats(sim, &s);
     const double *tp = taper_sim_observable(sim, TAPER_T_PASS);
-    assert_int_equal(s.granule_reached, 20);
+    assert_true(stat(sim, TAPER_STAT_GRANULE_REACHED) == 20.0);
     assert_false(isnan(tp[19]));
     assert_true(isnan(tp[20]));
-    assert_true(s.t_final < tp[19] * 1.2);
+    assert_true(stat(sim, TAPER_STAT_T_FINAL) < tp[19] * 1.2);
     /* a second run of the same sim is refused */
     taper_error err;
     assert_int_equal(taper_sim_run(sim, &err), TAPER_EINVAL);
@@ -287,18 +313,32 @@ static void limits_keep_partial_results(void **state)
 {
     (void)state;
     taper_chain *c = make_chain(TAPER_MONODISPERSE, 50, 0.0, NULL);
-    taper_solver_spec spec;
-    taper_solver_spec_init(&spec);
-    spec.t_max = 10.0;
-    taper_sim *sim = taper_sim_alloc(c, &spec, NULL);
+    taper_solver_spec *spec = new_spec();
+    SET(taper_solver_spec_set_t_max(spec, 10.0, &e_));
+    taper_sim *sim = taper_sim_alloc(c, spec, NULL);
+    taper_solver_spec_free(spec);
     taper_error err;
     assert_int_equal(taper_sim_run(sim, &err), TAPER_ELIMIT);
     assert_non_null(strstr(err.message, "granule"));
-    taper_stats s;
-    taper_sim_stats(sim, &s);
-    assert_false(s.complete);
-    assert_true(s.granule_reached >= 5 && s.granule_reached < 49);
-    assert_false(isnan(taper_sim_observable(sim, TAPER_T_PASS)[s.granule_reached - 1]));
+    assert_non_null(strstr(err.message, "raise t_max"));
+    assert_true(stat(sim, TAPER_STAT_COMPLETE) == 0.0);
+    const double reached = stat(sim, TAPER_STAT_GRANULE_REACHED);
+    assert_true(reached >= 5 && reached < 49);
+    assert_false(isnan(taper_sim_observable(sim, TAPER_T_PASS)[(size_t)reached - 1]));
+    taper_sim_free(sim);
+    taper_chain_free(c);
+
+    /* max_steps: the other limit, with its own advice */
+    c = make_chain(TAPER_MONODISPERSE, 50, 0.0, NULL);
+    spec = new_spec();
+    SET(taper_solver_spec_set_max_steps(spec, 300, &e_));
+    sim = taper_sim_alloc(c, spec, NULL);
+    taper_solver_spec_free(spec);
+    assert_int_equal(taper_sim_run(sim, &err), TAPER_ELIMIT);
+    assert_non_null(strstr(err.message, "max_steps reached"));
+    assert_non_null(strstr(err.message, "raise max_steps"));
+    assert_true(stat(sim, TAPER_STAT_STEPS) >= 300.0);
+    assert_true(stat(sim, TAPER_STAT_COMPLETE) == 0.0);
     taper_sim_free(sim);
     taper_chain_free(c);
 }
@@ -313,43 +353,318 @@ static void monitor_interrupts(void **state)
 {
     (void)state;
     taper_chain *c = make_chain(TAPER_MONODISPERSE, 50, 0.0, NULL);
-    taper_solver_spec spec;
-    taper_solver_spec_init(&spec);
-    spec.monitor = stop_at_granule_5;
-    taper_sim *sim = taper_sim_alloc(c, &spec, NULL);
+    taper_solver_spec *spec = new_spec();
+    taper_solver_spec_set_monitor(spec, stop_at_granule_5, NULL);
+    taper_sim *sim = taper_sim_alloc(c, spec, NULL);
+    taper_solver_spec_free(spec);
     taper_error err;
     assert_int_equal(taper_sim_run(sim, &err), TAPER_EINTERRUPTED);
-    taper_stats s;
-    taper_sim_stats(sim, &s);
-    assert_int_equal(s.granule_reached, 5);
-    assert_false(s.complete);
+    assert_true(stat(sim, TAPER_STAT_GRANULE_REACHED) == 5.0);
+    assert_true(stat(sim, TAPER_STAT_COMPLETE) == 0.0);
     taper_sim_free(sim);
     taper_chain_free(c);
 }
 
-static void bad_solver_specs_rejected(void **state)
+/* Every setter refuses a value outside its range, names its field and
+ * leaves the spec as it was. */
+static void setters_refuse_out_of_range(void **state)
+{
+    (void)state;
+    taper_solver_spec *spec = new_spec();
+    taper_error err;
+#define REFUSED(call, field)                                                            \
+    do {                                                                                \
+        assert_int_equal((call), TAPER_EINVAL);                                         \
+        assert_taper_error(err, TAPER_EINVAL, field, field);                            \
+    } while (0)
+    REFUSED(taper_solver_spec_set_method(spec, (taper_method)7, &err), "method");
+    REFUSED(taper_solver_spec_set_method(spec, (taper_method)-1, &err), "method");
+    const double bad_rtol[] = {0.0, -1e-10, TAPER_RTOL_MIN / 2, 10 * DBL_EPSILON, 0.2, NAN, INFINITY};
+    for (size_t i = 0; i < sizeof bad_rtol / sizeof bad_rtol[0]; i++)
+        REFUSED(taper_solver_spec_set_rtol(spec, bad_rtol[i], &err), "rtol");
+    const double bad_atol[] = {0.0, -1e-13, TAPER_ATOL_MAX * 1.5, 1.0, NAN, INFINITY};
+    for (size_t i = 0; i < sizeof bad_atol / sizeof bad_atol[0]; i++)
+        REFUSED(taper_solver_spec_set_atol(spec, bad_atol[i], &err), "atol");
+    REFUSED(taper_solver_spec_set_last_granule(spec, (size_t)TAPER_N_GRANULES_MAX + 1, &err),
+            "last_granule");
+    REFUSED(taper_solver_spec_set_max_order(spec, -1, &err), "max_order");
+    REFUSED(taper_solver_spec_set_max_order(spec, TAPER_MAX_ORDER_ADAMS + 1, &err), "max_order");
+    REFUSED(taper_solver_spec_set_t_max(spec, -1.0, &err), "t_max");
+    REFUSED(taper_solver_spec_set_t_max(spec, NAN, &err), "t_max");
+    REFUSED(taper_solver_spec_set_t_max(spec, INFINITY, &err), "t_max");
+    REFUSED(taper_solver_spec_set_max_steps(spec, -1, &err), "max_steps");
+    REFUSED(taper_solver_spec_set_max_steps(spec, LONG_MIN, &err), "max_steps");
+    /* a NULL spec names the setter's field too */
+    REFUSED(taper_solver_spec_set_window(NULL, 1, &err), "window");
+    REFUSED(taper_solver_spec_set_rtol(NULL, 1e-8, &err), "rtol");
+#undef REFUSED
+    /* unchanged: the defaults of taper.h */
+    assert_int_equal(taper_solver_spec_method(spec), TAPER_ADAMS);
+    assert_true(taper_solver_spec_rtol(spec) == 1e-10);
+    assert_true(taper_solver_spec_atol(spec) == 1e-13);
+    assert_int_equal(taper_solver_spec_last_granule(spec), 0);
+    assert_int_equal(taper_solver_spec_window(spec), 1);
+    assert_int_equal(taper_solver_spec_max_order(spec), 0);
+    assert_true(taper_solver_spec_t_max(spec) == 0.0);
+    assert_int_equal(taper_solver_spec_max_steps(spec), 0);
+
+    /* the ends of every range are accepted, and read back */
+    SET(taper_solver_spec_set_method(spec, TAPER_BDF, &e_));
+    SET(taper_solver_spec_set_rtol(spec, TAPER_RTOL_MIN, &e_));
+    assert_true(taper_solver_spec_rtol(spec) == TAPER_RTOL_MIN);
+    SET(taper_solver_spec_set_rtol(spec, TAPER_RTOL_MAX, &e_));
+    assert_true(taper_solver_spec_rtol(spec) == TAPER_RTOL_MAX);
+    SET(taper_solver_spec_set_atol(spec, TAPER_ATOL_MAX, &e_));
+    assert_true(taper_solver_spec_atol(spec) == TAPER_ATOL_MAX);
+    SET(taper_solver_spec_set_last_granule(spec, TAPER_N_GRANULES_MAX, &e_));
+    assert_int_equal(taper_solver_spec_last_granule(spec), TAPER_N_GRANULES_MAX);
+    SET(taper_solver_spec_set_window(spec, 0, &e_));
+    assert_int_equal(taper_solver_spec_window(spec), 0);
+    SET(taper_solver_spec_set_max_order(spec, TAPER_MAX_ORDER_ADAMS, &e_));
+    assert_int_equal(taper_solver_spec_max_order(spec), TAPER_MAX_ORDER_ADAMS);
+    SET(taper_solver_spec_set_t_max(spec, 1e300, &e_));
+    assert_true(taper_solver_spec_t_max(spec) == 1e300);
+    SET(taper_solver_spec_set_max_steps(spec, LONG_MAX, &e_));
+    assert_int_equal(taper_solver_spec_max_steps(spec), LONG_MAX);
+    assert_int_equal(taper_solver_spec_method(spec), TAPER_BDF);
+    /* success clears err */
+    assert_int_equal(taper_solver_spec_set_max_steps(spec, 0, &err), TAPER_OK);
+    assert_int_equal(err.status, TAPER_OK);
+    assert_null(err.field);
+    assert_string_equal(err.message, "");
+    taper_solver_spec_free(spec);
+    taper_solver_spec_free(NULL);
+}
+
+/* What only the sim can check: the settings against the chain (last_granule
+ * <= N) and against the method (max_order). */
+static void sim_alloc_checks_spec_against_chain(void **state)
 {
     (void)state;
     taper_chain *c = make_chain(TAPER_MONODISPERSE, 10, 0.0, NULL);
-    taper_solver_spec spec;
+    taper_solver_spec *spec = new_spec();
     taper_error err;
-    taper_solver_spec_init(&spec);
-    spec.rtol = 0.0;
-    assert_null(taper_sim_alloc(c, &spec, &err));
-    assert_non_null(strstr(err.message, "rtol"));
-    taper_solver_spec_init(&spec);
-    spec.atol = NAN;
-    assert_null(taper_sim_alloc(c, &spec, &err));
-    assert_non_null(strstr(err.message, "atol"));
-    taper_solver_spec_init(&spec);
-    spec.last_granule = 11;
-    assert_null(taper_sim_alloc(c, &spec, &err));
-    assert_non_null(strstr(err.message, "last_granule"));
-    taper_solver_spec_init(&spec);
-    spec.method = 7;
-    assert_null(taper_sim_alloc(c, &spec, &err));
+    SET(taper_solver_spec_set_last_granule(spec, 11, &e_));
+    assert_null(taper_sim_alloc(c, spec, &err));
+    assert_taper_error(err, TAPER_EINVAL, "last_granule", "last_granule");
+    SET(taper_solver_spec_set_last_granule(spec, 10, &e_));
+    taper_sim *sim = taper_sim_alloc(c, spec, &err);
+    assert_non_null(sim);
+    taper_sim_free(sim);
+
+    SET(taper_solver_spec_set_method(spec, TAPER_BDF, &e_));
+    SET(taper_solver_spec_set_max_order(spec, TAPER_MAX_ORDER_BDF + 1, &e_));
+    assert_null(taper_sim_alloc(c, spec, &err));
+    assert_taper_error(err, TAPER_EINVAL, "max_order", "max_order");
+    SET(taper_solver_spec_set_max_order(spec, TAPER_MAX_ORDER_BDF, &e_));
+    sim = taper_sim_alloc(c, spec, &err);
+    assert_non_null(sim);
+    taper_sim_free(sim);
+    SET(taper_solver_spec_set_method(spec, TAPER_ADAMS, &e_));
+    SET(taper_solver_spec_set_max_order(spec, TAPER_MAX_ORDER_ADAMS, &e_));
+    sim = taper_sim_alloc(c, spec, &err);
+    assert_non_null(sim);
+    taper_sim_free(sim);
+
+    assert_null(taper_sim_alloc(NULL, spec, &err));
     assert_int_equal(err.status, TAPER_EINVAL);
-    assert_null(taper_sim_alloc(NULL, &spec, &err));
+    /* NULL spec: the defaults */
+    sim = taper_sim_alloc(c, NULL, &err);
+    assert_non_null(sim);
+    assert_int_equal(err.status, TAPER_OK);
+    taper_sim_free(sim);
+    taper_solver_spec_free(spec);
+    taper_chain_free(c);
+}
+
+/* The method names: one list, both ways, case-insensitive. */
+static void method_names(void **state)
+{
+    (void)state;
+    assert_string_equal(taper_method_name(TAPER_ADAMS), "adams");
+    assert_string_equal(taper_method_name(TAPER_BDF), "bdf");
+    assert_null(taper_method_name((taper_method)TAPER_N_METHODS));
+    assert_null(taper_method_name((taper_method)-1));
+    for (int i = 0; i < TAPER_N_METHODS; i++) {
+        taper_method m = (taper_method)(1 - i);
+        assert_int_equal(taper_method_from_name(taper_method_name((taper_method)i), &m, NULL), TAPER_OK);
+        assert_int_equal(m, i);
+    }
+    taper_method m = TAPER_ADAMS;
+    assert_int_equal(taper_method_from_name("BDF", &m, NULL), TAPER_OK);
+    assert_int_equal(m, TAPER_BDF);
+    taper_error err;
+    assert_int_equal(taper_method_from_name("rk4", &m, &err), TAPER_EINVAL);
+    assert_taper_error(err, TAPER_EINVAL, "method", "rk4");
+    assert_int_equal(m, TAPER_BDF);
+}
+
+/* taper_statistic_name: every statistic has its name, NULL past the end. */
+static void statistic_names(void **state)
+{
+    (void)state;
+    static const char *const expected[TAPER_N_STATISTICS] = {
+        "steps", "rhs_evals", "root_evals", "jac_evals", "nonlin_iters", "err_test_fails",
+        "window_changes", "restarts", "max_window", "granule_reached", "t_final",
+        "energy_error", "momentum_error", "complete",
+    };
+    int i = 0;
+    for (; taper_statistic_name((taper_statistic)i); i++) {
+        assert_true(i < TAPER_N_STATISTICS);
+        assert_string_equal(taper_statistic_name((taper_statistic)i), expected[i]);
+    }
+    assert_int_equal(i, TAPER_N_STATISTICS);
+    assert_null(taper_statistic_name((taper_statistic)-1));
+    /* and the values: zero before the run, NaN for what does not exist */
+    taper_chain *c = make_chain(TAPER_MONODISPERSE, 10, 0.0, NULL);
+    taper_sim *sim = taper_sim_alloc(c, NULL, NULL);
+    for (i = 0; i < TAPER_N_STATISTICS; i++) assert_true(stat(sim, (taper_statistic)i) == 0.0);
+    assert_true(isnan(stat(sim, (taper_statistic)TAPER_N_STATISTICS)));
+    assert_true(isnan(stat(NULL, TAPER_STAT_STEPS)));
+    assert_int_equal(taper_sim_run(sim, NULL), TAPER_OK);
+    assert_true(stat(sim, TAPER_STAT_STEPS) > 0.0);
+    assert_true(stat(sim, TAPER_STAT_RHS_EVALS) > 0.0);
+    assert_true(stat(sim, TAPER_STAT_COMPLETE) == 1.0);
+    assert_true(stat(sim, TAPER_STAT_GRANULE_REACHED) == 9.0);
+    assert_true(stat(sim, TAPER_STAT_JAC_EVALS) == 0.0); /* Adams: no Jacobian */
+    taper_sim_free(sim);
+    taper_chain_free(c);
+}
+
+/* The sim computes the theory once, the same numbers as
+ * taper_theory_compute, bit for bit. */
+static void sim_theory_is_the_theory(void **state)
+{
+    (void)state;
+    const chain_case cases[] = {
+        {TAPER_BACKWARD_LINEAR, 50, 0.5},
+        {TAPER_FORWARD_EXPONENTIAL, 40, 0.05},
+        {TAPER_BACKWARD_EXPONENTIAL, 60, 0.05},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const size_t n = cases[i].n;
+        taper_chain *c = make_chain(cases[i].profile, n, cases[i].param, NULL);
+        taper_sim *sim = taper_sim_alloc(c, NULL, NULL);
+        assert_non_null(sim);
+        double *col = malloc(4 * n * sizeof(double));
+        assert_non_null(col);
+        assert_int_equal(taper_theory_compute(c, col, col + n, col + 2 * n, col + 3 * n, NULL), TAPER_OK);
+        for (int q = 0; q < TAPER_N_THEORY_QUANTITIES; q++) {
+            const double *th = taper_sim_theory(sim, (taper_theory_quantity)q);
+            assert_non_null(th);
+            /* bit for bit, NaN included */
+            assert_memory_equal(th, col + q * n, n * sizeof(double));
+        }
+        assert_null(taper_sim_theory(sim, (taper_theory_quantity)TAPER_N_THEORY_QUANTITIES));
+        assert_null(taper_sim_theory(NULL, TAPER_THEORY_V));
+        free(col);
+        taper_sim_free(sim);
+        taper_chain_free(c);
+    }
+}
+
+/* A chain whose theory leaves double precision: the sim refuses it with the
+ * theory's error.  Radii alternating 1 and 1e10 keep every mass in range,
+ * but each step up to a mass of 1e30 costs the pulse a factor ~1e-30 of
+ * its velocity (eq. (9)), and a step down at most doubles it. */
+static void sim_alloc_fails_with_the_theory(void **state)
+{
+    (void)state;
+    double radii[30];
+    for (size_t k = 0; k < 30; k++) radii[k] = k % 2 ? 1e10 : 1.0;
+    taper_chain *c = make_chain(TAPER_CUSTOM, 30, 0.0, radii);
+    taper_error err;
+    taper_status expected = taper_theory_compute(c, NULL, NULL, NULL, NULL, &err);
+    assert_int_equal(expected, TAPER_ERANGE);
+    assert_null(taper_sim_alloc(c, NULL, &err));
+    assert_int_equal(err.status, TAPER_ERANGE);
+    assert_non_null(strstr(err.message, "theory"));
+    taper_chain_free(c);
+}
+
+/* ---- taper_dynamics: the public right-hand side ----------------------------- */
+/* Two granules in contact, z_1 = x_1 - x_2 > 0: the force F = r_1 z^(n-1)
+ * pushes them apart, a_1 = -F/m_1, a_2 = +F/m_2; z_1' = v_1 - v_2 and
+ * z_2' = v_2 (x_3 := 0). */
+static void dynamics_rhs_of_two_granules(void **state)
+{
+    (void)state;
+    const double radii[2] = {1.0, 1.5};
+    const double ns[] = {2.5, 1.5, 3.0};
+    for (size_t i = 0; i < 3; i++) {
+        taper_chain *c = test_chain(TAPER_CUSTOM, 2, 0.0, 0.0, ns[i], radii);
+        taper_error err;
+        taper_dynamics *d = taper_dynamics_alloc(c, &err);
+        assert_non_null(d);
+        const double m1 = 1.0, m2 = 1.5 * 1.5 * 1.5;
+        const double r = sqrt(2.0 * 1.0 * 1.5 / 2.5); /* (2 R1 R2 / (R1 + R2))^(1/2) */
+        assert_double_rel(taper_chain_contact(c)[0], r, 1e-15);
+        const double v1 = 0.8, z1 = 0.01, v2 = 0.3, z2 = 0.2;
+        const double y[4] = {v1, z1, v2, z2};
+        double f[4];
+        taper_dynamics_rhs(d, y, f);
+        const double force = r * pow(z1, ns[i] - 1.0);
+        assert_double_rel(f[0], -force / m1, 1e-14);
+        assert_double_rel(f[1], v1 - v2, 1e-15);
+        assert_double_rel(f[2], force / m2, 1e-14);
+        assert_double_rel(f[3], v2, 1e-15);
+        /* open contact: no force at all */
+        const double apart[4] = {v1, -z1, v2, z2};
+        taper_dynamics_rhs(d, apart, f);
+        assert_true(f[0] == 0.0 && f[2] == 0.0);
+        /* energy m v^2 / 2 + r z^n / n; momentum sum m v */
+        double e = 0.0, p = 0.0;
+        taper_dynamics_energy_momentum(d, y, &e, &p);
+        assert_double_rel(e, 0.5 * m1 * v1 * v1 + 0.5 * m2 * v2 * v2 + r / ns[i] * pow(z1, ns[i]), 1e-14);
+        assert_double_rel(p, m1 * v1 + m2 * v2, 1e-15);
+        taper_dynamics_energy_momentum(d, y, NULL, NULL); /* either may be NULL */
+        /* the peak function has the sign of the acceleration */
+        assert_true(taper_dynamics_peak_function(d, y, 1) < 0.0);
+        assert_true(taper_dynamics_peak_function(d, y, 2) > 0.0);
+        assert_true(isnan(taper_dynamics_peak_function(d, y, 0)));
+        assert_true(isnan(taper_dynamics_peak_function(d, y, 3)));
+        taper_dynamics_free(d);
+        taper_chain_free(c);
+    }
+    taper_error err;
+    assert_null(taper_dynamics_alloc(NULL, &err));
+    assert_int_equal(err.status, TAPER_EINVAL);
+    taper_dynamics_free(NULL);
+}
+
+/* The public right-hand side is the one the sim integrates: a run of the
+ * whole chain conserves the energy taper_dynamics_energy_momentum
+ * measures, and its state at the end, fed to taper_dynamics_rhs, gives a
+ * finite derivative with z_k' = v_k - v_{k+1}. */
+static void dynamics_matches_the_sim(void **state)
+{
+    (void)state;
+    const size_t n = 30;
+    taper_chain *c = make_chain(TAPER_BACKWARD_LINEAR, n, 0.5, NULL);
+    taper_sim *sim = run(c, 1e-12, 1e-15, TAPER_ADAMS, 0, TAPER_OK);
+    double *x = malloc(6 * n * sizeof(double)), *v = x + n, *y = x + 2 * n, *f = x + 4 * n;
+    assert_non_null(x);
+    assert_int_equal(taper_sim_state(sim, x, v, NULL), TAPER_OK);
+    for (size_t k = 1; k <= n; k++) {
+        y[2 * (k - 1)] = v[k - 1];
+        y[2 * (k - 1) + 1] = x[k - 1] - (k < n ? x[k] : 0.0);
+    }
+    taper_dynamics *d = taper_dynamics_alloc(c, NULL);
+    assert_non_null(d);
+    double e = 0.0, p = 0.0;
+    taper_dynamics_energy_momentum(d, y, &e, &p);
+    const double e0 = 0.5, p0 = 1.0; /* the impulse: m_1 = 1, v_1 = 1 */
+    assert_double_abs(e, e0, 1e-9);
+    assert_double_abs(fabs(e - e0) / e0, stat(sim, TAPER_STAT_ENERGY_ERROR), 1e-9);
+    assert_double_abs(p, p0, 1e-9);
+    taper_dynamics_rhs(d, y, f);
+    for (size_t k = 1; k <= n; k++) {
+        assert_true(isfinite(f[2 * (k - 1)]));
+        assert_double_abs(f[2 * (k - 1) + 1], v[k - 1] - (k < n ? v[k] : 0.0), 1e-15);
+    }
+    taper_dynamics_free(d);
+    free(x);
+    taper_sim_free(sim);
     taper_chain_free(c);
 }
 
@@ -362,12 +677,7 @@ static void other_exponents(void **state)
     const double ns[] = {1.5, 2.0, 3.0, 4.0};
     const double tol[] = {1e-5, 1e-9, 1e-9, 1e-9};
     for (size_t i = 0; i < 4; i++) {
-        taper_chain_spec spec;
-        taper_chain_spec_init(&spec);
-        spec.n_granules = 2;
-        spec.exponent = ns[i];
-        taper_chain *c = taper_chain_alloc(&spec, NULL);
-        assert_non_null(c);
+        taper_chain *c = test_chain(TAPER_MONODISPERSE, 2, 0.0, 0.0, ns[i], NULL);
         taper_sim *sim = run(c, 1e-13, 1e-15, TAPER_ADAMS, 1, TAPER_OK);
         double T[2];
         taper_theory_compute(c, NULL, NULL, T, NULL, NULL);
@@ -395,16 +705,21 @@ static void log_receives_solver_messages(void **state)
 {
     (void)state;
     taper_chain *c = make_chain(TAPER_MONODISPERSE, 20, 0.0, NULL);
-    taper_solver_spec spec;
-    taper_solver_spec_init(&spec);
-    spec.rtol = 2.3e-15; /* a tolerance CVODE cannot meet */
-    spec.atol = 1e-300;
+    taper_solver_spec *spec = new_spec();
+    /* A tolerance CVODE cannot meet: atol 1e-300 of the scales weighs the
+     * idle granules' zero state by 1e300 (the tightest rtol does not fail
+     * by itself). */
+    SET(taper_solver_spec_set_rtol(spec, TAPER_RTOL_MIN, &e_));
+    SET(taper_solver_spec_set_atol(spec, 1e-300, &e_));
     log_record rec = {0, ""};
-    spec.log = record_log;
-    spec.log_data = &rec;
-    taper_sim *sim = taper_sim_alloc(c, &spec, NULL);
+    taper_solver_spec_set_log(spec, record_log, &rec);
+    taper_sim *sim = taper_sim_alloc(c, spec, NULL);
+    taper_solver_spec_free(spec);
     taper_error err;
     assert_int_equal(taper_sim_run(sim, &err), TAPER_ESOLVER);
+    assert_null(err.field);
+    assert_non_null(strstr(err.message, "CVODE failed"));
+    assert_non_null(strstr(err.message, "try a looser rtol"));
     assert_true(rec.warnings >= 1);
     assert_non_null(strstr(rec.last, "CVODE"));
     taper_sim_free(sim);
@@ -419,24 +734,22 @@ static void log_warns_of_drift(void **state)
     taper_chain *c = make_chain(TAPER_MONODISPERSE, 2000, 0.0, NULL);
     const double rtol[2] = {1e-4, 1e-10}; /* energy errors 2.9e-3 and ~3e-8 */
     for (int i = 0; i < 2; i++) {
-        taper_solver_spec spec;
-        taper_solver_spec_init(&spec);
-        spec.rtol = rtol[i];
-        spec.atol = rtol[i] * 1e-3;
+        taper_solver_spec *spec = new_spec();
+        SET(taper_solver_spec_set_rtol(spec, rtol[i], &e_));
+        SET(taper_solver_spec_set_atol(spec, rtol[i] * 1e-3, &e_));
         log_record rec = {0, ""};
-        spec.log = record_log;
-        spec.log_data = &rec;
-        taper_sim *sim = taper_sim_alloc(c, &spec, NULL);
+        taper_solver_spec_set_log(spec, record_log, &rec);
+        taper_sim *sim = taper_sim_alloc(c, spec, NULL);
+        taper_solver_spec_free(spec);
         taper_error err;
         assert_int_equal(taper_sim_run(sim, &err), TAPER_OK);
-        taper_stats st;
-        taper_sim_stats(sim, &st);
+        const double energy = stat(sim, TAPER_STAT_ENERGY_ERROR);
         if (i == 0) {
-            assert_true(st.energy_error > 1e-3);
+            assert_true(energy > 1e-3);
             assert_int_equal(rec.warnings, 1);
             assert_non_null(strstr(rec.last, "drifted"));
         } else {
-            assert_true(st.energy_error < 1e-6);
+            assert_true(energy < 1e-6);
             assert_int_equal(rec.warnings, 0);
         }
         taper_sim_free(sim);
@@ -462,7 +775,14 @@ int main(void)
         cmocka_unit_test(stops_at_last_granule),
         cmocka_unit_test(limits_keep_partial_results),
         cmocka_unit_test(monitor_interrupts),
-        cmocka_unit_test(bad_solver_specs_rejected),
+        cmocka_unit_test(setters_refuse_out_of_range),
+        cmocka_unit_test(sim_alloc_checks_spec_against_chain),
+        cmocka_unit_test(method_names),
+        cmocka_unit_test(statistic_names),
+        cmocka_unit_test(sim_theory_is_the_theory),
+        cmocka_unit_test(sim_alloc_fails_with_the_theory),
+        cmocka_unit_test(dynamics_rhs_of_two_granules),
+        cmocka_unit_test(dynamics_matches_the_sim),
         cmocka_unit_test(log_receives_solver_messages),
         cmocka_unit_test(log_warns_of_drift),
     };

@@ -30,36 +30,56 @@
 #define AGREE 300.0
 #define SLACK 20.0
 
-static taper_chain *make_chain(int profile, size_t n, double param)
+static taper_chain *make_chain(taper_profile profile, size_t n, double param)
 {
     return test_chain(profile, n, param, param, 2.5, NULL);
 }
 
+/* The default tolerances (taper.h: rtol 1e-10, atol 1e-13). */
+typedef struct {
+    double rtol, atol;
+} tolerances;
+
+static tolerances defaults(void)
+{
+    taper_solver_spec *spec = taper_solver_spec_alloc(NULL);
+    assert_non_null(spec);
+    tolerances d = {taper_solver_spec_rtol(spec), taper_solver_spec_atol(spec)};
+    taper_solver_spec_free(spec);
+    return d;
+}
+
 static taper_sim *run(const taper_chain *c, int window, double tighten)
 {
-    taper_solver_spec spec;
-    taper_solver_spec_init(&spec);
-    spec.window = window;
-    spec.rtol /= tighten;
-    spec.atol /= tighten;
+    const tolerances d = defaults();
+    taper_solver_spec *spec = taper_solver_spec_alloc(NULL);
+    assert_non_null(spec);
     taper_error err;
-    taper_sim *sim = taper_sim_alloc(c, &spec, &err);
+    assert_int_equal(taper_solver_spec_set_window(spec, window, &err), TAPER_OK);
+    assert_int_equal(taper_solver_spec_set_rtol(spec, d.rtol / tighten, &err), TAPER_OK);
+    assert_int_equal(taper_solver_spec_set_atol(spec, d.atol / tighten, &err), TAPER_OK);
+    taper_sim *sim = taper_sim_alloc(c, spec, &err);
+    taper_solver_spec_free(spec);
     assert_non_null(sim);
-    int status = taper_sim_run(sim, &err);
+    taper_status status = taper_sim_run(sim, &err);
     if (status != TAPER_OK) print_error("run: %s\n", err.message);
     assert_int_equal(status, TAPER_OK);
     return sim;
 }
 
-static const int observables[] = {TAPER_T_PASS, TAPER_V_PEAK, TAPER_T_PEAK, TAPER_X_PASS};
+static double stat(const taper_sim *sim, taper_statistic which)
+{
+    return taper_sim_statistic(sim, which);
+}
+
+static const taper_observable observables[] = {TAPER_T_PASS, TAPER_V_PEAK, TAPER_T_PEAK, TAPER_X_PASS};
 static const char *const names[] = {"t_pass", "v_peak", "t_peak", "X_pass"};
 
 /* Largest difference of observable o in error units of the default tolerance. */
 static double error_units(const taper_sim *a, const taper_sim *b, size_t i, size_t n, size_t *at)
 {
-    const int o = observables[i];
-    taper_solver_spec d;
-    taper_solver_spec_init(&d);
+    const taper_observable o = observables[i];
+    const tolerances d = defaults();
     const double *x = taper_sim_observable(a, o), *y = taper_sim_observable(b, o);
     double worst = 0.0;
     for (size_t k = 0; k < n; k++) {
@@ -76,7 +96,7 @@ static double error_units(const taper_sim *a, const taper_sim *b, size_t i, size
     return worst;
 }
 
-static void same_trajectory(int profile, size_t n, double param)
+static void same_trajectory(taper_profile profile, size_t n, double param)
 {
     taper_chain *c = make_chain(profile, n, param);
     taper_sim *w = run(c, 1, 1.0), *full = run(c, 0, 1.0), *ref = run(c, 1, 100.0);
@@ -99,10 +119,6 @@ static void same_trajectory(int profile, size_t n, double param)
      * chain is the less accurate run (its WRMS norm is diluted by the idle
      * granules; measured on backward linear S = 0.5: v_1 off by 3e-8 against
      * the window's 7e-10). */
-    taper_stats sw, sf, sr;
-    taper_sim_stats(w, &sw);
-    taper_sim_stats(full, &sf);
-    taper_sim_stats(ref, &sr);
     double *xw = malloc(4 * n * sizeof(double));
     assert_non_null(xw);
     double *vw = xw + n, *xr = xw + 2 * n, *vr = xw + 3 * n;
@@ -112,23 +128,23 @@ static void same_trajectory(int profile, size_t n, double param)
      * position errors are velocity errors accumulated over the run. */
     double vmax = 1.0, xmax = 0.0;
     for (size_t k = 0; k < n; k++) vmax = fmax(vmax, fabs(vr[k])), xmax = fmax(xmax, fabs(xr[k]));
-    const double dt = sw.t_final - sr.t_final;
-    taper_solver_spec d;
-    taper_solver_spec_init(&d);
+    const double t_ref = stat(ref, TAPER_STAT_T_FINAL);
+    const double dt = stat(w, TAPER_STAT_T_FINAL) - t_ref;
+    const tolerances d = defaults();
     for (size_t k = 0; k < n; k++) {
         assert_double_abs(vw[k], vr[k], AGREE * (d.rtol * vmax + d.atol));
-        assert_double_abs(xw[k], xr[k] + vr[k] * dt, AGREE * d.rtol * (xmax + vmax * sr.t_final));
+        assert_double_abs(xw[k], xr[k] + vr[k] * dt, AGREE * d.rtol * (xmax + vmax * t_ref));
     }
     free(xw);
     /* Documented bound (docs/window.md): 1e-7 relative, both runs. */
-    assert_true(sw.energy_error <= 1e-7 && sw.momentum_error <= 1e-7);
-    assert_true(sf.energy_error <= 1e-7 && sf.momentum_error <= 1e-7);
+    assert_true(stat(w, TAPER_STAT_ENERGY_ERROR) <= 1e-7 && stat(w, TAPER_STAT_MOMENTUM_ERROR) <= 1e-7);
+    assert_true(stat(full, TAPER_STAT_ENERGY_ERROR) <= 1e-7 && stat(full, TAPER_STAT_MOMENTUM_ERROR) <= 1e-7);
     /* The window stayed O(1): no granule count grows with N here except in
      * forward chains, where a train of granules in contact follows the
      * pulse (physics, not noise); and nothing thrashed. */
     if (profile != TAPER_FORWARD_LINEAR && profile != TAPER_FORWARD_EXPONENTIAL)
-        assert_true(sw.max_window <= 16);
-    assert_true(sw.restarts <= 2);
+        assert_true(stat(w, TAPER_STAT_MAX_WINDOW) <= 16);
+    assert_true(stat(w, TAPER_STAT_RESTARTS) <= 2);
 
     taper_sim_free(w);
     taper_sim_free(full);
@@ -159,14 +175,12 @@ static void long_backward_exponential(void **state)
     const size_t n = 2000;
     taper_chain *c = make_chain(TAPER_BACKWARD_EXPONENTIAL, n, 0.05);
     taper_sim *sim = run(c, 1, 1.0);
-    taper_stats s;
-    taper_sim_stats(sim, &s);
-    assert_true(s.complete);
-    assert_true(s.energy_error <= 1e-7 && s.momentum_error <= 1e-7);
+    assert_true(stat(sim, TAPER_STAT_COMPLETE) == 1.0);
+    assert_true(stat(sim, TAPER_STAT_ENERGY_ERROR) <= 1e-7 && stat(sim, TAPER_STAT_MOMENTUM_ERROR) <= 1e-7);
     /* Every collision is with a heavier granule: the pulse only slows. */
     const double *vp = taper_sim_observable(sim, TAPER_V_PEAK);
     for (size_t k = 2; k < n; k++) assert_true(vp[k - 1] < vp[k - 2]);
-    assert_true(s.max_window <= 16);
+    assert_true(stat(sim, TAPER_STAT_MAX_WINDOW) <= 16);
     taper_sim_free(sim);
     taper_chain_free(c);
 }
@@ -184,13 +198,11 @@ static void recoil_drift_leaves_window(void **state)
     const size_t n = 2500;
     taper_chain *c = make_chain(TAPER_BACKWARD_LINEAR, n, 0.5);
     taper_sim *sim = run(c, 1, 1e-5); /* 1e5 times looser: rtol 1e-5, atol 1e-8 */
-    taper_stats s;
-    taper_sim_stats(sim, &s);
-    assert_true(s.complete);
-    assert_true(s.max_window <= 16); /* 811 before the fix, 11 after */
-    assert_true(sim->left_resting > 0); /* the drifting train left by criterion 2 */
+    assert_true(stat(sim, TAPER_STAT_COMPLETE) == 1.0);
+    assert_true(stat(sim, TAPER_STAT_MAX_WINDOW) <= 16); /* 811 before the fix, 11 after */
+    assert_true(sim->out.left_resting > 0); /* the drifting train left by criterion 2 */
     /* Measured 6.1e-4 and 2.7e-7 at this rtol (1.8e-3 before the fix). */
-    assert_true(s.energy_error <= 1e-3 && s.momentum_error <= 1e-6);
+    assert_true(stat(sim, TAPER_STAT_ENERGY_ERROR) <= 1e-3 && stat(sim, TAPER_STAT_MOMENTUM_ERROR) <= 1e-6);
     taper_sim_free(sim);
     taper_chain_free(c);
 }
@@ -207,13 +219,12 @@ static void loose_tolerance_keeps_momentum(void **state)
     const size_t n = 2000;
     taper_chain *c = make_chain(TAPER_MONODISPERSE, n, 0.0);
     taper_sim *sim = run(c, 1, 1e-4); /* rtol 1e-6, atol 1e-9 */
-    taper_stats s;
-    taper_sim_stats(sim, &s);
-    assert_true(s.complete);
-    assert_true(sim->left_resting > (long)(n / 2));
-    assert_true(s.max_window <= 16);
-    if (s.momentum_error > 1e-6) print_error("momentum error %.3e\n", s.momentum_error);
-    assert_true(s.momentum_error <= 1e-6); /* below rtol */
+    assert_true(stat(sim, TAPER_STAT_COMPLETE) == 1.0);
+    assert_true(sim->out.left_resting > (long)(n / 2));
+    assert_true(stat(sim, TAPER_STAT_MAX_WINDOW) <= 16);
+    const double momentum = stat(sim, TAPER_STAT_MOMENTUM_ERROR);
+    if (momentum > 1e-6) print_error("momentum error %.3e\n", momentum);
+    assert_true(momentum <= 1e-6); /* below rtol */
     taper_sim_free(sim);
     taper_chain_free(c);
 }
@@ -229,13 +240,12 @@ static void criteria(void **state)
     const size_t n = 300;
     taper_chain *c = make_chain(TAPER_MONODISPERSE, n, 0.0);
     taper_sim *sim = run(c, 1, 1.0);
-    assert_true(sim->left_resting > 100);
+    assert_true(sim->out.left_resting > 100);
     assert_true(sim->dyn.hi - sim->dyn.lo < 16);
     double *x = malloc(n * sizeof(double));
     assert_non_null(x);
     assert_int_equal(taper_sim_state(sim, x, NULL, NULL), TAPER_OK);
-    taper_solver_spec d;
-    taper_solver_spec_init(&d);
+    const tolerances d = defaults();
     const double eps = 100.0 * (d.rtol + d.atol); /* monodisperse: scales are 1 */
     for (size_t k = 1; k + 1 < sim->dyn.lo; k++) assert_true(x[k - 1] - x[k] <= eps * (1.0 + 2.0 * sim->t));
     free(x);
@@ -244,7 +254,7 @@ static void criteria(void **state)
 
     c = make_chain(TAPER_BACKWARD_LINEAR, n, 0.5);
     sim = run(c, 1, 1.0);
-    assert_int_equal(sim->left_resting, 0);
+    assert_int_equal(sim->out.left_resting, 0);
     assert_true(sim->dyn.lo > n - 16);
     taper_sim_free(sim);
     taper_chain_free(c);
