@@ -1,7 +1,7 @@
 /*
  * scene_dump.c SCENE.nml -- the resolved values of a scene as read by our C
  * parser (scene.c), one variable per line in table order, in the canonical
- * form that share/fortran/taper_nml.f90 --dump prints from gfortran's own
+ * form that src/bindings/fortran/taper_nml.f90 --dump prints from gfortran's own
  * namelist READ, so that tests/bindings/scene_agree.sh can compare the two readers:
  *
  *     group.name = VALUE
@@ -36,9 +36,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: scene_dump SCENE.nml\n");
         return 2;
     }
-    taper_solver_spec lib;
-    taper_solver_spec_init(&lib);
-    scene *sc = scene_new(argv[1], &lib);
+    scene *sc = scene_new(argv[1]);
     if (!sc) return 1;
     if (scene_load(sc) != 0 || scene_validate(sc) != 0) {
         scene_print_diags(sc, stderr);
@@ -46,27 +44,26 @@ int main(int argc, char **argv)
         return 2;
     }
     for (size_t i = 0; i < scene_var_count(); i++) {
-        const scene_var *var = scene_var_at(i);
-        const scene_value *v = &sc->values[i];
-        printf("%s.%s =", var->group, var->name);
-        switch (var->type) {
-        case SCENE_STRING: {
-            const char *str = v->str ? v->str : "";
+        printf("%s.%s =", scene_var_group(i), scene_var_name(i));
+        switch (scene_var_type(i)) {
+        case SCENE_STRING:
+        case SCENE_CHOICE: {
+            const char *str = scene_var_text(sc, i);
             size_t n = strlen(str);
             while (n > 0 && str[n - 1] == ' ') n--;
             printf(" %.*s", (int)n, str);
             break;
         }
-        case SCENE_INTEGER: printf(" %lld", v->ival); break;
-        case SCENE_LOGICAL: printf(" %c", v->bval ? 'T' : 'F'); break;
+        case SCENE_INTEGER: printf(" %lld", scene_var_integer(sc, i)); break;
+        case SCENE_LOGICAL: printf(" %c", scene_var_integer(sc, i) ? 'T' : 'F'); break;
         case SCENE_REAL:
-            if (var->flags & SCENE_SWEEP) printf(" %zu", v->count);
-            for (size_t k = 0; k < v->count; k++) print_bits(v->list[k]);
+        case SCENE_REAL_LIST: {
+            size_t n = 0;
+            const double *x = scene_var_reals(sc, i, &n);
+            if (scene_var_type(i) == SCENE_REAL_LIST || scene_var_sweeps(i)) printf(" %zu", n);
+            for (size_t k = 0; k < n; k++) print_bits(x[k]);
             break;
-        case SCENE_REAL_LIST:
-            printf(" %zu", v->count);
-            for (size_t k = 0; k < v->count; k++) print_bits(v->list[k]);
-            break;
+        }
         }
         printf("\n");
     }

@@ -1,35 +1,24 @@
 /*
- * test_scene.c -- the scene parser, validation, writer and the atomic
- * output files.  Errors are checked for their line, group, key and the
- * substance of the message, since that is what a user acts on.
+ * test_scene.c -- the scene parser, validation (the scene's own rules and
+ * the library's, each reported at its key), the typed configuration, the
+ * writer and the atomic output files.  Errors are checked for their line,
+ * group, key and the substance of the message, since that is what a user
+ * acts on.
  */
 #include "results/output.h"
 #include "scene/scene.h"
 #include "test_util.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* Library defaults as a test fixture: the scene module must not care where
- * they come from, and distinctive values show that they are used. */
-static taper_solver_spec lib_defaults(void)
-{
-    taper_solver_spec lib;
-    memset(&lib, 0, sizeof lib);
-    lib.method = TAPER_BDF;
-    lib.rtol = 3e-9;
-    lib.atol = 7e-13;
-    lib.window = 1;
-    return lib;
-}
-
 static scene *new_scene(void)
 {
-    taper_solver_spec lib = lib_defaults();
-    scene *sc = scene_new("dir/test.nml", &lib);
+    scene *sc = scene_new("dir/test.nml");
     assert_non_null(sc);
     return sc;
 }
@@ -45,12 +34,14 @@ static scene *load(const char *text)
 static scene *load_ok(const char *text)
 {
     scene *sc = load(text);
-    if (sc->n_errors) {
+    if (scene_error_count(sc)) {
         scene_print_diags(sc, stderr);
         fail_msg("unexpected errors for:\n%s", text);
     }
     return sc;
 }
+
+static const scene_config *cfg_of(const scene *sc) { return scene_cfg(sc); }
 
 /* ---- syntax ------------------------------------------------------------ */
 
@@ -62,15 +53,22 @@ static void test_basic_values(void **state)
                         "       exponent = 2.5 /\n"
                         "&solver rtol = 1d-10, atol = 1.5e-13 method='adams' /\n"
                         "&output dir = 'out/demo' /\n");
-    assert_string_equal(scene_str(sc, "chain", "profile"), "backward_linear");
-    assert_double_rel(scene_real(sc, "chain", "s"), 0.5, 0);
-    assert_int_equal(scene_int(sc, "chain", "n_granules"), 200);
-    assert_double_rel(scene_real(sc, "solver", "rtol"), 1e-10, 0);
-    assert_double_rel(scene_real(sc, "solver", "atol"), 1.5e-13, 0);
-    assert_string_equal(scene_str(sc, "solver", "method"), "adams");
-    assert_string_equal(scene_str(sc, "output", "dir"), "out/demo");
-    assert_int_equal(scene_get(sc, "chain", "s")->line, 2);
-    assert_int_equal(scene_get(sc, "chain", "exponent")->line, 3);
+    const scene_config *c = cfg_of(sc);
+    assert_int_equal(c->chain.profile, TAPER_BACKWARD_LINEAR);
+    assert_int_equal(c->chain.s.n, 1);
+    assert_double_rel(c->chain.s.v[0], 0.5, 0);
+    assert_int_equal(c->chain.n_granules, 200);
+    assert_double_rel(c->solver.rtol, 1e-10, 0);
+    assert_double_rel(c->solver.atol, 1.5e-13, 0);
+    assert_int_equal(c->solver.method, TAPER_ADAMS);
+    assert_string_equal(c->output.dir, "out/demo");
+    assert_int_equal(SCENE_LINE(sc, chain.s), 2);
+    assert_int_equal(SCENE_LINE(sc, chain.exponent), 3);
+    assert_int_equal(SCENE_LINE(sc, solver.numerics), 0);
+    assert_int_equal(c->runs.n, 1);
+    assert_int_equal(c->runs.swept, 0);
+    assert_int_equal(c->runs.param, SCENE_PARAM_S);
+    assert_false(c->runs.fit || c->runs.table || c->runs.figure);
     scene_free(sc);
 }
 
@@ -79,11 +77,10 @@ static void test_case_insensitive_names(void **state)
     (void)state;
     scene *sc = load_ok("&CHAIN PROFILE = 'Backward_Linear' S = 0.25 N_Granules = 7 /\n"
                         "&Solver METHOD = \"BDF\" /");
-    /* names and allowed strings fold case; the allowed string is stored
-     * in its canonical spelling */
-    assert_string_equal(scene_str(sc, "chain", "profile"), "backward_linear");
-    assert_string_equal(scene_str(sc, "solver", "method"), "bdf");
-    assert_int_equal(scene_int(sc, "chain", "n_granules"), 7);
+    /* names and choices fold case; a choice is stored as its enum */
+    assert_int_equal(cfg_of(sc)->chain.profile, TAPER_BACKWARD_LINEAR);
+    assert_int_equal(cfg_of(sc)->solver.method, TAPER_BDF);
+    assert_int_equal(cfg_of(sc)->chain.n_granules, 7);
     scene_free(sc);
 }
 
@@ -96,8 +93,8 @@ static void test_logical_forms(void **state)
     for (size_t i = 0; i < sizeof yes / sizeof yes[0]; i++) {
         snprintf(text, sizeof text, "&solver numerics = %s /&output progress = %s /", no[i], yes[i]);
         scene *sc = load_ok(text);
-        assert_int_equal(scene_bool(sc, "solver", "numerics"), 0);
-        assert_int_equal(scene_bool(sc, "output", "progress"), 1);
+        assert_int_equal(cfg_of(sc)->solver.numerics, 0);
+        assert_int_equal(cfg_of(sc)->output.progress, 1);
         scene_free(sc);
     }
 }
@@ -115,8 +112,8 @@ static void test_real_forms(void **state)
         snprintf(text, sizeof text, "&solver t_max = %s /", cases[i].text);
         scene *sc = load(text);
         /* every form is a valid time (-0 == 0 is in range) */
-        assert_int_equal(sc->n_errors, 0);
-        assert_double_rel(scene_real(sc, "solver", "t_max"), cases[i].value, 0);
+        assert_int_equal(scene_error_count(sc), 0);
+        assert_double_rel(cfg_of(sc)->solver.t_max, cases[i].value, 0);
         scene_free(sc);
     }
 }
@@ -125,13 +122,13 @@ static void test_strings(void **state)
 {
     (void)state;
     scene *sc = load_ok("&output dir = 'it''s here' /");
-    assert_string_equal(scene_str(sc, "output", "dir"), "it's here");
+    assert_string_equal(cfg_of(sc)->output.dir, "it's here");
     scene_free(sc);
     sc = load_ok("&output dir = \"a \"\"b\"\" 'c'\" /");
-    assert_string_equal(scene_str(sc, "output", "dir"), "a \"b\" 'c'");
+    assert_string_equal(cfg_of(sc)->output.dir, "a \"b\" 'c'");
     scene_free(sc);
     sc = load_ok("&output dir = 'has ! no comment, / or = inside' /");
-    assert_string_equal(scene_str(sc, "output", "dir"), "has ! no comment, / or = inside");
+    assert_string_equal(cfg_of(sc)->output.dir, "has ! no comment, / or = inside");
     scene_free(sc);
 }
 
@@ -142,18 +139,23 @@ static void test_lists_and_continuation(void **state)
                         "  radii = 1.0, 1.2 1.5,   ! comment inside a list\n"
                         "          3*2.0,\n"
                         "          2*0.5 /\n");
-    const scene_value *r = scene_get(sc, "chain", "radii");
+    const scene_reals *r = &cfg_of(sc)->chain.radii;
     static const double want[] = {1.0, 1.2, 1.5, 2.0, 2.0, 2.0, 0.5, 0.5};
-    assert_int_equal(r->count, 8);
-    for (size_t i = 0; i < 8; i++) assert_double_rel(r->list[i], want[i], 0);
-    assert_int_equal(r->line, 2);
+    assert_int_equal(r->n, 8);
+    for (size_t i = 0; i < 8; i++) assert_double_rel(r->v[i], want[i], 0);
+    assert_int_equal(SCENE_LINE(sc, chain.radii), 2);
     /* custom: n_granules follows the radii */
-    assert_int_equal(scene_int(sc, "chain", "n_granules"), 8);
-    taper_chain_spec spec;
-    scene_chain_spec(sc, 0, &spec);
-    assert_int_equal(spec.profile, TAPER_CUSTOM);
-    assert_int_equal(spec.n_granules, 8);
-    assert_ptr_equal(spec.radii, r->list);
+    assert_int_equal(cfg_of(sc)->chain.n_granules, 8);
+    taper_error err;
+    taper_chain_spec *spec = scene_chain_spec(cfg_of(sc), 0, &err);
+    assert_non_null(spec);
+    assert_int_equal(taper_chain_spec_profile(spec), TAPER_CUSTOM);
+    assert_int_equal(taper_chain_spec_n_granules(spec), 8);
+    size_t n = 0;
+    const double *radii = taper_chain_spec_radii(spec, &n);
+    assert_int_equal(n, 8);
+    for (size_t i = 0; i < 8; i++) assert_true(radii[i] == want[i]);
+    taper_chain_spec_free(spec);
     scene_free(sc);
 }
 
@@ -163,8 +165,8 @@ static void test_separators(void **state)
     /* commas between assignments, a trailing comma, values on the next line,
      * several groups on one line */
     scene *sc = load_ok("&chain profile='backward_linear', s=\n0.5, n_granules=\n 12, / &solver /");
-    assert_double_rel(scene_real(sc, "chain", "s"), 0.5, 0);
-    assert_int_equal(scene_int(sc, "chain", "n_granules"), 12);
+    assert_double_rel(cfg_of(sc)->chain.s.v[0], 0.5, 0);
+    assert_int_equal(cfg_of(sc)->chain.n_granules, 12);
     scene_free(sc);
 }
 
@@ -172,16 +174,49 @@ static void test_sweep(void **state)
 {
     (void)state;
     scene *sc = load_ok("&chain profile = 'backward_exponential', q = 0.1, 0.2 0.3 /");
-    int sv = scene_sweep_var(sc);
-    assert_int_equal(sv, scene_var_find("chain", "q"));
-    taper_chain_spec spec;
-    scene_chain_spec(sc, 2, &spec);
-    assert_double_rel(spec.q, 0.3, 0);
-    scene_chain_spec(sc, 0, &spec);
-    assert_double_rel(spec.q, 0.1, 0);
+    const scene_config *c = cfg_of(sc);
+    assert_int_equal(c->runs.swept, 1);
+    assert_int_equal(c->runs.sweep, SCENE_PARAM_Q);
+    assert_int_equal(c->runs.param, SCENE_PARAM_Q);
+    assert_int_equal(c->runs.n, 3);
+    assert_string_equal(scene_chain_param_name(c->runs.sweep), "q");
+    taper_chain_spec *spec = scene_chain_spec(c, 2, NULL);
+    assert_double_rel(taper_chain_spec_q(spec), 0.3, 0);
+    taper_chain_spec_free(spec);
+    spec = scene_chain_spec(c, 0, NULL);
+    assert_double_rel(taper_chain_spec_q(spec), 0.1, 0);
+    taper_chain_spec_free(spec);
+    assert_double_rel(scene_param_value(c, SCENE_PARAM_Q, 1), 0.2, 0);
     scene_free(sc);
     sc = load_ok("&chain profile = 'backward_linear', s = 0.1 /");
-    assert_int_equal(scene_sweep_var(sc), -1);
+    assert_int_equal(cfg_of(sc)->runs.swept, 0);
+    assert_int_equal(cfg_of(sc)->runs.n, 1);
+    scene_free(sc);
+}
+
+static void test_optional_groups(void **state)
+{
+    (void)state;
+    scene *sc = load_ok("&chain profile = 'forward_linear', n_granules = 50, s = 0.01, 0.02 /\n"
+                        "&fit model = 'divergence_b', x = 'k', y = 'v', k_min = 2, k_max = 40,\n"
+                        "     report = 'b', theory = 'b', p = 1.5 /\n"
+                        "&table name = 'T', paper_theory = 0.1, 0.2 /\n"
+                        "&figure name = 'F', curves = 'theory', inset = T /");
+    const scene_config *c = cfg_of(sc);
+    assert_true(c->runs.fit && c->runs.table && c->runs.figure);
+    assert_int_equal(c->fit.model, TAPER_FIT_DIVERGENCE_B);
+    assert_int_equal(c->fit.y, SCENE_Q_V);
+    assert_int_equal(c->fit.report, SCENE_REPORT_B);
+    assert_int_equal(c->fit.theory, SCENE_THEORY_B);
+    assert_int_equal(c->figure.curves, SCENE_CURVES_THEORY);
+    assert_true(isnan(c->figure.inset_reference));
+    assert_int_equal(c->table.paper_theory.n, 2);
+    taper_error err;
+    taper_fit_spec *fit = scene_fit_spec(c, &err);
+    assert_non_null(fit);
+    assert_int_equal(taper_fit_spec_model(fit), TAPER_FIT_DIVERGENCE_B);
+    assert_double_rel(taper_fit_spec_exponent(fit), 1.5, 0);
+    taper_fit_spec_free(fit);
     scene_free(sc);
 }
 
@@ -191,61 +226,57 @@ static void test_defaults(void **state)
 {
     (void)state;
     scene *sc = new_scene();
-    taper_chain_spec want, got;
-    taper_chain_spec_init(&want);
-    scene_chain_spec(sc, 0, &got);
-    /* the table's chain defaults are the library's */
-    assert_int_equal(got.profile, want.profile);
-    assert_int_equal(got.n_granules, want.n_granules);
-    assert_double_rel(got.exponent, want.exponent, 0);
-    assert_true(got.s == want.s && got.q == want.q && got.radii == NULL);
-    /* solver defaults come from the library spec given to scene_new */
-    taper_solver_spec s;
-    memset(&s, 0, sizeof s);
-    scene_solver_spec(sc, &s);
-    assert_int_equal(s.method, TAPER_BDF);
-    assert_double_rel(s.rtol, 3e-9, 0);
-    assert_double_rel(s.atol, 7e-13, 0);
-    assert_int_equal(s.window, 1);
-    assert_int_equal(s.last_granule, 0);
-    assert_int_equal(s.max_steps, 0);
-    assert_true(scene_bool(sc, "solver", "numerics"));
+    const scene_config *c = cfg_of(sc);
+    /* the chain and solver defaults are the library's own */
+    taper_chain_spec *want = taper_chain_spec_alloc(NULL);
+    taper_chain_spec *got = scene_chain_spec(c, 0, NULL);
+    assert_non_null(got);
+    assert_int_equal(taper_chain_spec_profile(got), taper_chain_spec_profile(want));
+    assert_int_equal(taper_chain_spec_n_granules(got), taper_chain_spec_n_granules(want));
+    assert_true(taper_chain_spec_exponent(got) == taper_chain_spec_exponent(want));
+    assert_true(taper_chain_spec_s(got) == taper_chain_spec_s(want));
+    assert_true(taper_chain_spec_q(got) == taper_chain_spec_q(want));
+    size_t n = 1;
+    assert_null(taper_chain_spec_radii(got, &n));
+    assert_int_equal(n, 0);
+    taper_chain_spec_free(want);
+    taper_chain_spec_free(got);
+    taper_solver_spec *lib = taper_solver_spec_alloc(NULL);
+    taper_solver_spec *s = scene_solver_spec(c, NULL);
+    assert_non_null(s);
+    assert_int_equal(taper_solver_spec_method(s), taper_solver_spec_method(lib));
+    assert_true(taper_solver_spec_rtol(s) == taper_solver_spec_rtol(lib));
+    assert_true(taper_solver_spec_atol(s) == taper_solver_spec_atol(lib));
+    assert_int_equal(taper_solver_spec_window(s), taper_solver_spec_window(lib));
+    assert_int_equal(taper_solver_spec_last_granule(s), taper_solver_spec_last_granule(lib));
+    assert_true(taper_solver_spec_t_max(s) == taper_solver_spec_t_max(lib));
+    assert_int_equal(taper_solver_spec_max_steps(s), taper_solver_spec_max_steps(lib));
+    taper_solver_spec_free(lib);
+    taper_solver_spec_free(s);
+    assert_true(c->solver.numerics);
+    assert_int_equal(c->fit.model, SCENE_FIT_NONE);
+    assert_true(isnan(c->fit.p));
     /* output dir derives from the file name */
-    assert_string_equal(scene_str(sc, "output", "dir"), "out/test");
+    assert_string_equal(c->output.dir, "out/test");
     assert_int_equal(scene_validate(sc), 0);
     scene_free(sc);
 }
 
-static void test_library_defaults_real(void **state)
-{
-    (void)state;
-    taper_solver_spec lib;
-    taper_solver_spec_init(&lib);
-    scene *sc = scene_new("x.nml", &lib);
-    assert_non_null(sc);
-    assert_double_rel(scene_real(sc, "solver", "rtol"), lib.rtol, 0);
-    assert_double_rel(scene_real(sc, "solver", "atol"), lib.atol, 0);
-    assert_int_equal(scene_bool(sc, "solver", "window"), lib.window != 0);
-    assert_string_equal(scene_str(sc, "solver", "method"), lib.method == TAPER_BDF ? "bdf" : "adams");
-    assert_int_equal(scene_validate(sc), 0);
-    scene_free(sc);
-}
-
-/* Every value of a and b equal (after a write/parse round trip). */
+/* Every value of a and b equal (after a write/parse round trip), through
+ * the generic walk of the table. */
 static void assert_same_values(const scene *a, const scene *b)
 {
     for (size_t i = 0; i < scene_var_count(); i++) {
-        const scene_var *var = scene_var_at(i);
-        const scene_value *x = &a->values[i], *y = &b->values[i];
-        if (var->type == SCENE_STRING) {
-            assert_string_equal(x->str, y->str);
-        } else if (var->type == SCENE_INTEGER) {
-            assert_int_equal(x->ival, y->ival);
-        } else if (var->type == SCENE_LOGICAL) {
-            assert_int_equal(x->bval, y->bval);
+        scene_type t = scene_var_type(i);
+        if (t == SCENE_STRING || t == SCENE_CHOICE) {
+            assert_string_equal(scene_var_text(a, i), scene_var_text(b, i));
+        } else if (t == SCENE_INTEGER || t == SCENE_LOGICAL) {
+            assert_int_equal(scene_var_integer(a, i), scene_var_integer(b, i));
         } else {
-            assert_int_equal(x->count, y->count);
-            for (size_t k = 0; k < x->count; k++) assert_true(x->list[k] == y->list[k]);
+            size_t na, nb;
+            const double *x = scene_var_reals(a, i, &na), *y = scene_var_reals(b, i, &nb);
+            assert_int_equal(na, nb);
+            for (size_t k = 0; k < na; k++) assert_true(x[k] == y[k]);
         }
     }
 }
@@ -267,8 +298,7 @@ static void test_defaults_output_reparses(void **state)
     scene *def = new_scene();
     char *text = write_to_string(def, 1);
     /* documented: every variable appears (set or as a comment) */
-    for (size_t i = 0; i < scene_var_count(); i++)
-        assert_non_null(strstr(text, scene_var_at(i)->name));
+    for (size_t i = 0; i < scene_var_count(); i++) assert_non_null(strstr(text, scene_var_name(i)));
     scene *again = load_ok(text);
     assert_same_values(def, again);
     free(text);
@@ -288,6 +318,87 @@ static void test_echo_reparses(void **state)
     free(text);
     scene_free(again);
     scene_free(sc);
+}
+
+/* A directory of 3000 characters (15 nested folders) echoes whole and
+ * reads back: no buffer cuts it (it used to be cut at 1020). */
+static void test_long_dir_echo(void **state)
+{
+    (void)state;
+    char dir[3001];
+    size_t o = 0;
+    for (int f = 0; f < 15; f++) {
+        size_t len = f < 14 ? 199 : 200; /* 14 * 199 + 200 + 14 slashes = 3000 */
+        if (f) dir[o++] = '/';
+        for (size_t i = 0; i < len; i++) dir[o++] = (char)('a' + (f + (int)i) % 26);
+    }
+    dir[o] = '\0';
+    assert_int_equal(strlen(dir), 3000);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *fp = open_memstream(&text, &len);
+    fprintf(fp, "&output dir = '%s' /\n", dir);
+    fclose(fp);
+    scene *sc = load_ok(text);
+    assert_string_equal(cfg_of(sc)->output.dir, dir);
+    char *echo = write_to_string(sc, 0);
+    assert_non_null(strstr(echo, dir));
+    scene *again = load_ok(echo);
+    assert_string_equal(cfg_of(again)->output.dir, dir);
+    assert_same_values(sc, again);
+    free(echo);
+    free(text);
+    scene_free(again);
+    scene_free(sc);
+}
+
+/* --set overrides one variable after the file, as if the file said so. */
+static void test_set(void **state)
+{
+    (void)state;
+    scene *sc = new_scene();
+    const char *text = "&chain profile = 'backward_linear', s = 0.5 /\n&fit model = 'power' /";
+    assert_int_equal(scene_parse(sc, text, strlen(text)), 0);
+    assert_int_equal(scene_set(sc, "chain.s=0.1, 0.2"), 0);
+    assert_int_equal(scene_set(sc, "solver.method='bdf'"), 0);
+    assert_int_equal(scene_set(sc, "FIT.K_MIN=3"), 0);
+    assert_int_equal(scene_validate(sc), 0);
+    const scene_config *c = cfg_of(sc);
+    assert_int_equal(c->chain.s.n, 2);
+    assert_int_equal(c->runs.n, 2);
+    assert_int_equal(c->solver.method, TAPER_BDF);
+    assert_int_equal(c->fit.k_min, 3);
+    assert_int_equal(SCENE_LINE(sc, chain.s), 0); /* not from the file any more */
+    char *out = NULL;
+    size_t len = 0;
+    FILE *fp = open_memstream(&out, &len);
+    assert_int_equal(scene_print_value(sc, "fit.k_min", fp), 0);
+    assert_int_equal(scene_print_value(sc, "solver.method", fp), 0);
+    assert_int_equal(scene_print_value(sc, "chain.s", fp), 0);
+    assert_int_equal(scene_print_value(sc, "chain.nope", fp), -1);
+    assert_int_equal(scene_print_value(sc, "nogroup", fp), -1);
+    fclose(fp);
+    assert_string_equal(out, "3\n'bdf'\n0.1, 0.2\n");
+    free(out);
+    scene_free(sc);
+
+    static const struct { const char *set, *key, *needle; } bad[] = {
+        {"chain.nope=1", "nope", "no such variable"},
+        {"chain.n_granules=1.5", "n_granules", "integer"},
+        {"solver.method='rk4'", "method", "not allowed"},
+        {"fit.k_min=3 / &chain s = 1", "k_min", "one variable"},
+        {"k_min=3", "", "GROUP.KEY=VALUE"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        sc = new_scene();
+        assert_true(scene_set(sc, bad[i].set) > 0);
+        const scene_diag *d = scene_diag_at(sc, 0);
+        assert_int_equal(d->line, 0);
+        assert_string_equal(d->key, bad[i].key);
+        if (!strstr(d->message, bad[i].needle))
+            fail_msg("--set %s: '%s' lacks '%s'", bad[i].set, d->message, bad[i].needle);
+        scene_free(sc);
+    }
 }
 
 /* ---- errors ------------------------------------------------------------- */
@@ -359,37 +470,49 @@ static const bad_case bad_cases[] = {
     {"&chain exponent = 1 /", 1, "chain", "exponent", "(1, 20]"},
     {"&chain\n profile = 'backward_linear'\n s = -0.5 /", 3, "chain", "s", "out of range"},
     {"&chain profile='backward_linear' s = 0.1, 1e9 /", 1, "chain", "s", "1e+09 is out of range"},
-    {"&solver rtol = 1 /", 1, "solver", "rtol", "out of range"},
+    {"&solver rtol = 1 /", 1, "solver", "rtol", "must lie in [1e-14, 0.1]"},
     {"&solver atol = 0 /", 1, "solver", "atol", "(0, 0.1]"},
-    {"&solver t_max = -1 /", 1, "solver", "t_max", "out of range"},
+    {"&solver t_max = -1 /", 1, "solver", "t_max", ">= 0"},
     {"&chain profile = 'conical' /", 1, "chain", "profile", "'backward_linear'"},
     {"&solver method = 'rk4' /", 1, "solver", "method", "'adams', 'bdf'"},
-    {"&chain profile='custom' radii = 1, 0.5, -1 /", 1, "chain", "radii", "element 3"},
+    {"&chain profile='custom' radii = 1, 0.5, -1 /", 1, "chain", "radii", "radii(3) = -1"},
     {"&output dir = '' /", 1, "output", "dir", "empty"},
     /* validation: relations */
-    {"&chain profile = 'forward_linear'\n s = 0.5\n n_granules = 200 /", 2, "chain", "s",
+    {"&chain profile = 'forward_linear'\n s = 0.5\n n_granules = 200 /", 3, "chain", "n_granules",
      "n_granules < 1 + 1/s = 3"},
-    {"&chain profile = 'forward_linear', n_granules = 3, s = 0.5 /", 1, "chain", "s", "<= 0"},
+    {"&chain profile = 'forward_linear', n_granules = 3, s = 0.5 /", 1, "chain", "n_granules",
+     "not positive"},
+    /* a key the file leaves out: the line its group opens */
+    {"&solver /\n&chain\n profile = 'forward_linear'\n s = 0.5 /", 2, "chain", "n_granules",
+     "n_granules < 1 + 1/s = 3"},
     {"&chain profile = 'backward_exponential', q = 1 /", 1, "chain", "q", "q < 1"},
     {"&chain profile = 'backward_linear', q = 0.1 /", 1, "chain", "q", "no effect"},
     {"&chain profile = 'forward_exponential', s = 0.1 /", 1, "chain", "s", "no effect"},
     {"&chain\n s = 0.1 /", 2, "chain", "s", "no effect"},
     {"&chain profile = 'backward_linear'\n radii = 1, 2 /", 2, "chain", "radii", "only used"},
-    {"&chain profile = 'custom' /", 1, "chain", "profile", "needs radii"},
+    {"&chain profile = 'custom' /", 1, "chain", "radii", "needs radii"},
     {"&chain profile = 'custom', radii = 1 /", 1, "chain", "radii", "at least 2"},
     {"&chain profile = 'custom', radii = 2, 1 /", 1, "chain", "radii", "must be 1"},
-    {"&chain profile = 'custom'\n radii = 1, 2, 3\n n_granules = 4 /", 3, "chain", "n_granules",
-     "3 radii"},
-    {"&chain n_granules = 10 /\n&solver last_granule = 11 /", 2, "solver", "last_granule",
-     "beyond the chain"},
+    {"&chain profile = 'custom'\n radii = 1, 2, 3\n n_granules = 4 /", 2, "chain", "radii",
+     "3 radii but n_granules = 4"},
+    /* the library's refusals, each at its key */
+    {"&solver\n rtol = 1e-20 /", 2, "solver", "rtol", "1e-20"},
+    {"&chain\n\n exponent = 25 /", 3, "chain", "exponent", "(1, 20]"},
+    {"&chain profile = 'backward_exponential'\n q = 1.5 /", 2, "chain", "q", "q < 1"},
+    {"&chain profile = 'backward_exponential'\n q = 0.5, 0.9, 1.5, 2 /", 2, "chain", "q",
+     "q = 1.5"},
+    {"&chain profile = 'forward_linear', n_granules = 50\n s = 0.01, 0.02, 0.5 /", 1, "chain",
+     "n_granules", "s = 0.5"},
+    {"&solver method = 'bdf'\n max_steps = -3 /", 2, "solver", "max_steps", ">= 0"},
+    {"&fit model = 'divergence_c', y = 'v', report = 'c'\n p = -1 /", 2, "fit", "p", "> 0"},
     {"&chain profile = 'backward_linear', s = 0.1, 0.2 /\n&chain /", 2, "chain", "", "twice"},
 };
 
 static void check_bad(const bad_case *c)
 {
     scene *sc = load(c->text);
-    if (sc->n_diags == 0) fail_msg("no error for: %s", c->text);
-    const scene_diag *d = &sc->diags[0];
+    if (scene_diag_count(sc) == 0) fail_msg("no error for: %s", c->text);
+    const scene_diag *d = scene_diag_at(sc, 0);
     if (d->line != c->line || strcmp(d->group, c->group) != 0 || strcmp(d->key, c->key) != 0 ||
         !strstr(d->message, c->message)) {
         scene_print_diags(sc, stderr);
@@ -405,6 +528,88 @@ static void test_bad_scenes(void **state)
     for (size_t i = 0; i < sizeof bad_cases / sizeof bad_cases[0]; i++) check_bad(&bad_cases[i]);
 }
 
+/* What the library can only check with the chain built (taper_chain_alloc,
+ * taper_sim_alloc) is reported the same way, by the field it names. */
+static char *library_refusal(const char *text, int sim)
+{
+    scene *sc = load_ok(text);
+    const scene_config *c = cfg_of(sc);
+    taper_error err;
+    taper_chain_spec *cs = scene_chain_spec(c, 0, &err);
+    assert_non_null(cs);
+    taper_chain *chain = taper_chain_alloc(cs, &err);
+    scene_lib lib = SCENE_LIB_CHAIN;
+    if (chain && sim) {
+        taper_solver_spec *ss = scene_solver_spec(c, &err);
+        assert_non_null(ss);
+        taper_sim *s = taper_sim_alloc(chain, ss, &err);
+        assert_null(s);
+        taper_solver_spec_free(ss);
+        lib = SCENE_LIB_SOLVER;
+    } else {
+        assert_null(chain);
+    }
+    char *out = NULL;
+    size_t len = 0;
+    FILE *fp = open_memstream(&out, &len);
+    scene_print_library_error(sc, lib, &err, fp);
+    fclose(fp);
+    taper_chain_free(chain);
+    taper_chain_spec_free(cs);
+    scene_free(sc);
+    return out;
+}
+
+static int starts_with(const char *s, const char *prefix)
+{
+    return strncmp(s, prefix, strlen(prefix)) == 0;
+}
+
+static void test_library_refusals(void **state)
+{
+    (void)state;
+    char *out = library_refusal("&chain n_granules = 10 /\n&solver\n last_granule = 11 /", 1);
+    if (!starts_with(out, "dir/test.nml:3: &solver last_granule: ")) fail_msg("got: %s", out);
+    free(out);
+    out = library_refusal("&chain profile = 'forward_exponential'\n q = 0.5\n n_granules = 2000 /",
+                          0);
+    if (!starts_with(out, "dir/test.nml:3: &chain n_granules: ") ||
+        !strstr(out, "at most 568 granules"))
+        fail_msg("got: %s", out);
+    free(out);
+    /* last_granule beyond the default N = 100 */
+    out = library_refusal("\n&chain profile = 'forward_exponential'\n q = 0.5 /\n"
+                          "&solver last_granule = 101 /", 1);
+    if (!starts_with(out, "dir/test.nml:4: &solver last_granule: ")) fail_msg("got: %s", out);
+    free(out);
+    /* a chain that is too long for double precision, n_granules left out of
+     * a custom chain: the radii are at fault */
+    out = library_refusal("&chain profile = 'custom'\n radii = 1, 1e-150 /", 0);
+    if (!starts_with(out, "dir/test.nml:2: &chain radii: ")) fail_msg("got: %s", out);
+    free(out);
+}
+
+/* A field the scene does not have, or none: the message alone. */
+static void test_library_error_without_key(void **state)
+{
+    (void)state;
+    scene *sc = load_ok("&chain /");
+    taper_error err = {.status = TAPER_ESOLVER, .field = NULL, .message = "CVODE failed"};
+    char *out = NULL;
+    size_t len = 0;
+    FILE *fp = open_memstream(&out, &len);
+    scene_print_library_error(sc, SCENE_LIB_SOLVER, &err, fp);
+    err.field = "max_order";
+    scene_print_library_error(sc, SCENE_LIB_SOLVER, &err, fp);
+    err.field = "rtol"; /* a solver field, not a chain field */
+    scene_print_library_error(sc, SCENE_LIB_CHAIN, &err, fp);
+    fclose(fp);
+    assert_string_equal(out, "dir/test.nml: CVODE failed\ndir/test.nml: CVODE failed\n"
+                             "dir/test.nml: CVODE failed\n");
+    free(out);
+    scene_free(sc);
+}
+
 static void test_long_line(void **state)
 {
     (void)state;
@@ -415,9 +620,9 @@ static void test_long_line(void **state)
     memset(text + strlen(text), ' ', n);
     strcpy(text + n, "/\n");
     scene *sc = load(text);
-    assert_int_equal(sc->n_errors, 1);
-    assert_int_equal(sc->diags[0].line, 2);
-    assert_non_null(strstr(sc->diags[0].message, "longer than"));
+    assert_int_equal(scene_error_count(sc), 1);
+    assert_int_equal(scene_diag_at(sc, 0)->line, 2);
+    assert_non_null(strstr(scene_diag_at(sc, 0)->message, "longer than"));
     scene_free(sc);
     free(text);
 }
@@ -425,12 +630,18 @@ static void test_long_line(void **state)
 static void test_validation_reports_all(void **state)
 {
     (void)state;
-    /* one pass reports every out-of-range value, each at its own line */
+    /* one pass reports every refused value, each at its own line */
     scene *sc = load("&chain n_granules = 1\n exponent = 0.5 /\n&solver rtol = 2 /");
-    assert_int_equal(sc->n_errors, 3);
-    assert_int_equal(sc->diags[0].line, 1);
-    assert_int_equal(sc->diags[1].line, 2);
-    assert_int_equal(sc->diags[2].line, 3);
+    assert_int_equal(scene_error_count(sc), 3);
+    assert_int_equal(scene_diag_at(sc, 0)->line, 1);
+    assert_int_equal(scene_diag_at(sc, 1)->line, 2);
+    assert_int_equal(scene_diag_at(sc, 2)->line, 3);
+    scene_free(sc);
+    /* a sweep value the library refuses is reported once, at the sweep */
+    sc = load("&chain profile = 'backward_linear'\n s = 0.1, -1, 2000, 0.2 /");
+    assert_int_equal(scene_error_count(sc), 1);
+    assert_int_equal(scene_diag_at(sc, 0)->line, 2);
+    assert_non_null(strstr(scene_diag_at(sc, 0)->message, "s = -1"));
     scene_free(sc);
 }
 
@@ -440,25 +651,24 @@ static void test_two_sweeps_rejected(void **state)
     /* only the exponential profiles use q, so give both on a profile where
      * the only remaining complaint can be the double sweep */
     scene *sc = load("&chain profile='backward_linear', s = 0.1, 0.2 /");
-    assert_int_equal(sc->n_errors, 0);
+    assert_int_equal(scene_error_count(sc), 0);
     scene_free(sc);
     sc = load("&chain profile='monodisperse'\n s = 0, 0\n q = 0, 0 /");
-    assert_int_equal(sc->n_errors, 1);
-    assert_int_equal(sc->diags[0].line, 3);
-    assert_string_equal(sc->diags[0].key, "q");
-    assert_non_null(strstr(sc->diags[0].message, "one variable"));
+    assert_int_equal(scene_error_count(sc), 1);
+    assert_int_equal(scene_diag_at(sc, 0)->line, 3);
+    assert_string_equal(scene_diag_at(sc, 0)->key, "q");
+    assert_non_null(strstr(scene_diag_at(sc, 0)->message, "one variable"));
     scene_free(sc);
 }
 
 static void test_missing_file(void **state)
 {
     (void)state;
-    taper_solver_spec lib = lib_defaults();
-    scene *sc = scene_new("/nonexistent/dir/scene.nml", &lib);
+    scene *sc = scene_new("/nonexistent/dir/scene.nml");
     assert_non_null(sc);
     assert_int_equal(scene_load(sc), 1);
-    assert_int_equal(sc->diags[0].line, 0);
-    assert_non_null(strstr(sc->diags[0].message, "cannot open"));
+    assert_int_equal(scene_diag_at(sc, 0)->line, 0);
+    assert_non_null(strstr(scene_diag_at(sc, 0)->message, "cannot open"));
     char *text = NULL;
     size_t len = 0;
     FILE *fp = open_memstream(&text, &len);
@@ -480,6 +690,26 @@ static void test_diag_format(void **state)
     fclose(fp);
     assert_string_equal(text, "dir/test.nml:2: &chain s: 'nan' is not a finite number\n");
     free(text);
+    scene_free(sc);
+}
+
+/* Messages are as long as they need to be: a long unknown string is shown
+ * cut with "..." (a mark, not a silent cut), the list of choices whole. */
+static void test_long_messages(void **state)
+{
+    (void)state;
+    char text[600];
+    snprintf(text, sizeof text, "&figure name = 'x', curves = '%0300d' /", 7);
+    scene *sc = load(text);
+    const scene_diag *d = scene_diag_at(sc, 0);
+    assert_non_null(d);
+    assert_non_null(strstr(d->message, "...' is not allowed"));
+    assert_non_null(strstr(d->message, "'both', 'theory', 'numerics'"));
+    scene_free(sc);
+    sc = load("&figure\n nme = 'x' /");
+    d = scene_diag_at(sc, 0);
+    /* every key of &figure is listed */
+    assert_non_null(strstr(d->message, "inset_reference"));
     scene_free(sc);
 }
 
@@ -525,12 +755,13 @@ static void test_every_truncation(void **state)
         for (size_t i = 0; i < len; i++) lines += text[i] == '\n';
         scene *sc = new_scene();
         if (scene_parse(sc, text, len) == 0) scene_validate(sc);
-        if (sc->n_diags > 0 && !(sc->diags[0].line >= 0 && sc->diags[0].line <= lines))
-            fail_msg("cut at %zu: error at line %d of %d", len, sc->diags[0].line, lines);
+        const scene_diag *d = scene_diag_at(sc, 0);
+        if (d && !(d->line >= 0 && d->line <= lines))
+            fail_msg("cut at %zu: error at line %d of %d", len, d->line, lines);
         scene_free(sc);
     }
     scene *sc = load_ok(text); /* and uncut it is fine */
-    assert_int_equal(scene_int(sc, "chain", "n_granules"), 4);
+    assert_int_equal(cfg_of(sc)->chain.n_granules, 4);
     scene_free(sc);
 }
 
@@ -541,18 +772,19 @@ static void test_output_atomic(void **state)
     (void)state;
     char dir[] = "/tmp/taper_test_out_XXXXXX";
     assert_non_null(mkdtemp(dir));
-    char sub[128], final[160], msg[256];
+    char sub[128], final[160];
+    char *msg = NULL;
     snprintf(sub, sizeof sub, "%s/a/b/c", dir);
-    assert_int_equal(out_mkdir_p(sub, msg, sizeof msg), 0);
-    assert_int_equal(out_mkdir_p(sub, msg, sizeof msg), 0); /* exists: fine */
+    assert_int_equal(out_mkdir_p(sub, &msg), 0);
+    assert_int_equal(out_mkdir_p(sub, &msg), 0); /* exists: fine */
     snprintf(final, sizeof final, "%s/r.tsv", sub);
 
-    out_file *f = out_open(sub, "r.tsv", msg, sizeof msg);
+    out_file *f = out_open(sub, "r.tsv", &msg);
     assert_non_null(f);
     out_cell(f->fp, 1.5, 0);
     out_cell(f->fp, NAN, 1);
     assert_int_equal(access(final, F_OK), -1); /* nothing before commit */
-    assert_int_equal(out_commit(f, msg, sizeof msg), 0);
+    assert_int_equal(out_commit(f, &msg), 0);
     FILE *fp = fopen(final, "r");
     assert_non_null(fp);
     char line[64];
@@ -560,25 +792,27 @@ static void test_output_atomic(void **state)
     fclose(fp);
     assert_string_equal(line, "1.5\tnan\n");
 
-    f = out_open(sub, "s.tsv", msg, sizeof msg);
+    f = out_open(sub, "s.tsv", &msg);
     assert_non_null(f);
     char tmp[256];
     snprintf(tmp, sizeof tmp, "%s", f->tmp_path);
     out_discard(f); /* leaves nothing behind */
     assert_int_equal(access(tmp, F_OK), -1);
 
-    assert_int_equal(out_remove(sub, "r.tsv", msg, sizeof msg), 0);
+    assert_int_equal(out_remove(sub, "r.tsv", &msg), 0);
     assert_int_equal(access(final, F_OK), -1);
-    assert_int_equal(out_remove(sub, "r.tsv", msg, sizeof msg), 0); /* absent: fine */
+    assert_int_equal(out_remove(sub, "r.tsv", &msg), 0); /* absent: fine */
 
     /* a directory below a regular file cannot exist (even for root) */
     fp = fopen(final, "w");
     fclose(fp);
     snprintf(sub, sizeof sub, "%s/a/b/c/r.tsv/x", dir);
-    assert_int_equal(out_mkdir_p(sub, msg, sizeof msg), -1);
+    assert_int_equal(out_mkdir_p(sub, &msg), -1);
     assert_non_null(strstr(msg, "r.tsv"));
-    assert_null(out_open(sub, "t.tsv", msg, sizeof msg));
+    free(msg);
+    assert_null(out_open(sub, "t.tsv", &msg));
     assert_non_null(strstr(msg, sub));
+    free(msg);
     char cmd[200];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     assert_int_equal(system(cmd), 0);
@@ -614,16 +848,21 @@ int main(void)
         cmocka_unit_test(test_lists_and_continuation),
         cmocka_unit_test(test_separators),
         cmocka_unit_test(test_sweep),
+        cmocka_unit_test(test_optional_groups),
         cmocka_unit_test(test_defaults),
-        cmocka_unit_test(test_library_defaults_real),
         cmocka_unit_test(test_defaults_output_reparses),
         cmocka_unit_test(test_echo_reparses),
+        cmocka_unit_test(test_long_dir_echo),
+        cmocka_unit_test(test_set),
         cmocka_unit_test(test_bad_scenes),
+        cmocka_unit_test(test_library_refusals),
+        cmocka_unit_test(test_library_error_without_key),
         cmocka_unit_test(test_long_line),
         cmocka_unit_test(test_validation_reports_all),
         cmocka_unit_test(test_two_sweeps_rejected),
         cmocka_unit_test(test_missing_file),
         cmocka_unit_test(test_diag_format),
+        cmocka_unit_test(test_long_messages),
         cmocka_unit_test(test_garbage_never_crashes),
         cmocka_unit_test(test_every_truncation),
         cmocka_unit_test(test_output_atomic),

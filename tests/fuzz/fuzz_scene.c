@@ -9,10 +9,12 @@
  *      the text again, validate again (0 errors) and write again: the two
  *      texts are identical (the driver's resolved-scene echo must run again
  *      to the same numbers).
- *   4. Its specs (every sweep point) go to taper_chain_alloc,
- *      taper_theory_compute and taper_sim_alloc (not run): a scene that
- *      validates must not be rejected as an invalid argument by the library
- *      (only ERANGE, a property of the whole chain, may remain).
+ *   4. Its specs (every sweep point) are built through the library's
+ *      setters and go to taper_chain_alloc, taper_theory_compute and
+ *      taper_sim_alloc (not run): building the specs of a validated scene
+ *      never fails (validation made those very calls), and what the library
+ *      can only check with the chain built (ERANGE of the masses, last_granule
+ *      beyond N) names a field the scene reports at a key.
  * A violated property aborts (a libFuzzer finding); sanitizers catch the rest.
  *
  * Built two ways (tests/fuzz/meson.build):
@@ -51,16 +53,15 @@ static FILE *null_stream(void)
     return devnull;
 }
 
-/* Every recorded diagnostic is a NUL-terminated, non-empty message. */
+/* Every recorded diagnostic has a non-empty message. */
 static void check_diags(const scene *sc, size_t errors)
 {
-    if (errors > 0 && sc->n_diags == 0) fail("errors counted but no diagnostic recorded", NULL);
-    if (sc->n_diags > SCENE_MAX_DIAGS) fail("more diagnostics than slots", NULL);
-    for (size_t i = 0; i < sc->n_diags; i++) {
-        const scene_diag *d = &sc->diags[i];
-        if (!memchr(d->message, '\0', sizeof d->message) || !memchr(d->group, '\0', sizeof d->group) ||
-            !memchr(d->key, '\0', sizeof d->key))
-            fail("diagnostic not NUL-terminated", NULL);
+    size_t n = scene_diag_count(sc);
+    if (errors > 0 && n == 0) fail("errors counted but no diagnostic recorded", NULL);
+    if (n > SCENE_MAX_DIAGS) fail("more diagnostics than slots", NULL);
+    for (size_t i = 0; i < n; i++) {
+        const scene_diag *d = scene_diag_at(sc, i);
+        if (!d->message || !d->group || !d->key) fail("diagnostic without text", NULL);
         if (d->message[0] == '\0') fail("empty diagnostic message", NULL);
         if (d->line < 0) fail("negative line number", d->message);
     }
@@ -79,20 +80,16 @@ static char *scene_text(const scene *sc, size_t *len)
     return text;
 }
 
-static void library_defaults(taper_solver_spec *lib) { taper_solver_spec_init(lib); }
-
 /* Property 3: echo -> parse -> validate -> echo is a fixed point.  Every
  * valid scene is checked, the longest lists too: their echo fits the file
  * limit (SCENE_MAX_LIST, finding B in docs/robustness.md, fixed) and takes
  * a few seconds at most (250000 values). */
 static void check_round_trip(const scene *sc)
 {
-    taper_solver_spec lib;
-    library_defaults(&lib);
     size_t len1 = 0, len2 = 0;
     char *text1 = scene_text(sc, &len1);
     if (!text1) return;
-    scene *again = scene_new(sc->path, &lib);
+    scene *again = scene_new(scene_path(sc));
     if (!again) {
         free(text1);
         return;
@@ -100,9 +97,9 @@ static void check_round_trip(const scene *sc)
     size_t errors = scene_parse(again, text1, len1);
     if (errors == 0) errors = scene_validate(again);
     if (errors != 0) {
+        const scene_diag *d = scene_diag_at(again, 0);
         fprintf(stderr, "--- echo:\n%.*s--- error: line %d &%s %s: %s\n", FUZZ_MAX_SHOWN, text1,
-                again->diags[0].line,
-                again->diags[0].group, again->diags[0].key, again->diags[0].message);
+                d ? d->line : 0, d ? d->group : "", d ? d->key : "", d ? d->message : "");
         fail("the echo of a valid scene does not parse and validate", NULL);
     }
     char *text2 = scene_text(again, &len2);
@@ -115,8 +112,7 @@ static void check_round_trip(const scene *sc)
     FILE *fp = null_stream();
     if (fp) {
         scene_write(again, fp, 1);
-        int sv = scene_sweep_var(again);
-        size_t points = sv < 0 ? 1 : again->values[sv].count;
+        size_t points = scene_cfg(again)->runs.n;
         for (size_t i = 0; i < points && i < FUZZ_MAX_SWEEP; i++) scene_write_point(again, fp, i);
     }
     free(text2);
@@ -124,45 +120,68 @@ static void check_round_trip(const scene *sc)
     scene_free(again);
 }
 
-/* Property 4: the library accepts what validation accepted. */
+/* A refusal after validation must name a field the scene reports at a key,
+ * with a message. */
+static void check_refusal(const scene *sc, scene_lib lib, const taper_error *err,
+                          const char *what)
+{
+    if (err->message[0] == '\0') fail(what, "failed without a message");
+    if (err->status == TAPER_ENOMEM) return;
+    FILE *fp = null_stream();
+    if (fp) scene_print_library_error(sc, lib, err, fp);
+    if (err->status == TAPER_EINVAL && !err->field) fail(what, err->message);
+}
+
+/* Property 4: the library accepts what validation accepted, up to what
+ * needs the chain. */
 static void check_library(const scene *sc)
 {
-    int sv = scene_sweep_var(sc);
-    size_t points = sv < 0 ? 1 : sc->values[sv].count;
-    for (size_t i = 0; i < points && i < FUZZ_MAX_SWEEP; i++) {
-        taper_chain_spec cs;
-        scene_chain_spec(sc, i, &cs);
-        if (cs.n_granules > FUZZ_MAX_GRANULES) return;
+    const scene_config *cfg = scene_cfg(sc);
+    for (size_t i = 0; i < cfg->runs.n && i < FUZZ_MAX_SWEEP; i++) {
         taper_error err = {0};
-        taper_chain *chain = taper_chain_alloc(&cs, &err);
+        taper_chain_spec *cs = scene_chain_spec(cfg, i, &err);
+        if (!cs) {
+            if (err.status != TAPER_ENOMEM) fail("the chain spec of a valid scene fails", err.message);
+            return;
+        }
+        taper_solver_spec *ss = scene_solver_spec(cfg, &err);
+        if (!ss) {
+            if (err.status != TAPER_ENOMEM) fail("the solver spec of a valid scene fails", err.message);
+            taper_chain_spec_free(cs);
+            return;
+        }
+        if (taper_chain_spec_check(cs, &err) != TAPER_OK)
+            fail("validated scene refused by taper_chain_spec_check", err.message);
+        if (taper_chain_spec_n_granules(cs) > FUZZ_MAX_GRANULES) {
+            taper_chain_spec_free(cs);
+            taper_solver_spec_free(ss);
+            return;
+        }
+        taper_chain *chain = taper_chain_alloc(cs, &err);
         if (!chain) {
-            if (err.message[0] == '\0') fail("taper_chain_alloc failed without a message", NULL);
+            check_refusal(sc, SCENE_LIB_CHAIN, &err, "taper_chain_alloc");
             if (err.status == TAPER_EINVAL) fail("validated scene rejected by taper_chain_alloc", err.message);
-            continue;
+        } else {
+            size_t n = taper_chain_size(chain);
+            double *v = malloc(n * sizeof *v), *T = malloc(n * sizeof *T), *t = malloc(n * sizeof *t);
+            if (v && T && t) {
+                int st = taper_theory_compute(chain, v, NULL, T, t, &err);
+                if (st != TAPER_OK && err.message[0] == '\0') fail("theory failed without a message", NULL);
+                if (st == TAPER_OK)
+                    for (size_t k = 0; k + 1 < n; k++)
+                        if (!(v[k] > 0.0) || !(T[k] > 0.0) || !isfinite(t[k]))
+                            fail("theory returned a non-finite or non-positive value with TAPER_OK", NULL);
+            }
+            free(v);
+            free(T);
+            free(t);
+            taper_sim *sim = taper_sim_alloc(chain, ss, &err);
+            if (!sim) check_refusal(sc, SCENE_LIB_SOLVER, &err, "taper_sim_alloc");
+            taper_sim_free(sim);
+            taper_chain_free(chain);
         }
-        size_t n = taper_chain_size(chain);
-        double *v = malloc(n * sizeof *v), *T = malloc(n * sizeof *T), *t = malloc(n * sizeof *t);
-        if (v && T && t) {
-            int st = taper_theory_compute(chain, v, NULL, T, t, &err);
-            if (st != TAPER_OK && err.message[0] == '\0') fail("theory failed without a message", NULL);
-            if (st == TAPER_OK)
-                for (size_t k = 0; k + 1 < n; k++)
-                    if (!(v[k] > 0.0) || !(T[k] > 0.0) || !isfinite(t[k]))
-                        fail("theory returned a non-finite or non-positive value with TAPER_OK", NULL);
-        }
-        free(v);
-        free(T);
-        free(t);
-        taper_solver_spec ss;
-        taper_solver_spec_init(&ss);
-        scene_solver_spec(sc, &ss);
-        taper_sim *sim = taper_sim_alloc(chain, &ss, &err);
-        if (!sim) {
-            if (err.message[0] == '\0') fail("taper_sim_alloc failed without a message", NULL);
-            if (err.status == TAPER_EINVAL) fail("validated scene rejected by taper_sim_alloc", err.message);
-        }
-        taper_sim_free(sim);
-        taper_chain_free(chain);
+        taper_chain_spec_free(cs);
+        taper_solver_spec_free(ss);
     }
 }
 
@@ -170,9 +189,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    taper_solver_spec lib;
-    library_defaults(&lib);
-    scene *sc = scene_new("fuzz.nml", &lib);
+    scene *sc = scene_new("fuzz.nml");
     if (!sc) return 0;
     size_t errors = scene_parse(sc, (const char *)data, size);
     check_diags(sc, errors);
@@ -247,11 +264,18 @@ int main(int argc, char **argv)
         }
         for (struct dirent *e; (e = readdir(dir));) {
             if (e->d_name[0] == '.') continue;
-            char path[4096];
-            snprintf(path, sizeof path, "%s/%s", argv[i], e->d_name);
-            if (stat(path, &st) != 0 || !S_ISREG(st.st_mode)) continue;
-            failures += replay_file(path);
-            files++;
+            size_t len = strlen(argv[i]) + strlen(e->d_name) + 2;
+            char *path = malloc(len);
+            if (!path) {
+                failures++;
+                continue;
+            }
+            snprintf(path, len, "%s/%s", argv[i], e->d_name);
+            if (stat(path, &st) == 0 && S_ISREG(st.st_mode)) {
+                failures += replay_file(path);
+                files++;
+            }
+            free(path);
         }
         closedir(dir);
     }

@@ -3,93 +3,96 @@
  */
 #include "results/analysis.h"
 
+#include "util/text.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-static int model_of(const char *name)
+/* a -> 0; b, c, m -> 1; p, f -> 2 (the order of taper_fit_result_param). */
+static size_t param_index(scene_fit_report report)
 {
-    static const char *const names[] = {"power", "exponential", "divergence_b", "divergence_c",
-                                        "divergence_m"};
-    for (int i = 0; i < 5; i++)
-        if (strcmp(names[i], name) == 0) return i; /* = taper_fit_model */
-    return -1;
+    switch (report) {
+    case SCENE_REPORT_A: return 0;
+    case SCENE_REPORT_P:
+    case SCENE_REPORT_F: return 2;
+    default: return 1;
+    }
 }
 
-/* a -> 0; b, c, m -> 1; p, f -> 2 (the order of taper_fit_result.param). */
-static int param_index(const char *report)
+static void fit_failed(analysis_fit *out, const char *why)
 {
-    if (strcmp(report, "a") == 0) return 0;
-    if (strcmp(report, "p") == 0 || strcmp(report, "f") == 0) return 2;
-    return 1;
+    out->message = text_dup(why);
 }
 
-static void fit_spec(const scene *sc, int model, taper_fit_spec *spec)
-{
-    taper_fit_spec_init(spec, model);
-    spec->index_begin = (size_t)scene_int(sc, "fit", "k_min") - 1;
-    spec->index_end = (size_t)scene_int(sc, "fit", "k_max");
-    double p = scene_real(sc, "fit", "p");
-    if (!isnan(p)) spec->p = p;
-}
-
-void analysis_fit_side(const scene *sc, const series_source *src, int side, analysis_fit *out)
+void analysis_fit_side(const scene_config *cfg, const series_source *src, int side,
+                       analysis_fit *out)
 {
     memset(out, 0, sizeof *out);
     out->value = out->error = NAN;
-    int model = model_of(scene_str(sc, "fit", "model"));
-    double *x = malloc(src->n * sizeof *x), *y = malloc(src->n * sizeof *y);
-    if (model < 0 || !x || !y) {
-        snprintf(out->message, sizeof out->message, model < 0 ? "no fit" : "out of memory");
-        goto done;
-    }
-    if (series_fill(src, side, scene_str(sc, "fit", "x"), x) != 0 ||
-        series_fill(src, side, scene_str(sc, "fit", "y"), y) != 0) {
-        snprintf(out->message, sizeof out->message, "no %s", side ? "numerics" : "theory");
-        goto done;
-    }
-    taper_fit_spec spec;
-    fit_spec(sc, model, &spec);
     taper_error err = {0};
-    if (taper_fit(&spec, x, y, src->n, &out->result, &err) != TAPER_OK) {
-        snprintf(out->message, sizeof out->message, "%s", err.message);
+    taper_fit_spec *spec = scene_fit_spec(cfg, &err);
+    double *x = malloc(src->n * sizeof *x), *y = malloc(src->n * sizeof *y);
+    if (!spec || !x || !y) {
+        fit_failed(out, !spec ? err.message : "out of memory");
         goto done;
     }
-    int i = param_index(scene_str(sc, "fit", "report"));
-    double factor = scene_real(sc, "fit", "factor");
-    out->value = factor * out->result.param[i];
-    out->error = fabs(factor) * out->result.param_err[i];
+    if (series_fill(src, side, cfg->fit.x, x) != 0 || series_fill(src, side, cfg->fit.y, y) != 0) {
+        fit_failed(out, side == SERIES_NUMERICS ? "no numerics" : "no theory");
+        goto done;
+    }
+    if (!(out->result = taper_fit(spec, x, y, src->n, &err))) {
+        fit_failed(out, err.message);
+        goto done;
+    }
+    size_t i = param_index(cfg->fit.report);
+    double factor = cfg->fit.factor;
+    out->value = factor * taper_fit_result_param(out->result, i);
+    out->error = fabs(factor) * taper_fit_result_param_error(out->result, i);
     out->ok = 1;
 done:
+    taper_fit_spec_free(spec);
     free(x);
     free(y);
 }
 
-double analysis_closed_theory(const scene *sc, const taper_chain_spec *spec)
+double analysis_closed_theory(const scene_config *cfg, const taper_chain_spec *spec)
 {
-    const char *t = scene_str(sc, "fit", "theory");
     /* The paper's signed q: forward chains are evaluated at -q (Sec. IV B). */
-    double q = spec->profile == TAPER_FORWARD_EXPONENTIAL ? -spec->q : spec->q;
-    if (strcmp(t, "rate") == 0) return fabs(taper_asymptotic_lnA(q));
-    if (strcmp(t, "f") == 0) return taper_asymptotic_f(q, spec->exponent);
-    if (strcmp(t, "b") == 0) return taper_asymptotic_forward_linear_b(spec->s);
-    return NAN;
+    double q = taper_chain_spec_q(spec);
+    if (taper_chain_spec_profile(spec) == TAPER_FORWARD_EXPONENTIAL) q = -q;
+    switch (cfg->fit.theory) {
+    case SCENE_THEORY_RATE: return fabs(taper_asymptotic_lnA(q));
+    case SCENE_THEORY_F: return taper_asymptotic_f(q, taper_chain_spec_exponent(spec));
+    case SCENE_THEORY_B: return taper_asymptotic_forward_linear_b(taper_chain_spec_s(spec));
+    default: return NAN;
+    }
 }
 
-const char *analysis_label(const scene *sc)
+const char *analysis_label(const scene_config *cfg)
 {
-    const char *label = scene_str(sc, "fit", "label");
-    return label[0] ? label : scene_str(sc, "fit", "report");
+    return cfg->fit.label[0] ? cfg->fit.label : scene_fit_report_name(cfg->fit.report);
 }
 
 void analysis_apply(report *r)
 {
-    if (!scene_group_active(r->sc, "fit")) return;
+    if (!r->cfg->runs.fit) return;
     for (size_t i = 0; i < r->n; i++) {
         report_point *pt = &r->points[i];
-        analysis_fit_side(r->sc, &pt->src, SERIES_THEORY, &pt->fit[SERIES_THEORY]);
-        analysis_fit_side(r->sc, &pt->src, SERIES_NUMERICS, &pt->fit[SERIES_NUMERICS]);
-        pt->theory = analysis_closed_theory(r->sc, &pt->spec);
+        analysis_fit_side(r->cfg, &pt->src, SERIES_THEORY, &pt->fit[SERIES_THEORY]);
+        analysis_fit_side(r->cfg, &pt->src, SERIES_NUMERICS, &pt->fit[SERIES_NUMERICS]);
+        pt->theory = analysis_closed_theory(r->cfg, pt->spec);
         if (isnan(pt->theory)) pt->theory = pt->fit[SERIES_THEORY].value;
     }
+}
+
+void analysis_free(report *r)
+{
+    for (size_t i = 0; r->points && i < r->n; i++)
+        for (int side = 0; side < 2; side++) {
+            taper_fit_result_free(r->points[i].fit[side].result);
+            free(r->points[i].fit[side].message);
+            r->points[i].fit[side].result = NULL;
+            r->points[i].fit[side].message = NULL;
+        }
 }

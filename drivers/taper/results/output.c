@@ -3,6 +3,8 @@
  */
 #include "results/output.h"
 
+#include "util/text.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -32,12 +34,13 @@ static int is_dir(const char *path)
     return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-int out_mkdir_p(const char *dir, char *msg, size_t size)
+int out_mkdir_p(const char *dir, char **msg)
 {
+    *msg = NULL;
     size_t n = strlen(dir);
     char *p = malloc(n + 1);
     if (!p) {
-        snprintf(msg, size, "%s: out of memory", dir);
+        *msg = text_printf("%s: out of memory", dir);
         return -1;
     }
     memcpy(p, dir, n + 1);
@@ -47,8 +50,8 @@ int out_mkdir_p(const char *dir, char *msg, size_t size)
         char c = p[i];
         p[i] = '\0';
         if (mkdir(p, 0777) != 0 && !(errno == EEXIST && is_dir(p))) {
-            snprintf(msg, size, "cannot create output directory %s: %s", p,
-                     errno == EEXIST ? "exists and is not a directory" : strerror(errno));
+            *msg = text_printf("cannot create output directory %s: %s", p,
+                               errno == EEXIST ? "exists and is not a directory" : strerror(errno));
             free(p);
             return -1;
         }
@@ -58,12 +61,12 @@ int out_mkdir_p(const char *dir, char *msg, size_t size)
     return 0;
 }
 
-out_file *out_open(const char *dir, const char *name, char *msg, size_t size)
+out_file *out_open(const char *dir, const char *name, char **msg)
 {
+    *msg = NULL;
     out_file *f = calloc(1, sizeof *f);
-    char *tmpl = malloc(strlen(name) + 9);
+    char *tmpl = text_printf(".%s.XXXXXX", name);
     if (!f || !tmpl) goto nomem;
-    sprintf(tmpl, ".%s.XXXXXX", name);
     f->tmp_path = join(dir, tmpl);
     f->final_path = join(dir, name);
     free(tmpl);
@@ -71,7 +74,7 @@ out_file *out_open(const char *dir, const char *name, char *msg, size_t size)
     if (!f->tmp_path || !f->final_path) goto nomem;
     int fd = mkstemp(f->tmp_path);
     if (fd < 0) {
-        snprintf(msg, size, "cannot write in output directory %s: %s", dir, strerror(errno));
+        *msg = text_printf("cannot write in output directory %s: %s", dir, strerror(errno));
         free(f->tmp_path);
         f->tmp_path = NULL;
         out_discard(f);
@@ -83,14 +86,14 @@ out_file *out_open(const char *dir, const char *name, char *msg, size_t size)
     fchmod(fd, 0666 & ~mask);
     if (!(f->fp = fdopen(fd, "w"))) {
         close(fd);
-        snprintf(msg, size, "%s: %s", f->tmp_path, strerror(errno));
+        *msg = text_printf("%s: %s", f->tmp_path, strerror(errno));
         out_discard(f);
         return NULL;
     }
     return f;
 nomem:
     free(tmpl);
-    snprintf(msg, size, "%s/%s: out of memory", dir, name);
+    *msg = text_printf("%s/%s: out of memory", dir, name);
     out_discard(f);
     return NULL;
 }
@@ -105,19 +108,20 @@ void out_discard(out_file *f)
     free(f);
 }
 
-int out_commit(out_file *f, char *msg, size_t size)
+int out_commit(out_file *f, char **msg)
 {
+    *msg = NULL;
     int ok = !f->failed && !ferror(f->fp) && fflush(f->fp) == 0 && fsync(fileno(f->fp)) == 0;
     int err = errno;
     int closed = fclose(f->fp) == 0;
     f->fp = NULL;
     if (!ok || !closed) {
-        snprintf(msg, size, "writing %s failed: %s", f->final_path, strerror(err ? err : EIO));
+        *msg = text_printf("writing %s failed: %s", f->final_path, strerror(err ? err : EIO));
         out_discard(f);
         return -1;
     }
     if (rename(f->tmp_path, f->final_path) != 0) {
-        snprintf(msg, size, "cannot rename to %s: %s", f->final_path, strerror(errno));
+        *msg = text_printf("cannot rename to %s: %s", f->final_path, strerror(errno));
         out_discard(f);
         return -1;
     }
@@ -127,16 +131,17 @@ int out_commit(out_file *f, char *msg, size_t size)
     return 0;
 }
 
-int out_remove(const char *dir, const char *name, char *msg, size_t size)
+int out_remove(const char *dir, const char *name, char **msg)
 {
+    *msg = NULL;
     char *p = join(dir, name);
     if (!p) {
-        snprintf(msg, size, "%s/%s: out of memory", dir, name);
+        *msg = text_printf("%s/%s: out of memory", dir, name);
         return -1;
     }
     int rc = 0;
     if (unlink(p) != 0 && errno != ENOENT) {
-        snprintf(msg, size, "cannot remove stale %s: %s", p, strerror(errno));
+        *msg = text_printf("cannot remove stale %s: %s", p, strerror(errno));
         rc = -1;
     }
     free(p);

@@ -11,8 +11,11 @@
 #include <stddef.h>
 #include <stdio.h>
 
-/* mkdir -p.  0 on success; -1 with a message naming the path. */
-int out_mkdir_p(const char *dir, char *msg, size_t size);
+/* Failures return -1 (or NULL) and set *msg to a message naming the path,
+ * malloc'd (NULL only when out of memory): the caller prints and frees it. */
+
+/* mkdir -p.  0 on success. */
+int out_mkdir_p(const char *dir, char **msg);
 
 /* A file being written under a temporary name in its final directory
  * (rename() is atomic only within one file system). */
@@ -23,17 +26,17 @@ typedef struct out_file {
     int failed;        /* a write failed: commit refuses */
 } out_file;
 
-/* Opens DIR/.NAME.XXXXXX for writing.  NULL with a message on failure. */
-out_file *out_open(const char *dir, const char *name, char *msg, size_t size);
-/* Flushes, closes and renames to DIR/NAME.  Frees f.  0 or -1 with msg
+/* Opens DIR/.NAME.XXXXXX for writing.  NULL with *msg on failure. */
+out_file *out_open(const char *dir, const char *name, char **msg);
+/* Flushes, closes and renames to DIR/NAME.  Frees f.  0 or -1 with *msg
  * (the temporary file is removed on failure). */
-int out_commit(out_file *f, char *msg, size_t size);
+int out_commit(out_file *f, char **msg);
 /* Closes and removes the temporary file.  Frees f.  NULL is a no-op. */
 void out_discard(out_file *f);
 
 /* Removes DIR/NAME if present (a stale result from an earlier run).
- * 0 when absent afterwards, -1 with msg otherwise. */
-int out_remove(const char *dir, const char *name, char *msg, size_t size);
+ * 0 when absent afterwards, -1 with *msg otherwise. */
+int out_remove(const char *dir, const char *name, char **msg);
 
 /* TSV cells: %.17g, or "nan" for values that do not exist (any NaN), so
  * that every reader sees one spelling. */

@@ -4,6 +4,7 @@
 #include "results/plot.h"
 
 #include "results/output.h"
+#include "util/text.h"
 
 #include <errno.h>
 #include <math.h>
@@ -16,9 +17,10 @@
 
 static void data_block(const report *r, const report_point *p, double *buf[4], FILE *fp)
 {
-    const char *qx = scene_str(r->sc, "figure", "x"), *qy = scene_str(r->sc, "figure", "y");
-    size_t n = p->src.n, every = (size_t)scene_int(r->sc, "figure", "every");
-    size_t last = (size_t)scene_int(r->sc, "figure", "k_max");
+    const scene_figure_config *fig = &r->cfg->figure;
+    scene_quantity qx = fig->x, qy = fig->y;
+    size_t n = p->src.n, every = (size_t)fig->every;
+    size_t last = (size_t)fig->k_max;
     if (last == 0 || last > n) last = n;
     int num = series_fill(&p->src, SERIES_NUMERICS, qx, buf[2]) == 0 &&
               series_fill(&p->src, SERIES_NUMERICS, qy, buf[3]) == 0;
@@ -26,7 +28,7 @@ static void data_block(const report *r, const report_point *p, double *buf[4], F
     series_fill(&p->src, SERIES_THEORY, qy, buf[1]);
     /* Log-log axes: about 40 points per decade of k instead of every n-th
      * (which would leave the first decade nearly empty). */
-    int geometric = scene_bool(r->sc, "figure", "log_x") && scene_bool(r->sc, "figure", "log_y");
+    int geometric = fig->log_x && fig->log_y;
     fprintf(fp, "# %s = %.17g\n", r->param_name, p->param);
     for (size_t i = 0, kept = 0; i < last; i += geometric ? 1 : every) {
         if (geometric && i > 0 && (double)(i + 1) < 1.06 * (double)kept) continue;
@@ -41,14 +43,14 @@ static void data_block(const report *r, const report_point *p, double *buf[4], F
     fputs("\n\n", fp); /* gnuplot: next index */
 }
 
-static int write_data(const report *r, char *msg, size_t size)
+static int write_data(const report *r, char **msg)
 {
-    out_file *f = out_open(r->dir, "figure.tsv", msg, size);
+    out_file *f = out_open(r->dir, "figure.tsv", msg);
     if (!f) return -1;
     fprintf(f->fp, "# taper %s figure data: one block per run (gnuplot index i = run i)\n",
             taper_version());
     fprintf(f->fp, "# x = %s, y = %s for the theory and the numerics\n",
-            scene_str(r->sc, "figure", "x"), scene_str(r->sc, "figure", "y"));
+            scene_quantity_name(r->cfg->figure.x), scene_quantity_name(r->cfg->figure.y));
     fputs("param\tk\tx_theory\ty_theory\tx_numerics\ty_numerics\n", f->fp);
     size_t n = r->n ? r->points[0].src.n : 0;
     for (size_t i = 1; i < r->n; i++)
@@ -60,19 +62,19 @@ static int write_data(const report *r, char *msg, size_t size)
     for (size_t i = 0; rc == 0 && i < r->n; i++) data_block(r, &r->points[i], buf, f->fp);
     for (int c = 0; c < 4; c++) free(buf[c]);
     if (rc != 0) {
-        snprintf(msg, size, "%s/figure.tsv: out of memory", r->dir);
+        *msg = text_printf("%s/figure.tsv: out of memory", r->dir);
         out_discard(f);
         return -1;
     }
-    return out_commit(f, msg, size);
+    return out_commit(f, msg);
 }
 
-static int write_inset(const report *r, char *msg, size_t size)
+static int write_inset(const report *r, char **msg)
 {
-    out_file *f = out_open(r->dir, "inset.tsv", msg, size);
+    out_file *f = out_open(r->dir, "inset.tsv", msg);
     if (!f) return -1;
     fprintf(f->fp, "# taper %s inset: %s of the fit against %s\n", taper_version(),
-            analysis_label(r->sc), r->param_name);
+            analysis_label(r->cfg), r->param_name);
     fputs("param\ttheory\ttheory_fit\ttheory_fit_stderr\tnumerics\tnumerics_stderr\n", f->fp);
     for (size_t i = 0; i < r->n; i++) {
         const report_point *p = &r->points[i];
@@ -80,7 +82,7 @@ static int write_inset(const report *r, char *msg, size_t size)
                         p->fit[1].error};
         for (int c = 0; c < 6; c++) out_cell(f->fp, row[c], c == 5);
     }
-    return out_commit(f, msg, size);
+    return out_commit(f, msg);
 }
 
 /* ---- script ----------------------------------------------------------------- */
@@ -102,16 +104,15 @@ static const char *display_name(const report *r)
     return strcmp(r->param_name, "s") == 0 ? "S" : r->param_name;
 }
 
-static const char *label_or(const report *r, const char *key, const char *quantity)
+static const char *label_or(const char *label, scene_quantity quantity)
 {
-    const char *l = scene_str(r->sc, "figure", key);
-    return l[0] ? l : series_label(scene_str(r->sc, "figure", quantity));
+    return label[0] ? label : series_label(quantity);
 }
 
 static void script_head(const report *r, FILE *fp, int inset)
 {
-    fprintf(fp, "# taper %s: %s (scene %s)\n", taper_version(),
-            scene_str(r->sc, "figure", "name"), r->sc->path);
+    fprintf(fp, "# taper %s: %s (scene %s)\n", taper_version(), r->cfg->figure.name,
+            r->scene_path);
     fputs("# Render: gnuplot figure.gp (in this directory) -> figure.png\n", fp);
     fprintf(fp, "if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
                 "    set terminal pngcairo size %d,660 enhanced font \"Sans,12\"\n"
@@ -131,21 +132,20 @@ static void script_head(const report *r, FILE *fp, int inset)
 
 static void main_panel(const report *r, FILE *fp, int inset)
 {
-    const char *curves = scene_str(r->sc, "figure", "curves");
-    int th = strcmp(curves, "numerics") != 0, nu = strcmp(curves, "theory") != 0;
+    const scene_figure_config *fig = &r->cfg->figure;
+    int th = fig->curves != SCENE_CURVES_NUMERICS, nu = fig->curves != SCENE_CURVES_THEORY;
     if (inset) fputs("set multiplot\nset origin 0, 0\nset size 0.66, 1\n", fp);
     fputs("set title ", fp);
-    char title[512];
-    snprintf(title, sizeof title, "%s  %s", scene_str(r->sc, "figure", "name"),
-             scene_str(r->sc, "figure", "title"));
-    gp_string(fp, title);
+    char *title = text_printf("%s  %s", fig->name, fig->title);
+    gp_string(fp, title ? title : fig->name);
+    free(title);
     fputs("\nset xlabel ", fp);
-    gp_string(fp, label_or(r, "x_label", "x"));
+    gp_string(fp, label_or(fig->x_label, fig->x));
     fputs("\nset ylabel ", fp);
-    gp_string(fp, label_or(r, "y_label", "y"));
+    gp_string(fp, label_or(fig->y_label, fig->y));
     fputc('\n', fp);
-    if (scene_bool(r->sc, "figure", "log_x")) fputs("set logscale x\nset format x \"10^{%L}\"\n", fp);
-    if (scene_bool(r->sc, "figure", "log_y")) fputs("set logscale y\nset format y \"10^{%L}\"\n", fp);
+    if (fig->log_x) fputs("set logscale x\nset format x \"10^{%L}\"\n", fp);
+    if (fig->log_y) fputs("set logscale y\nset format y \"10^{%L}\"\n", fp);
     fputs("set key outside right top spacing 1.1\nset mxtics\nset mytics\n", fp);
     fprintf(fp, "n = %zu\ntitles = \"", r->n);
     for (size_t i = 0; i < r->n; i++)
@@ -178,13 +178,13 @@ static double tic_step(const report *r)
 
 static void inset_panel(const report *r, FILE *fp)
 {
-    double ref = scene_real(r->sc, "figure", "inset_reference");
+    double ref = r->cfg->figure.inset_reference; /* NaN: none */
     fputs("unset logscale\nunset title\nset format x \"% g\"\nset format y \"% g\"\n", fp);
     fprintf(fp, "set xtics %.17g\n", tic_step(r));
     fputs("set origin 0.67, 0.2\nset size 0.33, 0.66\n"
           "set key inside bottom right spacing 1.0 font \",10\"\nset mxtics\nset mytics\n", fp);
     fprintf(fp, "set xlabel \"%s\"\nset ylabel ", display_name(r));
-    gp_string(fp, analysis_label(r->sc));
+    gp_string(fp, analysis_label(r->cfg));
     fputs("\nset offsets graph 0.08, graph 0.08, graph 0.15, graph 0.15\n", fp);
     fputs("plot \"inset.tsv\" using 1:2 with points pt 6 ps 1.3 lc rgb \"black\" title \"theory\", \\\n"
           "     \"inset.tsv\" using 1:5:6 with yerrorbars pt 7 ps 0.9 lc rgb \"black\" title \"numerics\"",
@@ -194,22 +194,22 @@ static void inset_panel(const report *r, FILE *fp)
     fputs("\nunset multiplot\n", fp);
 }
 
-static int write_script(const report *r, int inset, char *msg, size_t size)
+static int write_script(const report *r, int inset, char **msg)
 {
-    out_file *f = out_open(r->dir, "figure.gp", msg, size);
+    out_file *f = out_open(r->dir, "figure.gp", msg);
     if (!f) return -1;
     script_head(r, f->fp, inset);
     main_panel(r, f->fp, inset);
     if (inset) inset_panel(r, f->fp);
-    return out_commit(f, msg, size);
+    return out_commit(f, msg);
 }
 
-int plot_write(const report *r, char *msg, size_t size)
+int plot_write(const report *r, char **msg)
 {
-    int inset = scene_bool(r->sc, "figure", "inset");
-    if (write_data(r, msg, size) != 0) return -1;
-    if (inset && write_inset(r, msg, size) != 0) return -1;
-    if (write_script(r, inset, msg, size) != 0) return -1;
+    int inset = r->cfg->figure.inset;
+    if (write_data(r, msg) != 0) return -1;
+    if (inset && write_inset(r, msg) != 0) return -1;
+    if (write_script(r, inset, msg) != 0) return -1;
     printf("! wrote %s/figure.tsv%s and %s/figure.gp\n", r->dir, inset ? ", inset.tsv" : "",
            r->dir);
     return 0;
@@ -217,19 +217,19 @@ int plot_write(const report *r, char *msg, size_t size)
 
 /* ---- rendering ------------------------------------------------------------------ */
 
-int plot_render(const char *dir, char *msg, size_t size)
+int plot_render(const char *dir, char **msg)
 {
+    *msg = NULL;
     const char *gp = getenv("TAPER_GNUPLOT");
     if (!gp || !gp[0]) gp = "gnuplot";
     if (strcmp(gp, "none") == 0) {
-        snprintf(msg, size, "rendering skipped (TAPER_GNUPLOT=none): cd %s && gnuplot figure.gp",
-                 dir);
+        *msg = text_printf("rendering skipped (TAPER_GNUPLOT=none): cd %s && gnuplot figure.gp", dir);
         return 1;
     }
     fflush(NULL);
     pid_t pid = fork();
     if (pid < 0) {
-        snprintf(msg, size, "cannot start %s: %s", gp, strerror(errno));
+        *msg = text_printf("cannot start %s: %s", gp, strerror(errno));
         return -1;
     }
     if (pid == 0) {
@@ -240,10 +240,10 @@ int plot_render(const char *dir, char *msg, size_t size)
     while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return 0;
     if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
-        snprintf(msg, size, "%s not found: figure not rendered (install gnuplot, then: cd %s && "
-                 "gnuplot figure.gp)", gp, dir);
+        *msg = text_printf("%s not found: figure not rendered (install gnuplot, then: cd %s && "
+                           "gnuplot figure.gp)", gp, dir);
         return 1;
     }
-    snprintf(msg, size, "%s failed on %s/figure.gp (status %d)", gp, dir, status);
+    *msg = text_printf("%s failed on %s/figure.gp (status %d)", gp, dir, status);
     return -1;
 }

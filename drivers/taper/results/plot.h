@@ -14,12 +14,13 @@
 
 #include <stddef.h>
 
-/* Writes figure.tsv, inset.tsv (with an inset) and figure.gp.  0 or -1. */
-int plot_write(const report *r, char *msg, size_t size);
+/* Writes figure.tsv, inset.tsv (with an inset) and figure.gp.  0, or -1
+ * with *msg (malloc'd). */
+int plot_write(const report *r, char **msg);
 
 /* Runs gnuplot on DIR/figure.gp in DIR ($TAPER_GNUPLOT, default gnuplot;
- * "none" skips).  0: rendered; 1: gnuplot not available (msg says how to
- * render later); -1: gnuplot failed (msg). */
-int plot_render(const char *dir, char *msg, size_t size);
+ * "none" skips).  0: rendered; 1: gnuplot not available (*msg says how to
+ * render later); -1: gnuplot failed (*msg).  *msg is malloc'd. */
+int plot_render(const char *dir, char **msg);
 
 #endif

@@ -14,9 +14,9 @@
 
 #include <stdio.h>
 
-/* Write DIR/fits.tsv and DIR/table.tsv.  0, or -1 with msg. */
-int table_write_fits(const report *r, char *msg, size_t size);
-int table_write(const report *r, char *msg, size_t size);
+/* Write DIR/fits.tsv and DIR/table.tsv.  0, or -1 with *msg (malloc'd). */
+int table_write_fits(const report *r, char **msg);
+int table_write(const report *r, char **msg);
 
 /* The table as text, the paper's columns next to ours. */
 void table_print(const report *r, FILE *fp);

@@ -1,37 +1,66 @@
 /*
- * scene.c -- the table of scene variables, the values of a scene, typed
- * access, and the conversion to the library's specs.
+ * scene.c -- the table of scene variables, the scene object (typed values
+ * and where they came from), diagnostics, and typed access to a row's
+ * field.
  *
  * The table below is the only place a variable is declared: the parser
- * (scene_parse.c), the validation (scene_check.c), the echo, --defaults and
- * --doc (scene_write.c) all walk it.
+ * (scene_parse.c), the validation (scene_check.c, scene_lib.c), the echo,
+ * --defaults, --doc and --get (scene_write.c) all walk it.  Each row names
+ * the field of scene_config it fills, so that resolving is generic.
  */
 #include "scene_impl.h"
 
 #include <ctype.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
-static const char *const profiles[] = {
-    "monodisperse", "backward_linear", "forward_linear",
-    "backward_exponential", "forward_exponential", "custom", NULL,
-};
-static const char *const methods[] = {"adams", "bdf", NULL};
-static const char *const fit_models[] = {
-    "none", "power", "exponential", "divergence_b", "divergence_c", "divergence_m", NULL,
-};
-/* Per-granule quantities, each for the numerics and for the theory alike
- * (series.c): see the doc strings of &fit x and y. */
-static const char *const quantities[] = {"k", "v", "T_res", "t", "t_reach", "t_peak", NULL};
-static const char *const fit_params[] = {"a", "b", "c", "m", "p", "f", NULL};
-static const char *const theories[] = {"fit", "rate", "f", "b", NULL};
-static const char *const curves[] = {"both", "theory", "numerics", NULL};
+/* Choice fields are enums written through int: they must be int-sized. */
+_Static_assert(sizeof(taper_profile) == sizeof(int), "enum size");
+_Static_assert(sizeof(taper_method) == sizeof(int), "enum size");
+_Static_assert(sizeof(scene_quantity) == sizeof(int), "enum size");
+_Static_assert(sizeof(scene_fit_report) == sizeof(int), "enum size");
+_Static_assert(sizeof(scene_fit_theory) == sizeof(int), "enum size");
+_Static_assert(sizeof(scene_curves) == sizeof(int), "enum size");
+/* No field is larger than a list (scene_set moves fields through one). */
+_Static_assert(sizeof(scene_reals) >= sizeof(double) && sizeof(scene_reals) >= sizeof(long long) &&
+               sizeof(scene_reals) >= sizeof(char *), "field size");
+
+/* ---- names of the choices -------------------------------------------------- */
+
+/* Library choices: the library's one list of names. */
+static const char *profile_choice(int i) { return taper_profile_name((taper_profile)i); }
+static const char *method_choice(int i) { return taper_method_name((taper_method)i); }
+static const char *fit_model_choice(int i) { return scene_fit_model_name(i); }
+
+/* The scene's own choices. */
+#define NAME_AT(list, i) \
+    ((i) >= 0 && (size_t)(i) < sizeof(list) / sizeof(list[0]) ? list[i] : NULL)
+static const char *const quantities[] = {"k", "v", "T_res", "t", "t_reach", "t_peak"};
+static const char *const fit_reports[] = {"a", "b", "c", "m", "p", "f"};
+static const char *const fit_theories[] = {"fit", "rate", "f", "b"};
+static const char *const curves[] = {"both", "theory", "numerics"};
+static const char *const chain_params[] = {"s", "q"};
+
+const char *scene_quantity_name(scene_quantity q) { return NAME_AT(quantities, (int)q); }
+const char *scene_fit_report_name(scene_fit_report r) { return NAME_AT(fit_reports, (int)r); }
+const char *scene_fit_theory_name(scene_fit_theory t) { return NAME_AT(fit_theories, (int)t); }
+const char *scene_chain_param_name(scene_chain_param p) { return NAME_AT(chain_params, (int)p); }
+const char *scene_fit_model_name(int model)
+{
+    return model == SCENE_FIT_NONE ? "none" : taper_fit_model_name((taper_fit_model)model);
+}
+
+static const char *quantity_choice(int i) { return NAME_AT(quantities, i); }
+static const char *report_choice(int i) { return NAME_AT(fit_reports, i); }
+static const char *theory_choice(int i) { return NAME_AT(fit_theories, i); }
+static const char *curves_choice(int i) { return NAME_AT(curves, i); }
+
+/* ---- groups ------------------------------------------------------------------ */
 
 /* The groups, in the order they are written and documented. */
-static const char *const groups[][2] = {
+static const char *const groups[SCENE_N_GROUPS][2] = {
     {"chain", "the granular chain: radius profile, size, contact law"},
     {"solver", "the integration of the equations of motion (CVODE)"},
     {"output", "where and how results are written"},
@@ -39,113 +68,154 @@ static const char *const groups[][2] = {
     {"table", "a table of the fitted parameter over the sweep, next to the paper's values"},
     {"figure", "a figure: per-granule data of every run, and the fit as an inset"},
 };
-#define N_GROUPS (sizeof groups / sizeof groups[0])
 
-size_t scene_group_count(void) { return N_GROUPS; }
-const char *scene_group_name(size_t i) { return i < N_GROUPS ? groups[i][0] : NULL; }
-const char *scene_group_doc(size_t i) { return i < N_GROUPS ? groups[i][1] : NULL; }
+const char *scene_group_name(size_t i) { return i < SCENE_N_GROUPS ? groups[i][0] : NULL; }
+const char *scene_group_doc(size_t i) { return i < SCENE_N_GROUPS ? groups[i][1] : NULL; }
 
-/* Bounds are generous but finite: a number outside them is a typo, not a
- * physics question (the stress matrix of issue 7 stays well inside). */
+int scene_group_index(const char *name)
+{
+    for (size_t i = 0; i < SCENE_N_GROUPS; i++)
+        if (strcmp(groups[i][0], name) == 0) return (int)i;
+    return -1;
+}
+
+/* ---- the table ----------------------------------------------------------------- */
+
+#define AT(field) offsetof(scene_config, field)
+#define CHOICE(fn, first) fn, first
+#define NO_CHOICE NULL, 0
+
+/* The scene's own bounds are generous but finite: a number outside them is
+ * a typo, not a physics question.  The library's settings carry taper.h's
+ * ranges for the documentation only: the library's setters check them. */
 static const scene_var table[] = {
-    {"chain", "profile", SCENE_STRING, 0, "'monodisperse'", 0, 0, profiles,
+    {"chain", "profile", SCENE_CHOICE, 0, AT(chain.profile), NULL, SCENE_LIB_CHAIN, NULL, 0, 0,
+     CHOICE(profile_choice, 0),
      "radius profile R_k: monodisperse (1), backward_linear (1+s(k-1)), forward_linear "
      "(1-s(k-1)), backward_exponential ((1-q)^(1-k)), forward_exponential ((1+q)^(1-k)), "
      "custom (radii)"},
-    {"chain", "n_granules", SCENE_INTEGER, 0, "100", 2, 1e7, NULL,
+    {"chain", "n_granules", SCENE_INTEGER, SCENE_COUNT, AT(chain.n_granules), NULL,
+     SCENE_LIB_CHAIN, NULL, TAPER_N_GRANULES_MIN, TAPER_N_GRANULES_MAX, NO_CHOICE,
      "number of granules N (custom profile: may be left out, then N = number of radii)"},
-    {"chain", "s", SCENE_REAL, SCENE_SWEEP, "0", 0, 1e3, NULL,
-     "linear tapering S (backward_linear, forward_linear); a list of values sweeps it"},
-    {"chain", "q", SCENE_REAL, SCENE_SWEEP, "0", 0, 1e3, NULL,
+    {"chain", "s", SCENE_REAL, SCENE_SWEEP, AT(chain.s), NULL, SCENE_LIB_CHAIN, NULL, 0,
+     TAPER_S_MAX, NO_CHOICE,
+     "linear tapering S (backward_linear, forward_linear: N < 1 + 1/S); a list of values "
+     "sweeps it"},
+    {"chain", "q", SCENE_REAL, SCENE_SWEEP, AT(chain.q), NULL, SCENE_LIB_CHAIN, NULL, 0,
+     TAPER_Q_MAX, NO_CHOICE,
      "exponential tapering q (backward_exponential needs q < 1); a list of values sweeps it"},
-    {"chain", "exponent", SCENE_REAL, SCENE_LO_OPEN, "2.5", 1, 20, NULL,
+    {"chain", "exponent", SCENE_REAL, SCENE_LO_OPEN, AT(chain.exponent), NULL, SCENE_LIB_CHAIN,
+     NULL, TAPER_EXPONENT_MIN, TAPER_EXPONENT_MAX, NO_CHOICE,
      "contact exponent n: force ~ overlap^(n-1); 2.5 is Hertz"},
-    {"chain", "radii", SCENE_REAL_LIST, SCENE_POSITIVE, NULL, 0, 0, NULL,
+    {"chain", "radii", SCENE_REAL_LIST, SCENE_LO_OPEN, AT(chain.radii), NULL, SCENE_LIB_CHAIN,
+     NULL, 0, INFINITY, NO_CHOICE,
      "custom profile only: the radii R_1, ..., R_N (R_1 = 1 is the unit of length)"},
 
-    {"solver", "method", SCENE_STRING, SCENE_LIBDEF, NULL, 0, 0, methods,
+    {"solver", "method", SCENE_CHOICE, 0, AT(solver.method), NULL, SCENE_LIB_SOLVER, NULL, 0, 0,
+     CHOICE(method_choice, 0),
      "integrator: 'adams' (Adams-Moulton, fixed point) or 'bdf' (BDF, banded Jacobian)"},
-    {"solver", "rtol", SCENE_REAL, SCENE_LIBDEF, NULL, 1e-14, 0.1, NULL,
+    {"solver", "rtol", SCENE_REAL, 0, AT(solver.rtol), NULL, SCENE_LIB_SOLVER, NULL,
+     TAPER_RTOL_MIN, TAPER_RTOL_MAX, NO_CHOICE,
      "relative tolerance of the integrator (below 1e-14 double precision cannot follow)"},
-    {"solver", "atol", SCENE_REAL, SCENE_LIBDEF | SCENE_LO_OPEN, NULL, 0, 0.1, NULL,
+    {"solver", "atol", SCENE_REAL, SCENE_LO_OPEN, AT(solver.atol), NULL, SCENE_LIB_SOLVER, NULL,
+     0, TAPER_ATOL_MAX, NO_CHOICE,
      "absolute tolerance, in units of each granule's binary-collision velocity and maximum "
      "compression (relative to the pulse wherever it is)"},
-    {"solver", "window", SCENE_LOGICAL, SCENE_LIBDEF, NULL, 0, 0, NULL,
+    {"solver", "window", SCENE_LOGICAL, 0, AT(solver.window), NULL, SCENE_LIB_SOLVER, NULL, 0,
+     0, NO_CHOICE,
      "integrate only the granules that can move (exact and faster); .false.: the whole chain"},
-    {"solver", "last_granule", SCENE_INTEGER, 0, "0", 0, 1e7, NULL,
-     "stop once the pulse has passed this granule; 0: the whole chain"},
-    {"solver", "t_max", SCENE_REAL, 0, "0", 0, 1e300, NULL,
-     "stop at this time with a partial result; 0: no limit"},
-    {"solver", "max_steps", SCENE_INTEGER, 0, "0", 0, 1e15, NULL,
+    {"solver", "last_granule", SCENE_INTEGER, SCENE_COUNT, AT(solver.last_granule), NULL,
+     SCENE_LIB_SOLVER, NULL, 0, TAPER_N_GRANULES_MAX, NO_CHOICE,
+     "stop once the pulse has passed this granule (at most n_granules); 0: the whole chain"},
+    {"solver", "t_max", SCENE_REAL, 0, AT(solver.t_max), NULL, SCENE_LIB_SOLVER, NULL, 0,
+     INFINITY, NO_CHOICE, "stop at this time with a partial result; 0: no limit"},
+    {"solver", "max_steps", SCENE_INTEGER, 0, AT(solver.max_steps), NULL, SCENE_LIB_SOLVER, NULL,
+     0, INFINITY, NO_CHOICE,
      "stop after this many internal steps with a partial result; 0: no limit"},
-    {"solver", "numerics", SCENE_LOGICAL, 0, ".true.", 0, 0, NULL,
-     "integrate the dynamics; .false.: binary-collision theory only (fast)"},
+    {"solver", "numerics", SCENE_LOGICAL, 0, AT(solver.numerics), ".true.", SCENE_OWN, NULL, 0,
+     0, NO_CHOICE, "integrate the dynamics; .false.: binary-collision theory only (fast)"},
 
-    {"output", "dir", SCENE_STRING, 0, NULL, 0, 0, NULL,
+    {"output", "dir", SCENE_STRING, SCENE_FROM_PATH, AT(output.dir), NULL, SCENE_OWN, NULL, 0, 0,
+     NO_CHOICE,
      "output directory, created if missing (default out/NAME for scene NAME.nml; -o overrides)"},
-    {"output", "progress", SCENE_LOGICAL, 0, ".true.", 0, 0, NULL,
-     "show a progress line on stderr when it is a terminal"},
-    {"output", "threads", SCENE_INTEGER, 0, "0", 0, 256, NULL,
+    {"output", "progress", SCENE_LOGICAL, 0, AT(output.progress), ".true.", SCENE_OWN, NULL, 0,
+     0, NO_CHOICE, "show a progress line on stderr when it is a terminal"},
+    {"output", "threads", SCENE_INTEGER, 0, AT(output.threads), "0", SCENE_OWN, NULL, 0, 256,
+     NO_CHOICE,
      "runs of a sweep computed at once (results identical to one at a time); 0: one per core"},
 
-    {"fit", "model", SCENE_STRING, 0, "'none'", 0, 0, fit_models,
+    {"fit", "model", SCENE_CHOICE, 0, AT(fit.model), "'none'", SCENE_LIB_FIT, NULL, 0, 0,
+     CHOICE(fit_model_choice, SCENE_FIT_NONE),
      "'none' (no fit), or y = 'power' a x^b, 'exponential' a e^(b x), 'divergence_b' "
      "a (1 - b x)^-p, 'divergence_c' a (1 - x/C)^-p, 'divergence_m' a (1 + x/M)^-f; fitted "
      "to ln y; writes DIR/fits.tsv"},
-    {"fit", "x", SCENE_STRING, 0, "'k'", 0, 0, quantities,
-     "abscissa: k (granule), v (numerics: v_peak; theory: v_k, eq. recv), T_res (T_res; T_k), "
-     "t (pulse passes k: t_pass; eq. totaltime), t_reach (pulse reaches k: t of k-1), "
+    {"fit", "x", SCENE_CHOICE, 0, AT(fit.x), "'k'", SCENE_OWN, NULL, 0, 0,
+     CHOICE(quantity_choice, 0),
+     "abscissa: k (granule), v (numerics: v_peak; theory: v_k, eq. (9)), T_res (T_res; T_k), "
+     "t (pulse passes k: t_pass; eq. (19)), t_reach (pulse reaches k: t of k-1), "
      "t_peak (time of v_peak; theory: t_reach, when k leaves its collision with k-1)"},
-    {"fit", "y", SCENE_STRING, 0, "'v'", 0, 0, quantities,
-     "ordinate, one of the quantities of x"},
-    {"fit", "k_min", SCENE_INTEGER, 0, "1", 1, 1e7, NULL,
+    {"fit", "y", SCENE_CHOICE, 0, AT(fit.y), "'v'", SCENE_OWN, NULL, 0, 0,
+     CHOICE(quantity_choice, 0), "ordinate, one of the quantities of x"},
+    {"fit", "k_min", SCENE_INTEGER, 0, AT(fit.k_min), "1", SCENE_OWN, NULL, 1, 1e7, NO_CHOICE,
      "first granule of the fit window"},
-    {"fit", "k_max", SCENE_INTEGER, 0, "0", 0, 1e7, NULL,
+    {"fit", "k_max", SCENE_INTEGER, 0, AT(fit.k_max), "0", SCENE_OWN, NULL, 0, 1e7, NO_CHOICE,
      "last granule of the fit window; 0: the last granule with a value"},
-    {"fit", "p", SCENE_REAL, SCENE_LO_OPEN, NULL, 0, 100, NULL,
+    {"fit", "p", SCENE_REAL, SCENE_LO_OPEN, AT(fit.p), NULL, SCENE_LIB_FIT, "exponent", 0,
+     INFINITY, NO_CHOICE,
      "fixed exponent p of divergence_b and divergence_c; left out: 3/2 (divergence_b), "
      "fitted (divergence_c)"},
-    {"fit", "report", SCENE_STRING, 0, "'b'", 0, 0, fit_params,
+    {"fit", "report", SCENE_CHOICE, 0, AT(fit.report), "'b'", SCENE_OWN, NULL, 0, 0,
+     CHOICE(report_choice, 0),
      "the parameter tabulated: a or b (power, exponential, divergence_b), p (divergence_b, "
      "_c), c (divergence_c), m or f (divergence_m)"},
-    {"fit", "factor", SCENE_REAL, 0, "1", -1e3, 1e3, NULL,
+    {"fit", "factor", SCENE_REAL, 0, AT(fit.factor), "1", SCENE_OWN, NULL, -1e3, 1e3, NO_CHOICE,
      "the tabulated value is factor * parameter (e.g. -1: a decay rate from b < 0)"},
-    {"fit", "label", SCENE_STRING, 0, "''", 0, 0, NULL,
+    {"fit", "label", SCENE_STRING, 0, AT(fit.label), "''", SCENE_OWN, NULL, 0, 0, NO_CHOICE,
      "name of the tabulated value in tables and plots; empty: the parameter's name"},
-    {"fit", "theory", SCENE_STRING, 0, "'fit'", 0, 0, theories,
+    {"fit", "theory", SCENE_CHOICE, 0, AT(fit.theory), "'fit'", SCENE_OWN, NULL, 0, 0,
+     CHOICE(theory_choice, 0),
      "theory column: 'fit' (the same fit of the exact binary-collision theory), or the "
      "closed form: 'rate' |ln A(q)|, 'f' f(q) (q -> -q for forward chains), 'b' S/(1+S)"},
 
-    {"table", "name", SCENE_STRING, 0, "''", 0, 0, NULL,
+    {"table", "name", SCENE_STRING, 0, AT(table.name), "''", SCENE_OWN, NULL, 0, 0, NO_CHOICE,
      "table label (e.g. 'Table I'); non-empty: write DIR/table.tsv and print the table"},
-    {"table", "caption", SCENE_STRING, 0, "''", 0, 0, NULL, "one line printed above the table"},
-    {"table", "digits", SCENE_INTEGER, 0, "4", 1, 12, NULL,
-     "decimals printed on stdout (table.tsv has every digit)"},
-    {"table", "paper_theory", SCENE_REAL_LIST, 0, NULL, 0, 0, NULL,
-     "the paper's theory column, one value per swept value"},
-    {"table", "paper_numerics", SCENE_REAL_LIST, 0, NULL, 0, 0, NULL,
-     "the paper's numerics column, one value per swept value"},
+    {"table", "caption", SCENE_STRING, 0, AT(table.caption), "''", SCENE_OWN, NULL, 0, 0,
+     NO_CHOICE, "one line printed above the table"},
+    {"table", "digits", SCENE_INTEGER, 0, AT(table.digits), "4", SCENE_OWN, NULL, 1, 12,
+     NO_CHOICE, "decimals printed on stdout (table.tsv has every digit)"},
+    {"table", "paper_theory", SCENE_REAL_LIST, 0, AT(table.paper_theory), NULL, SCENE_OWN, NULL,
+     0, 0, NO_CHOICE, "the paper's theory column, one value per swept value"},
+    {"table", "paper_numerics", SCENE_REAL_LIST, 0, AT(table.paper_numerics), NULL, SCENE_OWN,
+     NULL, 0, 0, NO_CHOICE, "the paper's numerics column, one value per swept value"},
 
-    {"figure", "name", SCENE_STRING, 0, "''", 0, 0, NULL,
+    {"figure", "name", SCENE_STRING, 0, AT(figure.name), "''", SCENE_OWN, NULL, 0, 0, NO_CHOICE,
      "figure label (e.g. 'Fig. 1'); non-empty: write DIR/figure.gp, its data, and "
      "DIR/figure.png when gnuplot is installed"},
-    {"figure", "title", SCENE_STRING, 0, "''", 0, 0, NULL, "title line of the plot"},
-    {"figure", "x", SCENE_STRING, 0, "'k'", 0, 0, quantities,
-     "abscissa of the main panel (quantities as for &fit x)"},
-    {"figure", "y", SCENE_STRING, 0, "'v'", 0, 0, quantities, "ordinate of the main panel"},
-    {"figure", "curves", SCENE_STRING, 0, "'both'", 0, 0, curves,
+    {"figure", "title", SCENE_STRING, 0, AT(figure.title), "''", SCENE_OWN, NULL, 0, 0,
+     NO_CHOICE, "title line of the plot"},
+    {"figure", "x", SCENE_CHOICE, 0, AT(figure.x), "'k'", SCENE_OWN, NULL, 0, 0,
+     CHOICE(quantity_choice, 0), "abscissa of the main panel (quantities as for &fit x)"},
+    {"figure", "y", SCENE_CHOICE, 0, AT(figure.y), "'v'", SCENE_OWN, NULL, 0, 0,
+     CHOICE(quantity_choice, 0), "ordinate of the main panel"},
+    {"figure", "curves", SCENE_CHOICE, 0, AT(figure.curves), "'both'", SCENE_OWN, NULL, 0, 0,
+     CHOICE(curves_choice, 0),
      "series drawn: theory (open circles), numerics (filled circles), or both"},
-    {"figure", "log_x", SCENE_LOGICAL, 0, ".false.", 0, 0, NULL, "logarithmic x axis"},
-    {"figure", "log_y", SCENE_LOGICAL, 0, ".false.", 0, 0, NULL, "logarithmic y axis"},
-    {"figure", "every", SCENE_INTEGER, 0, "1", 1, 1e6, NULL,
-     "draw every n-th granule (the first and every n-th after it)"},
-    {"figure", "k_max", SCENE_INTEGER, 0, "0", 0, 1e7, NULL,
-     "last granule drawn; 0: the whole chain"},
-    {"figure", "x_label", SCENE_STRING, 0, "''", 0, 0, NULL, "x axis label; empty: from x"},
-    {"figure", "y_label", SCENE_STRING, 0, "''", 0, 0, NULL, "y axis label; empty: from y"},
-    {"figure", "inset", SCENE_LOGICAL, 0, ".false.", 0, 0, NULL,
-     "second panel: the &fit value of theory and numerics against the swept variable"},
-    {"figure", "inset_reference", SCENE_REAL, 0, NULL, -1e3, 1e3, NULL,
+    {"figure", "log_x", SCENE_LOGICAL, 0, AT(figure.log_x), ".false.", SCENE_OWN, NULL, 0, 0,
+     NO_CHOICE, "logarithmic x axis"},
+    {"figure", "log_y", SCENE_LOGICAL, 0, AT(figure.log_y), ".false.", SCENE_OWN, NULL, 0, 0,
+     NO_CHOICE, "logarithmic y axis"},
+    {"figure", "every", SCENE_INTEGER, 0, AT(figure.every), "1", SCENE_OWN, NULL, 1, 1e6,
+     NO_CHOICE, "draw every n-th granule (the first and every n-th after it)"},
+    {"figure", "k_max", SCENE_INTEGER, 0, AT(figure.k_max), "0", SCENE_OWN, NULL, 0, 1e7,
+     NO_CHOICE, "last granule drawn; 0: the whole chain"},
+    {"figure", "x_label", SCENE_STRING, 0, AT(figure.x_label), "''", SCENE_OWN, NULL, 0, 0,
+     NO_CHOICE, "x axis label; empty: from x"},
+    {"figure", "y_label", SCENE_STRING, 0, AT(figure.y_label), "''", SCENE_OWN, NULL, 0, 0,
+     NO_CHOICE, "y axis label; empty: from y"},
+    {"figure", "inset", SCENE_LOGICAL, 0, AT(figure.inset), ".false.", SCENE_OWN, NULL, 0, 0,
+     NO_CHOICE, "second panel: the &fit value of theory and numerics against the swept variable"},
+    {"figure", "inset_reference", SCENE_REAL, 0, AT(figure.inset_reference), NULL, SCENE_OWN,
+     NULL, -1e3, 1e3, NO_CHOICE,
      "a horizontal line in the inset (e.g. an asymptotic exponent); left out: none"},
 };
 #define N_VARS (sizeof table / sizeof table[0])
@@ -160,17 +230,12 @@ static const scene_var table[] = {
 _Static_assert(32ull * SCENE_MAX_LIST + N_VARS * (SCENE_MAX_LINE + 128ull) <= SCENE_MAX_FILE,
                "the echo of a valid scene may exceed SCENE_MAX_FILE");
 
-int scene_group_active(const scene *sc, const char *group)
-{
-    if (strcmp(group, "fit") == 0) return strcmp(scene_str(sc, "fit", "model"), "none") != 0;
-    if (strcmp(group, "table") == 0 || strcmp(group, "figure") == 0)
-        return scene_str(sc, group, "name")[0] != '\0';
-    return 1;
-}
-
 size_t scene_var_count(void) { return N_VARS; }
-
 const scene_var *scene_var_at(size_t i) { return i < N_VARS ? &table[i] : NULL; }
+const char *scene_var_group(size_t i) { return i < N_VARS ? table[i].group : NULL; }
+const char *scene_var_name(size_t i) { return i < N_VARS ? table[i].name : NULL; }
+scene_type scene_var_type(size_t i) { return i < N_VARS ? table[i].type : SCENE_STRING; }
+int scene_var_sweeps(size_t i) { return i < N_VARS && (table[i].flags & SCENE_SWEEP) != 0; }
 
 int scene_var_find(const char *group, const char *name)
 {
@@ -181,131 +246,327 @@ int scene_var_find(const char *group, const char *name)
     return -1;
 }
 
+int scene_var_of_field(scene_lib lib, const char *field)
+{
+    if (lib == SCENE_OWN || !field) return -1;
+    for (size_t i = 0; i < N_VARS; i++) {
+        const char *name = table[i].lib_field ? table[i].lib_field : table[i].name;
+        if (table[i].lib == lib && strcmp(name, field) == 0) return (int)i;
+    }
+    return -1;
+}
+
 const char *scene_type_name(const scene_var *var)
 {
-    static const char *const names[] = {"string", "real", "integer", "logical", "real list"};
+    static const char *const names[] = {"string", "real", "integer", "logical", "real list",
+                                        "string"};
     if (var->type == SCENE_REAL && (var->flags & SCENE_SWEEP)) return "real (list: sweep)";
     return names[var->type];
 }
 
-/* src into dst (size > 4) with every byte that is not printable ASCII
- * (control bytes, UTF-8, Latin-1, ...) shown as \xNN, so that a message
- * says exactly which bytes the file has; "..." ends a text cut short. */
-static void copy_escaped(char *dst, size_t size, const char *src)
+/* ---- typed fields ------------------------------------------------------------- */
+
+void *scene_field(scene_config *cfg, const scene_var *var) { return (char *)cfg + var->offset; }
+
+const void *scene_cfield(const scene_config *cfg, const scene_var *var)
 {
-    size_t o = 0;
-    for (const unsigned char *c = (const unsigned char *)src; *c; c++) {
-        int plain = *c >= 0x20 && *c < 0x7f;
-        size_t need = plain ? 1 : 4;
-        if (o + need > size - 1) {
-            memcpy(dst + (o <= size - 4 ? o : size - 4), "...", 4);
-            return;
-        }
-        if (plain)
-            dst[o++] = (char)*c;
-        else
-            o += (size_t)snprintf(dst + o, size - o, "\\x%02x", *c);
+    return (const char *)cfg + var->offset;
+}
+
+int scene_var_is_list(const scene_var *var)
+{
+    return var->type == SCENE_REAL_LIST || (var->type == SCENE_REAL && (var->flags & SCENE_SWEEP));
+}
+
+size_t scene_field_size(const scene_var *var)
+{
+    if (scene_var_is_list(var)) return sizeof(scene_reals);
+    switch (var->type) {
+    case SCENE_STRING: return sizeof(char *);
+    case SCENE_REAL: return sizeof(double);
+    case SCENE_INTEGER: return sizeof(long long);
+    default: return sizeof(int); /* LOGICAL, CHOICE */
     }
-    dst[o] = '\0';
+}
+
+void scene_field_clear(scene_config *cfg, const scene_var *var)
+{
+    void *f = scene_field(cfg, var);
+    if (scene_var_is_list(var)) {
+        scene_reals *r = f;
+        free(r->v);
+        r->v = NULL;
+        r->n = 0;
+    } else if (var->type == SCENE_STRING) {
+        char **s = f;
+        free(*s);
+        *s = NULL;
+    }
+}
+
+int scene_choice_find(const scene_var *var, const char *name, int *value)
+{
+    for (int v = var->choice_first; var->choice(v); v++) {
+        if (strcasecmp(var->choice(v), name) == 0) {
+            *value = v;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+const char *scene_var_text(const scene *sc, size_t i)
+{
+    if (i >= N_VARS) return "";
+    const scene_var *var = &table[i];
+    const void *f = scene_cfield(&sc->cfg, var);
+    if (var->type == SCENE_STRING) {
+        char *const *s = f;
+        return *s ? *s : "";
+    }
+    if (var->type == SCENE_CHOICE) {
+        int v;
+        memcpy(&v, f, sizeof v);
+        const char *name = var->choice(v);
+        return name ? name : "";
+    }
+    return "";
+}
+
+long long scene_var_integer(const scene *sc, size_t i)
+{
+    if (i >= N_VARS) return 0;
+    const void *f = scene_cfield(&sc->cfg, &table[i]);
+    if (table[i].type == SCENE_INTEGER) {
+        long long x;
+        memcpy(&x, f, sizeof x);
+        return x;
+    }
+    if (table[i].type == SCENE_LOGICAL || table[i].type == SCENE_CHOICE) {
+        int x;
+        memcpy(&x, f, sizeof x);
+        return x;
+    }
+    return 0;
+}
+
+const double *scene_var_reals(const scene *sc, size_t i, size_t *n)
+{
+    *n = 0;
+    if (i >= N_VARS) return NULL;
+    const scene_var *var = &table[i];
+    const void *f = scene_cfield(&sc->cfg, var);
+    if (scene_var_is_list(var)) {
+        const scene_reals *r = f;
+        *n = r->n;
+        return r->v;
+    }
+    if (var->type == SCENE_REAL) {
+        const double *x = f;
+        *n = isnan(*x) ? 0 : 1; /* NaN: a real without default, left out */
+        return x;
+    }
+    return NULL;
+}
+
+double scene_param_value(const scene_config *cfg, scene_chain_param p, size_t point)
+{
+    const scene_reals *r = p == SCENE_PARAM_Q ? &cfg->chain.q : &cfg->chain.s;
+    if (r->n == 0) return NAN;
+    return r->v[r->n > 1 && point < r->n ? point : 0];
+}
+
+/* ---- diagnostics -------------------------------------------------------------- */
+
+/* src with every byte that is not printable ASCII (control bytes, UTF-8,
+ * Latin-1, ...) shown as \xNN, so that a message says exactly which bytes
+ * the file has.  malloc'd. */
+static char *escaped(const char *src)
+{
+    size_t n = 0;
+    for (const unsigned char *c = (const unsigned char *)src; *c; c++)
+        n += (*c >= 0x20 && *c < 0x7f) ? 1 : 4;
+    char *dst = malloc(n + 1), *o = dst;
+    if (!dst) return NULL;
+    for (const unsigned char *c = (const unsigned char *)src; *c; c++) {
+        if (*c >= 0x20 && *c < 0x7f)
+            *o++ = (char)*c;
+        else
+            o += sprintf(o, "\\x%02x", *c);
+    }
+    *o = '\0';
+    return dst;
+}
+
+static void record(scene *sc, int line, const char *group, const char *key, const char *raw)
+{
+    sc->n_errors++;
+    if (sc->n_diags >= SCENE_MAX_DIAGS) return;
+    if (!sc->diags && !(sc->diags = calloc(SCENE_MAX_DIAGS, sizeof *sc->diags))) return;
+    scene_diag d = {.line = line};
+    d.group = escaped(group ? group : "");
+    d.key = escaped(key ? key : "");
+    d.message = escaped(raw ? raw : "out of memory");
+    if (!d.group || !d.key || !d.message) {
+        free(d.group);
+        free(d.key);
+        free(d.message);
+        return; /* counted in n_errors: the caller still fails */
+    }
+    sc->diags[sc->n_diags++] = d;
 }
 
 void scene_error(scene *sc, int line, const char *group, const char *key, const char *fmt, ...)
 {
-    sc->n_errors++;
-    if (sc->n_diags >= SCENE_MAX_DIAGS) return;
-    scene_diag *d = &sc->diags[sc->n_diags++];
-    d->line = line;
-    copy_escaped(d->group, sizeof d->group, group ? group : "");
-    copy_escaped(d->key, sizeof d->key, key ? key : "");
-    char raw[SCENE_MSG_SIZE];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(raw, sizeof raw, fmt, ap);
+    char *raw = text_vprintf(fmt, ap);
     va_end(ap);
-    copy_escaped(d->message, sizeof d->message, raw);
+    record(sc, line, group, key, raw);
+    free(raw);
+}
+
+/* The line to name for row i: its key's, or for a value the file left
+ * out, the line its group opens (where the user would add it). */
+static int var_line(const scene *sc, size_t i)
+{
+    if (sc->origin[i].given) return sc->origin[i].line;
+    int g = scene_group_index(table[i].group);
+    return g < 0 ? 0 : sc->group_line[g];
+}
+
+void scene_var_error(scene *sc, size_t i, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    char *raw = text_vprintf(fmt, ap);
+    va_end(ap);
+    record(sc, var_line(sc, i), table[i].group, table[i].name, raw);
+    free(raw);
+}
+
+size_t scene_error_count(const scene *sc) { return sc->n_errors; }
+size_t scene_diag_count(const scene *sc) { return sc->n_diags; }
+const scene_diag *scene_diag_at(const scene *sc, size_t i)
+{
+    return i < sc->n_diags ? &sc->diags[i] : NULL;
+}
+
+static void print_diag(const char *path, int line, const char *group, const char *key,
+                       const char *message, FILE *fp)
+{
+    fprintf(fp, "%s:", path);
+    if (line > 0) fprintf(fp, "%d:", line);
+    if (group[0]) fprintf(fp, " &%s", group);
+    if (key[0]) fprintf(fp, " %s", key);
+    fprintf(fp, "%s %s\n", group[0] || key[0] ? ":" : "", message);
 }
 
 void scene_print_diags(const scene *sc, FILE *fp)
 {
     for (size_t i = 0; i < sc->n_diags; i++) {
         const scene_diag *d = &sc->diags[i];
-        fprintf(fp, "%s:", sc->path);
-        if (d->line > 0) fprintf(fp, "%d:", d->line);
-        if (d->group[0]) fprintf(fp, " &%s", d->group);
-        if (d->key[0]) fprintf(fp, " %s", d->key);
-        fprintf(fp, "%s %s\n", d->group[0] || d->key[0] ? ":" : "", d->message);
+        print_diag(sc->path, d->line, d->group, d->key, d->message, fp);
     }
     if (sc->n_errors > sc->n_diags)
         fprintf(fp, "%s: %zu more errors not shown\n", sc->path, sc->n_errors - sc->n_diags);
 }
 
-void scene_value_clear(scene_value *v)
+int scene_line(const scene *sc, size_t offset)
 {
-    free(v->str);
-    free(v->list);
-    memset(v, 0, sizeof *v);
+    for (size_t i = 0; i < N_VARS; i++)
+        if (table[i].offset == offset) return sc->origin[i].line;
+    return 0;
 }
+
+/* The row a library error is reported against: n_granules resolved from
+ * the radii is the radii's fault. */
+int scene_error_row(const scene *sc, scene_lib lib, const char *field)
+{
+    int i = scene_var_of_field(lib, field);
+    if (i >= 0 && sc->n_from_radii && table[i].offset == offsetof(scene_config, chain.n_granules))
+        i = scene_var_find("chain", "radii");
+    return i;
+}
+
+void scene_print_library_error(const scene *sc, scene_lib lib, const taper_error *err, FILE *fp)
+{
+    int i = scene_error_row(sc, lib, err->field);
+    if (i < 0)
+        fprintf(fp, "%s: %s\n", sc->path, err->message);
+    else
+        print_diag(sc->path, var_line(sc, (size_t)i), table[i].group, table[i].name, err->message,
+                   fp);
+}
+
+void scene_print_output_error(const scene *sc, const char *message, FILE *fp)
+{
+    int i = scene_var_find("output", "dir");
+    int line = sc->origin[i].line;
+    print_diag(sc->path, line, "output", "dir", message, fp);
+}
+
+/* ---- the scene object ------------------------------------------------------------ */
 
 void scene_free(scene *sc)
 {
     if (!sc) return;
-    if (sc->values)
-        for (size_t i = 0; i < N_VARS; i++) scene_value_clear(&sc->values[i]);
-    free(sc->values);
+    for (size_t i = 0; i < N_VARS; i++) scene_field_clear(&sc->cfg, &table[i]);
+    for (size_t i = 0; i < sc->n_diags; i++) {
+        free(sc->diags[i].group);
+        free(sc->diags[i].key);
+        free(sc->diags[i].message);
+    }
+    free(sc->diags);
+    free(sc->origin);
     free(sc->path);
     free(sc);
 }
 
-static char *dup_str(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *p = malloc(n);
-    if (p) memcpy(p, s, n);
-    return p;
-}
-
-static int set_real(scene_value *v, double x)
-{
-    free(v->list);
-    v->list = malloc(sizeof *v->list);
-    if (!v->list) return -1;
-    v->list[0] = x;
-    v->count = 1;
-    return 0;
-}
-
 /* Table default text -> value.  The table's defaults are a fixed, tested
  * subset of the syntax, so this needs no error reporting beyond memory. */
-static int set_table_default(const scene_var *var, scene_value *v)
+static int set_table_default(const scene_var *var, scene_config *cfg)
 {
+    void *f = scene_field(cfg, var);
+    if (var->type == SCENE_REAL && !(var->flags & SCENE_SWEEP)) {
+        double x = var->def ? strtod(var->def, NULL) : NAN; /* NaN: none */
+        memcpy(f, &x, sizeof x);
+        return 0;
+    }
     if (!var->def) return 0;
     switch (var->type) {
     case SCENE_STRING: {
         size_t n = strlen(var->def);
-        v->str = malloc(n);
-        if (!v->str) return -1;
-        memcpy(v->str, var->def + 1, n - 2); /* strip the quotes */
-        v->str[n - 2] = '\0';
+        char *s = malloc(n - 1);
+        if (!s) return -1;
+        memcpy(s, var->def + 1, n - 2); /* strip the quotes */
+        s[n - 2] = '\0';
+        *(char **)f = s;
         return 0;
     }
-    case SCENE_REAL: return set_real(v, strtod(var->def, NULL));
-    case SCENE_INTEGER: v->ival = strtoll(var->def, NULL, 10); return 0;
-    case SCENE_LOGICAL: v->bval = strcasecmp(var->def, ".true.") == 0; return 0;
+    case SCENE_CHOICE: {
+        char name[64];
+        size_t n = strlen(var->def);
+        if (n - 2 >= sizeof name) return -1;
+        memcpy(name, var->def + 1, n - 2);
+        name[n - 2] = '\0';
+        int v = 0;
+        if (scene_choice_find(var, name, &v) != 0) return -1;
+        memcpy(f, &v, sizeof v);
+        return 0;
+    }
+    case SCENE_INTEGER: {
+        long long x = strtoll(var->def, NULL, 10);
+        memcpy(f, &x, sizeof x);
+        return 0;
+    }
+    case SCENE_LOGICAL: {
+        int b = strcasecmp(var->def, ".true.") == 0;
+        memcpy(f, &b, sizeof b);
+        return 0;
+    }
     default: return 0;
     }
-}
-
-/* Defaults that the library measured: one source of truth. */
-static int set_library_default(const scene_var *var, scene_value *v, const taper_solver_spec *lib)
-{
-    if (strcmp(var->name, "method") == 0) {
-        v->str = dup_str(lib->method == TAPER_BDF ? "bdf" : "adams");
-        return v->str ? 0 : -1;
-    }
-    if (strcmp(var->name, "rtol") == 0) return set_real(v, lib->rtol);
-    if (strcmp(var->name, "atol") == 0) return set_real(v, lib->atol);
-    if (strcmp(var->name, "window") == 0) v->bval = lib->window != 0;
-    return 0;
 }
 
 /* out/NAME for scene file .../NAME.nml. */
@@ -316,120 +577,44 @@ static char *derived_dir(const char *path)
     size_t n = strlen(base);
     if (n > 4 && strcasecmp(base + n - 4, ".nml") == 0) n -= 4;
     if (n == 0) base = "scene", n = 5;
-    char *dir = malloc(n + 5);
-    if (!dir) return NULL;
-    memcpy(dir, "out/", 4);
-    memcpy(dir + 4, base, n);
-    dir[n + 4] = '\0';
-    return dir;
+    return text_printf("out/%.*s", (int)n, base);
 }
 
-scene *scene_new(const char *path, const taper_solver_spec *lib)
+scene *scene_new(const char *path)
 {
     scene *sc = calloc(1, sizeof *sc);
     if (!sc) return NULL;
-    sc->path = dup_str(path ? path : "<scene>");
-    sc->values = calloc(N_VARS, sizeof *sc->values);
-    if (!sc->path || !sc->values) goto fail;
+    sc->path = text_dup(path ? path : "<scene>");
+    sc->origin = calloc(N_VARS, sizeof *sc->origin);
+    if (!sc->path || !sc->origin) goto fail;
+    sc->cfg.fit.model = SCENE_FIT_NONE;
+    for (size_t i = 0; i < N_VARS; i++)
+        if (set_table_default(&table[i], &sc->cfg) != 0) goto fail;
+    if (scene_library_defaults(&sc->cfg) != 0) goto fail;
     for (size_t i = 0; i < N_VARS; i++) {
-        const scene_var *var = &table[i];
-        int rc = (var->flags & SCENE_LIBDEF) ? set_library_default(var, &sc->values[i], lib)
-                                             : set_table_default(var, &sc->values[i]);
-        if (rc != 0) goto fail;
+        if (!(table[i].flags & SCENE_FROM_PATH)) continue;
+        char **s = scene_field(&sc->cfg, &table[i]);
+        free(*s);
+        if (!(*s = derived_dir(sc->path))) goto fail;
     }
-    int d = scene_var_find("output", "dir");
-    if (!(sc->values[d].str = derived_dir(sc->path))) goto fail;
+    sc->cfg.runs.n = 1;
     return sc;
 fail:
     scene_free(sc);
     return NULL;
 }
 
-/* ---- typed access ------------------------------------------------------ */
+const char *scene_path(const scene *sc) { return sc->path; }
+const scene_config *scene_cfg(const scene *sc) { return &sc->cfg; }
 
-const scene_value *scene_get(const scene *sc, const char *group, const char *name)
+int scene_set_output_dir(scene *sc, const char *dir)
 {
-    int i = scene_var_find(group, name);
-    return i < 0 ? NULL : &sc->values[i];
-}
-
-const char *scene_str(const scene *sc, const char *group, const char *name)
-{
-    const scene_value *v = scene_get(sc, group, name);
-    return v && v->str ? v->str : "";
-}
-
-double scene_real(const scene *sc, const char *group, const char *name)
-{
-    const scene_value *v = scene_get(sc, group, name);
-    return v && v->count > 0 ? v->list[0] : NAN;
-}
-
-long long scene_int(const scene *sc, const char *group, const char *name)
-{
-    const scene_value *v = scene_get(sc, group, name);
-    return v ? v->ival : 0;
-}
-
-int scene_bool(const scene *sc, const char *group, const char *name)
-{
-    const scene_value *v = scene_get(sc, group, name);
-    return v ? v->bval : 0;
-}
-
-int scene_set_str(scene *sc, const char *group, const char *name, const char *value)
-{
-    int i = scene_var_find(group, name);
-    if (i < 0 || table[i].type != SCENE_STRING) return -1;
-    char *s = dup_str(value);
+    char *s = text_dup(dir);
     if (!s) return -1;
-    free(sc->values[i].str);
-    sc->values[i].str = s;
-    sc->values[i].line = 0; /* no longer from the file: messages name no line */
+    free(sc->cfg.output.dir);
+    sc->cfg.output.dir = s;
+    int i = scene_var_find("output", "dir");
+    sc->origin[i].given = 1;
+    sc->origin[i].line = 0; /* no longer from the file: messages name no line */
     return 0;
-}
-
-int scene_sweep_var(const scene *sc)
-{
-    for (size_t i = 0; i < N_VARS; i++)
-        if ((table[i].flags & SCENE_SWEEP) && sc->values[i].count > 1) return (int)i;
-    return -1;
-}
-
-/* The value of a sweepable real at sweep_index (its only value otherwise). */
-static double swept_real(const scene *sc, const char *name, size_t sweep_index)
-{
-    const scene_value *v = scene_get(sc, "chain", name);
-    if (!v || v->count == 0) return NAN;
-    return v->list[v->count > 1 && sweep_index < v->count ? sweep_index : 0];
-}
-
-void scene_chain_spec(const scene *sc, size_t sweep_index, taper_chain_spec *spec)
-{
-    taper_chain_spec_init(spec);
-    int profile = TAPER_MONODISPERSE;
-    taper_profile_from_name(scene_str(sc, "chain", "profile"), &profile);
-    spec->profile = profile;
-    spec->n_granules = (size_t)scene_int(sc, "chain", "n_granules");
-    spec->s = swept_real(sc, "s", sweep_index);
-    spec->q = swept_real(sc, "q", sweep_index);
-    spec->exponent = scene_real(sc, "chain", "exponent");
-    const scene_value *radii = scene_get(sc, "chain", "radii");
-    if (profile == TAPER_CUSTOM && radii->count > 0) {
-        spec->radii = radii->list;
-        spec->n_granules = radii->count; /* validation made them agree */
-    }
-}
-
-void scene_solver_spec(const scene *sc, taper_solver_spec *spec)
-{
-    /* Only the fields the scene describes: the caller started from
-     * taper_solver_spec_init() and adds monitor and log. */
-    spec->method = strcmp(scene_str(sc, "solver", "method"), "bdf") == 0 ? TAPER_BDF : TAPER_ADAMS;
-    spec->rtol = scene_real(sc, "solver", "rtol");
-    spec->atol = scene_real(sc, "solver", "atol");
-    spec->window = scene_bool(sc, "solver", "window");
-    spec->last_granule = (size_t)scene_int(sc, "solver", "last_granule");
-    spec->t_max = scene_real(sc, "solver", "t_max");
-    spec->max_steps = (long)scene_int(sc, "solver", "max_steps");
 }

@@ -1,10 +1,13 @@
 /*
- * scene.h -- scene files: Fortran namelists describing one taper run.
+ * scene.h -- scene files: Fortran namelists describing one taper run,
+ * resolved into a typed configuration.
  *
  * Every input variable is declared once, in the table of scene.c (group,
- * name, type, default, allowed values, one line of documentation).  From
- * that table follow the parser, the validation pass, the resolved-scene echo,
- * `taper --defaults` and `taper --doc`: adding a variable is one table row.
+ * name, type, the field of scene_config it fills, default, range or
+ * allowed values, one line of documentation).  From that table follow the
+ * parser, the validation, the resolved-scene echo, `taper --defaults` and
+ * `taper --doc`.  This module is the only code that knows group and key
+ * names: everything downstream reads the fields of scene_config.
  *
  * Syntax (a subset of Fortran namelist input, so that gfortran can read the
  * shipped scenes too):
@@ -19,6 +22,12 @@
  * take e or d exponents; values are separated by commas or blanks and may
  * continue on the next line; lists accept repeat counts (3*1.0).
  *
+ * One owner per rule: the scene checks the syntax, the ranges of its own
+ * variables (&output, &fit, &table, &figure) and the relations between
+ * them; the chain and solver settings and the fit's exponent are checked by
+ * the library's setters and taper_chain_spec_check, whose failing field
+ * (taper_error.field) is reported as FILE:LINE: &group key: message.
+ *
  * Not part of libtaper: the library never reads files.
  */
 #ifndef TAPER_SCENE_H
@@ -29,133 +38,263 @@
 #include <stddef.h>
 #include <stdio.h>
 
-typedef enum scene_type {
-    SCENE_STRING = 0,
-    SCENE_REAL = 1,
-    SCENE_INTEGER = 2,
-    SCENE_LOGICAL = 3,
-    SCENE_REAL_LIST = 4
-} scene_type;
+/* ---- the typed configuration ---------------------------------------------- */
 
-/* Bits of scene_var.flags. */
-#define SCENE_SWEEP 0x1u    /* a real that also accepts a list (a sweep)       */
-#define SCENE_LIBDEF 0x2u   /* default taken from taper_solver_spec_init()     */
-#define SCENE_LO_OPEN 0x4u  /* lower bound excluded                            */
-#define SCENE_HI_OPEN 0x8u  /* upper bound excluded                            */
-#define SCENE_POSITIVE 0x10u /* REAL_LIST: every element > 0                   */
+/* A list of reals (a sweep, radii, the paper's table columns). */
+typedef struct scene_reals {
+    double *v;
+    size_t n;
+} scene_reals;
 
-/* One row of the variable table. */
-typedef struct scene_var {
-    const char *group;            /* "chain", "solver", "output", "fit", ...   */
-    const char *name;             /* lower case                                */
-    scene_type type;
-    unsigned flags;
-    const char *def;              /* default in namelist syntax; NULL: none
-                                     (or SCENE_LIBDEF)                         */
-    double lo, hi;                /* REAL/INTEGER range                        */
-    const char *const *choices;   /* STRING: allowed values (NULL-terminated),
-                                     NULL: any string                          */
-    const char *doc;              /* one line                                  */
-} scene_var;
+/* Per-granule quantities of &fit x, y and &figure x, y (results/series.c). */
+typedef enum scene_quantity {
+    SCENE_Q_K = 0,       /* granule number                                    */
+    SCENE_Q_V = 1,       /* v_peak; theory: v_k, eq. (9)                       */
+    SCENE_Q_T_RES = 2,   /* T_res; theory: T_k, eq. (18)                       */
+    SCENE_Q_T = 3,       /* t_pass; theory: t_k, eq. (19)                      */
+    SCENE_Q_T_REACH = 4, /* the pulse reaches k: t of k-1                      */
+    SCENE_Q_T_PEAK = 5   /* time of v_peak; theory: t_reach                    */
+} scene_quantity;
 
-/* The groups (chain, solver, output, fit, table, figure), in order. */
-size_t scene_group_count(void);
-const char *scene_group_name(size_t i);   /* NULL past the end */
-const char *scene_group_doc(size_t i);
+/* &fit report: the tabulated parameter of the fit. */
+typedef enum scene_fit_report {
+    SCENE_REPORT_A = 0, SCENE_REPORT_B = 1, SCENE_REPORT_C = 2,
+    SCENE_REPORT_M = 3, SCENE_REPORT_P = 4, SCENE_REPORT_F = 5
+} scene_fit_report;
 
-/* The table, and lookups in it. */
-size_t scene_var_count(void);
-const scene_var *scene_var_at(size_t i);
-/* Index of group/name (case-insensitive) or -1. */
-int scene_var_find(const char *group, const char *name);
+/* &fit theory: the theory column of a table. */
+typedef enum scene_fit_theory {
+    SCENE_THEORY_FIT = 0,  /* the same fit of the exact binary-collision theory */
+    SCENE_THEORY_RATE = 1, /* |ln A(q)|                                          */
+    SCENE_THEORY_F = 2,    /* f(q)                                               */
+    SCENE_THEORY_B = 3     /* S/(1+S)                                            */
+} scene_fit_theory;
 
-/* The value of one variable. */
-typedef struct scene_value {
-    int given;        /* 1 when the file set it                                */
-    int line;         /* line of the key in the file (0: default)              */
-    char *str;        /* STRING                                                */
-    long long ival;   /* INTEGER                                               */
-    int bval;         /* LOGICAL                                               */
-    double *list;     /* REAL (count 1, or a sweep), REAL_LIST                 */
-    size_t count;
-} scene_value;
+/* &figure curves. */
+typedef enum scene_curves {
+    SCENE_CURVES_BOTH = 0, SCENE_CURVES_THEORY = 1, SCENE_CURVES_NUMERICS = 2
+} scene_curves;
 
-/* One diagnostic.  line 0: no line; group/key empty: none. */
-#define SCENE_MSG_SIZE 384
-typedef struct scene_diag {
-    int line;
-    char group[32];
-    char key[48];
-    char message[SCENE_MSG_SIZE];
-} scene_diag;
+/* &fit model = 'none'; otherwise the model is a taper_fit_model. */
+#define SCENE_FIT_NONE (-1)
 
-#define SCENE_MAX_DIAGS 16
+/* The parameters of a chain's taper that a sweep or a table runs over. */
+typedef enum scene_chain_param { SCENE_PARAM_S = 0, SCENE_PARAM_Q = 1 } scene_chain_param;
 
-typedef struct scene {
-    char *path;                  /* file name used in messages               */
-    scene_value *values;         /* one per table row                        */
-    scene_diag diags[SCENE_MAX_DIAGS];
-    size_t n_diags;              /* errors recorded (at most SCENE_MAX_DIAGS) */
-    size_t n_errors;             /* errors found (may exceed n_diags)        */
-} scene;
+/* Names as written in scene files (and in result files' headers). */
+const char *scene_quantity_name(scene_quantity q);     /* "k", "v", "T_res", ...  */
+const char *scene_fit_report_name(scene_fit_report r); /* "a", "b", ...           */
+const char *scene_fit_theory_name(scene_fit_theory t); /* "fit", "rate", "f", "b" */
+const char *scene_fit_model_name(int model);           /* "none", "power", ...    */
+const char *scene_chain_param_name(scene_chain_param p); /* "s", "q"              */
 
-/* A scene holding the defaults: table defaults, and for SCENE_LIBDEF rows
- * the values of `lib` (normally from taper_solver_spec_init(); passed in so
- * that this module needs nothing but the table).  path names the scene in
- * messages and derives the default output directory (out/NAME).
- * NULL if out of memory. */
-scene *scene_new(const char *path, const taper_solver_spec *lib);
+typedef struct scene_chain_config {
+    taper_profile profile;
+    long long n_granules;   /* resolved: the number of radii when a custom
+                               chain leaves it out                            */
+    scene_reals s, q;       /* one value, or the values of a sweep            */
+    double exponent;
+    scene_reals radii;      /* custom profile; empty otherwise                */
+} scene_chain_config;
+
+typedef struct scene_solver_config {
+    taper_method method;
+    double rtol, atol;
+    int window;
+    long long last_granule;
+    double t_max;
+    long long max_steps;
+    int numerics;           /* 0: the binary-collision theory only            */
+} scene_solver_config;
+
+typedef struct scene_output_config {
+    char *dir;
+    int progress;
+    long long threads;
+} scene_output_config;
+
+typedef struct scene_fit_config {
+    int model;              /* SCENE_FIT_NONE (the group is off) or a
+                               taper_fit_model                                */
+    scene_quantity x, y;
+    long long k_min, k_max; /* granules; k_max 0: the last with a value        */
+    double p;               /* fixed exponent; NaN: not given                 */
+    scene_fit_report report;
+    double factor;
+    char *label;            /* "" : the parameter's name                      */
+    scene_fit_theory theory;
+} scene_fit_config;
+
+typedef struct scene_table_config {
+    char *name;             /* "": no table                                   */
+    char *caption;
+    long long digits;
+    scene_reals paper_theory, paper_numerics;
+} scene_table_config;
+
+typedef struct scene_figure_config {
+    char *name;             /* "": no figure                                  */
+    char *title;
+    scene_quantity x, y;
+    scene_curves curves;
+    int log_x, log_y;
+    long long every, k_max;
+    char *x_label, *y_label;
+    int inset;
+    double inset_reference; /* NaN: none                                      */
+} scene_figure_config;
+
+/* What scene_validate resolves from the values above. */
+typedef struct scene_runs {
+    size_t n;                  /* runs: the values of the swept variable, or 1 */
+    int swept;                 /* 1: `sweep` has n > 1 values                  */
+    scene_chain_param sweep;   /* the swept variable (when swept)              */
+    scene_chain_param param;   /* the parameter reports tabulate: q for the
+                                  exponential profiles, s otherwise            */
+    int fit, table, figure;    /* 1: the optional group is on                  */
+} scene_runs;
+
+typedef struct scene_config {
+    scene_chain_config chain;
+    scene_solver_config solver;
+    scene_output_config output;
+    scene_fit_config fit;
+    scene_table_config table;
+    scene_figure_config figure;
+    scene_runs runs;
+} scene_config;
+
+/* The value of s or q at run `point` (its only value without a sweep). */
+double scene_param_value(const scene_config *cfg, scene_chain_param p, size_t point);
+
+/* ---- reading a scene ---------------------------------------------------------- */
+
+typedef struct scene scene;
+
+/* A scene holding the defaults: the table's, and for the library's
+ * settings those of freshly allocated library specs (their getters).  path
+ * names the scene in messages and derives the default output directory
+ * (out/NAME).  NULL if out of memory. */
+scene *scene_new(const char *path);
 void scene_free(scene *sc);
 
 /* Parses namelist text (len bytes, need not be NUL-terminated) into sc.
- * Returns the number of errors (0: fine).  Stops at the first syntax error;
- * records each problem in sc->diags. */
+ * Returns the number of errors (0: fine).  Stops at the first syntax
+ * error. */
 size_t scene_parse(scene *sc, const char *text, size_t len);
-/* Reads and parses sc->path.  Missing, unreadable, binary or huge files are
- * errors like any other. */
+/* Reads and parses the scene's file.  Missing, unreadable, binary or huge
+ * files are errors like any other. */
 size_t scene_load(scene *sc);
-/* Checks ranges, allowed strings and the relations between variables
- * (profile vs s/q/radii, forward_linear's N < 1 + 1/s, ...).  Returns the
- * number of errors. */
+/* Overrides one variable from the command line: "group.key=value", the
+ * value in namelist syntax (taper --set).  Returns the number of errors. */
+size_t scene_set(scene *sc, const char *assignment);
+/* Checks every value and the relations between them (the library's
+ * settings through the library's setters, each value of a sweep too), and
+ * resolves scene_config.runs.  Returns the number of errors. */
 size_t scene_validate(scene *sc);
+/* Replaces &output dir (taper -o DIR).  0, or -1 out of memory. */
+int scene_set_output_dir(scene *sc, const char *dir);
 
+const char *scene_path(const scene *sc);
+const scene_config *scene_cfg(const scene *sc);
+
+/* ---- diagnostics ---------------------------------------------------------------- */
+
+/* One problem: line 0 when there is none, group/key "" when none. */
+typedef struct scene_diag {
+    int line;
+    char *group;
+    char *key;
+    char *message;
+} scene_diag;
+
+/* At most this many diagnostics are kept (the count of all is). */
+#define SCENE_MAX_DIAGS 16
+
+size_t scene_error_count(const scene *sc);
+size_t scene_diag_count(const scene *sc);
+const scene_diag *scene_diag_at(const scene *sc, size_t i);
 /* Prints the diagnostics as FILE:LINE: &group key: message. */
 void scene_print_diags(const scene *sc, FILE *fp);
 
-/* Typed access (group/name must exist in the table with that type). */
-const scene_value *scene_get(const scene *sc, const char *group, const char *name);
-const char *scene_str(const scene *sc, const char *group, const char *name);
-double scene_real(const scene *sc, const char *group, const char *name);
-long long scene_int(const scene *sc, const char *group, const char *name);
-int scene_bool(const scene *sc, const char *group, const char *name);
-/* Replaces a string value (e.g. -o DIR).  0 on success, -1 out of memory. */
-int scene_set_str(scene *sc, const char *group, const char *name, const char *value);
+/* The line of the variable stored at `offset` in scene_config (0: not in
+ * the file), e.g. SCENE_LINE(sc, chain.s). */
+int scene_line(const scene *sc, size_t offset);
+#define SCENE_LINE(sc, field) scene_line((sc), offsetof(scene_config, field))
 
-/* 1 when the optional group (fit, table, figure) is switched on
- * (&fit model != 'none', &table / &figure name non-empty); 1 for the
- * groups every scene has. */
-int scene_group_active(const scene *sc, const char *group);
+/* Which library object checks a setting. */
+typedef enum scene_lib {
+    SCENE_OWN = 0,        /* the scene itself                             */
+    SCENE_LIB_CHAIN = 1,  /* taper_chain_spec, taper_chain_alloc           */
+    SCENE_LIB_SOLVER = 2, /* taper_solver_spec, taper_sim_alloc            */
+    SCENE_LIB_FIT = 3     /* taper_fit_spec                                */
+} scene_lib;
 
-/* The swept variable: its table index, or -1 when no variable has more than
- * one value.  scene_validate rejects sweeps of more than one variable. */
-int scene_sweep_var(const scene *sc);
+/* A library failure after validation (taper_chain_alloc's ERANGE,
+ * taper_sim_alloc's relations to the chain), printed against the variable
+ * err->field names: FILE:LINE: &group key: message.  Without a field that
+ * maps to a variable: FILE: message. */
+void scene_print_library_error(const scene *sc, scene_lib lib, const taper_error *err,
+                               FILE *fp);
+/* A problem with the output directory: FILE[:LINE]: &output dir: message. */
+void scene_print_output_error(const scene *sc, const char *message, FILE *fp);
 
-/* Fills the library specs from a validated scene.  sweep_index picks the
- * value of the swept variable (ignored without sweep).  The chain spec
- * points into the scene (radii): keep the scene alive while it is used. */
-void scene_chain_spec(const scene *sc, size_t sweep_index, taper_chain_spec *spec);
-void scene_solver_spec(const scene *sc, taper_solver_spec *spec);
+/* ---- the library's specifications ------------------------------------------------- */
 
-/* Writes the scene as a namelist (every variable).  With doc != 0 each
- * value gets its table documentation as a comment. */
+/* Apply the scene's settings to a library spec through its setters (run
+ * `point` of a sweep).  On a validated scene these cannot fail, except
+ * that taper_sim_alloc and taper_chain_alloc check what needs the chain. */
+taper_status scene_apply_chain(const scene_config *cfg, size_t point, taper_chain_spec *spec,
+                               taper_error *err);
+taper_status scene_apply_solver(const scene_config *cfg, taper_solver_spec *spec,
+                                taper_error *err);
+/* Allocated specs with the scene's settings (NULL with err on failure). */
+taper_chain_spec *scene_chain_spec(const scene_config *cfg, size_t point, taper_error *err);
+taper_solver_spec *scene_solver_spec(const scene_config *cfg, taper_error *err);
+/* &fit as a library fit spec (model, exponent, granule window); NULL with
+ * err without a fit. */
+taper_fit_spec *scene_fit_spec(const scene_config *cfg, taper_error *err);
+
+/* ---- writing a scene -------------------------------------------------------------- */
+
+/* Writes the scene as a namelist (every variable of the groups that are
+ * on).  With doc != 0: every group, each value with its documentation as a
+ * comment (taper --defaults). */
 void scene_write(const scene *sc, FILE *fp, int doc);
-/* The scene at one point of its sweep: the swept variable has the value
- * number sweep_index only. */
-void scene_write_point(const scene *sc, FILE *fp, size_t sweep_index);
-/* Writes the table as Markdown, with the defaults of sc. */
+/* The scene at one run of its sweep: the swept variable has that value. */
+void scene_write_point(const scene *sc, FILE *fp, size_t point);
+/* The table as Markdown, with the defaults of sc (taper --doc). */
 void scene_write_doc(const scene *sc, FILE *fp);
+/* Prints the value of "group.key" in namelist syntax and a newline
+ * (taper --get).  0, or -1 for an unknown variable (nothing printed). */
+int scene_print_value(const scene *sc, const char *name, FILE *fp);
 
-/* Shortest %g text of x that reads back to the same double. */
-void scene_format_real(double x, char *buf, size_t size);
+/* Shortest %g text of x that reads back to the same double (at most 24
+ * characters: SCENE_REAL_TEXT holds any). */
+#define SCENE_REAL_TEXT 32
+void scene_format_real(double x, char buf[SCENE_REAL_TEXT]);
+
+/* ---- the table, for generic walkers (tests/bindings/scene_dump.c) ----------------- */
+
+typedef enum scene_type {
+    SCENE_STRING = 0,
+    SCENE_REAL = 1,       /* one value (SCENE_SWEEP: a list sweeps it)          */
+    SCENE_INTEGER = 2,
+    SCENE_LOGICAL = 3,
+    SCENE_REAL_LIST = 4,
+    SCENE_CHOICE = 5      /* one of a list of names, stored as an enum          */
+} scene_type;
+
+size_t scene_var_count(void);
+const char *scene_var_group(size_t i);
+const char *scene_var_name(size_t i);
+scene_type scene_var_type(size_t i);
+int scene_var_sweeps(size_t i);   /* 1: a real that takes a list (a sweep) */
+/* The value of variable i: a string or choice's text; an integer or a
+ * logical; the reals of a real (none when a real without default is left
+ * out), sweep or list. */
+const char *scene_var_text(const scene *sc, size_t i);
+long long scene_var_integer(const scene *sc, size_t i);
+const double *scene_var_reals(const scene *sc, size_t i, size_t *n);
 
 #endif

@@ -1,18 +1,19 @@
 /*
- * scene_impl.h -- what the scene_*.c files share and nobody else needs.
+ * scene_impl.h -- what the scene_*.c files share and nobody else needs:
+ * the variable table, the scene object, typed access to a variable's
+ * field, diagnostics.
  */
 #ifndef TAPER_SCENE_IMPL_H
 #define TAPER_SCENE_IMPL_H
 
 #include "scene.h"
+#include "util/text.h"
 
-#if defined(__GNUC__) || defined(__clang__)
-#define SCENE_PRINTF(a, b) __attribute__((format(printf, a, b)))
-#else
-#define SCENE_PRINTF(a, b)
-#endif
+#include <stdarg.h>
 
-/* Limits that keep every buffer bounded whatever the input. */
+#define SCENE_PRINTF(a, b) TEXT_PRINTF(a, b)
+
+/* Limits that keep every input bounded whatever the file holds. */
 #define SCENE_MAX_FILE (8u << 20)      /* bytes in a scene file                */
 #define SCENE_MAX_LINE 4096            /* characters in one line               */
 /* Values in one list, and in all lists of more than one value together
@@ -21,21 +22,103 @@
  * (checked at compile time in scene.c). */
 #define SCENE_MAX_LIST 250000
 
-/* Records one error (line 0 / group or key NULL when unknown). */
-void scene_error(scene *sc, int line, const char *group, const char *key,
-                 const char *fmt, ...) SCENE_PRINTF(5, 6);
+/* Bits of scene_var.flags. */
+#define SCENE_SWEEP 0x1u      /* REAL: also accepts a list (a sweep)            */
+#define SCENE_LO_OPEN 0x2u    /* lower bound excluded                           */
+#define SCENE_COUNT 0x4u      /* INTEGER passed to the library as a size_t: a
+                                 negative value is refused here                 */
+#define SCENE_FROM_PATH 0x8u  /* default derived from the scene's file name     */
 
-/* Frees what a value holds and zeroes it. */
-void scene_value_clear(scene_value *v);
+/* One row of the variable table. */
+typedef struct scene_var {
+    const char *group;          /* "chain", "solver", "output", "fit", ...     */
+    const char *name;           /* lower case                                  */
+    scene_type type;
+    unsigned flags;
+    size_t offset;              /* of the typed field in scene_config          */
+    const char *def;            /* default in namelist syntax; NULL: the
+                                   library's (library rows) or none            */
+    scene_lib lib;              /* who checks the value                        */
+    const char *lib_field;      /* the library's name of the setting (its
+                                   taper_error.field), when not `name`          */
+    double lo, hi;              /* range.  SCENE_OWN rows: checked here.
+                                   Library rows: taper.h's constants, shown in
+                                   the documentation, checked by the library.
+                                   lo == hi == 0: none                          */
+    const char *(*choice)(int); /* CHOICE: the name of value i, NULL past the
+                                   end                                         */
+    int choice_first;           /* CHOICE: the first value (-1: 'none')        */
+    const char *doc;            /* one line                                    */
+} scene_var;
+
+const scene_var *scene_var_at(size_t i);
+/* Index of group/name (case-insensitive) or -1. */
+int scene_var_find(const char *group, const char *name);
+/* Index of the row with this library object and field name, or -1. */
+int scene_var_of_field(scene_lib lib, const char *field);
+
+/* The groups (chain, solver, output, fit, table, figure), in order. */
+#define SCENE_N_GROUPS 6
+const char *scene_group_name(size_t i);
+const char *scene_group_doc(size_t i);
+int scene_group_index(const char *name);
+
+/* Where a variable's value came from. */
+typedef struct scene_origin {
+    int given;        /* 1: the file (or --set, -o) set it                   */
+    int line;         /* line of the key in the file (0: not from the file)  */
+} scene_origin;
+
+struct scene {
+    char *path;                     /* file name used in messages          */
+    scene_config cfg;               /* every value, typed                  */
+    scene_origin *origin;           /* one per table row                   */
+    int group_line[SCENE_N_GROUPS]; /* line where each group opens (0: not) */
+    int n_from_radii;               /* n_granules resolved from the radii  */
+    scene_diag *diags;              /* the first SCENE_MAX_DIAGS errors    */
+    size_t n_diags;
+    size_t n_errors;                /* errors found (may exceed n_diags)   */
+};
+
+/* Records one error (line 0 / group or key NULL when unknown).  Bytes that
+ * are not printable ASCII are shown as \xNN. */
+void scene_error(scene *sc, int line, const char *group, const char *key, const char *fmt, ...)
+    SCENE_PRINTF(5, 6);
+/* Records an error against table row i, at the line its value came from
+ * (or, for a value the file left out, the line its group opens). */
+void scene_var_error(scene *sc, size_t i, const char *fmt, ...) SCENE_PRINTF(3, 4);
+
+/* ---- typed access to a row's field --------------------------------------- */
+void *scene_field(scene_config *cfg, const scene_var *var);
+const void *scene_cfield(const scene_config *cfg, const scene_var *var);
+/* The bytes a row's field occupies (for moving a value between configs). */
+size_t scene_field_size(const scene_var *var);
+/* Frees what a row's field owns and leaves it empty. */
+void scene_field_clear(scene_config *cfg, const scene_var *var);
+/* 1: the row's value is a list (REAL_LIST, or a sweepable REAL). */
+int scene_var_is_list(const scene_var *var);
+/* Index of a CHOICE row's name (case-insensitive) among its values, 0 and
+ * the value in *value when found. */
+int scene_choice_find(const scene_var *var, const char *name, int *value);
 
 /* "string", "real", ... */
 const char *scene_type_name(const scene_var *var);
 
 /* Allowed values of var as text ("[0, 1000]", "(1, 20]", "'adams', 'bdf'"),
- * empty when anything goes. */
-void scene_range_text(const scene_var *var, char *buf, size_t size);
+ * "" when anything goes.  malloc'd. */
+char *scene_range_text(const scene_var *var);
+/* The value of var as namelist value text (no key), written to fp. */
+void scene_write_value(const scene_var *var, const scene_config *cfg, FILE *fp);
 
-/* Writes the value of var as namelist value text (no key). */
-void scene_value_text(const scene_var *var, const scene_value *v, char *buf, size_t size);
+/* The row a library error on `field` of object `lib` is reported against
+ * (n_granules resolved from the radii: radii), or -1. */
+int scene_error_row(const scene *sc, scene_lib lib, const char *field);
+
+/* Library side (scene_lib.c): defaults from fresh library specs, and the
+ * validation of the library's settings through its setters.  0 or -1 out
+ * of memory / the number of errors recorded. */
+int scene_library_defaults(scene_config *cfg);
+size_t scene_check_library(scene *sc);      /* chain and solver settings */
+size_t scene_check_fit_library(scene *sc);  /* &fit as a taper_fit_spec  */
 
 #endif

@@ -36,7 +36,6 @@ typedef struct parser {
     token next;             /* one token of look-ahead                       */
     int failed;
     size_t list_values;     /* values in lists of more than one value so far */
-    int group_line[8];      /* line where each group was opened (0: not yet) */
 } parser;
 
 /* ---- screening ----------------------------------------------------------- */
@@ -273,7 +272,8 @@ static int word_value(parser *p, const token *t, const char *group, const char *
 
 static int type_error(parser *p, const scene_var *var, const element *e)
 {
-    static const char *const example[] = {"'text'", "1.5", "10", ".true.", "1.0, 1.2, 1.5"};
+    static const char *const example[] = {"'text'", "1.5", "10", ".true.", "1.0, 1.2, 1.5",
+                                          "'text'"};
     char buf[64];
     const char *what = e->kind == E_STRING ? "a string" : tok_text(&e->tok, buf, sizeof buf);
     scene_error(p->sc, e->tok.line, var->group, var->name,
@@ -295,11 +295,35 @@ static char *string_value(const token *t)
     return s;
 }
 
+/* A string for a CHOICE row: one of its names (any case), or an error
+ * listing them. */
+static int choice_value(parser *p, const scene_var *var, const element *e, int line, int *value)
+{
+    char *str = string_value(&e->tok);
+    if (!str) {
+        scene_error(p->sc, line, var->group, var->name, "out of memory");
+        return -1;
+    }
+    if (scene_choice_find(var, str, value) == 0) {
+        free(str);
+        return 0;
+    }
+    /* Shown: at most 31 bytes of what was written, marked when cut. */
+    char *allowed = scene_range_text(var);
+    size_t len = strlen(str);
+    scene_error(p->sc, line, var->group, var->name, "'%.*s%s' is not allowed: use one of %s",
+                len > 31 ? 28 : (int)len, str, len > 31 ? "..." : "",
+                allowed ? allowed : "(out of memory)");
+    free(allowed);
+    free(str);
+    return -1;
+}
+
 static int assign(parser *p, int vi, const element *el, size_t n, int line)
 {
     const scene_var *var = scene_var_at((size_t)vi);
-    scene_value *v = &p->sc->values[vi];
-    int multi_ok = var->type == SCENE_REAL_LIST || (var->flags & SCENE_SWEEP);
+    scene_config *cfg = &p->sc->cfg;
+    int multi_ok = scene_var_is_list(var);
     if (n > 1 && !multi_ok) {
         scene_error(p->sc, line, var->group, var->name,
                     "expects one value, got %zu (only s and q take a list, to sweep them)", n);
@@ -318,27 +342,34 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
     }
     for (size_t i = 0; i < n; i++) {
         int k = el[i].kind;
-        int ok = (var->type == SCENE_STRING && k == E_STRING) ||
+        int ok = ((var->type == SCENE_STRING || var->type == SCENE_CHOICE) && k == E_STRING) ||
                  (var->type == SCENE_LOGICAL && k == E_LOGICAL) ||
                  (var->type == SCENE_INTEGER && k == E_INTEGER) ||
                  ((var->type == SCENE_REAL || var->type == SCENE_REAL_LIST) &&
                   (k == E_NUMBER || k == E_INTEGER));
         if (!ok) return type_error(p, var, &el[i]);
     }
-    scene_value_clear(v);
-    v->given = 1;
-    v->line = line;
+    int choice = 0;
+    if (var->type == SCENE_CHOICE && choice_value(p, var, &el[0], line, &choice) != 0) return -1;
+    scene_field_clear(cfg, var);
+    void *f = scene_field(cfg, var);
+    p->sc->origin[vi].given = 1;
+    p->sc->origin[vi].line = line;
+    if (scene_var_is_list(var)) {
+        scene_reals *r = f;
+        if (!(r->v = malloc(n * sizeof *r->v))) goto nomem;
+        for (size_t i = 0; i < n; i++) r->v[i] = el[i].x;
+        r->n = n;
+        return 0;
+    }
     switch (var->type) {
     case SCENE_STRING:
-        if (!(v->str = string_value(&el[0].tok))) goto nomem;
+        if (!(*(char **)f = string_value(&el[0].tok))) goto nomem;
         break;
-    case SCENE_LOGICAL: v->bval = el[0].b; break;
-    case SCENE_INTEGER: v->ival = el[0].i; break;
-    default:
-        if (!(v->list = malloc(n * sizeof *v->list))) goto nomem;
-        for (size_t i = 0; i < n; i++) v->list[i] = el[i].x;
-        v->count = n;
-        break;
+    case SCENE_CHOICE: memcpy(f, &choice, sizeof choice); break;
+    case SCENE_LOGICAL: memcpy(f, &el[0].b, sizeof el[0].b); break;
+    case SCENE_INTEGER: memcpy(f, &el[0].i, sizeof el[0].i); break;
+    default: memcpy(f, &el[0].x, sizeof el[0].x); break;
     }
     return 0;
 nomem:
@@ -484,20 +515,25 @@ static size_t edit_distance(const char *a, const char *b)
 /* "did you mean" plus the list of keys of the group. */
 static void unknown_key(parser *p, const char *group, const char *key, int line)
 {
-    char keys[256] = "", *w = keys;
+    char *keys = NULL;
+    size_t len = 0;
+    FILE *fp = open_memstream(&keys, &len);
     const char *close = NULL;
-    for (size_t i = 0; i < scene_var_count(); i++) {
+    for (size_t i = 0; fp && i < scene_var_count(); i++) {
         const scene_var *v = scene_var_at(i);
         if (strcmp(v->group, group) != 0) continue;
-        int k = snprintf(w, sizeof keys - (size_t)(w - keys), "%s%s", w == keys ? "" : ", ", v->name);
-        if (k > 0 && (size_t)k < sizeof keys - (size_t)(w - keys)) w += k;
+        fprintf(fp, "%s%s", len ? ", " : "", v->name);
+        fflush(fp);
         if (!close && edit_distance(key, v->name) <= 2) close = v->name;
     }
+    if (fp) fclose(fp);
+    const char *list = keys ? keys : "?";
     if (close)
         scene_error(p->sc, line, group, key, "unknown key: did you mean %s? (&%s has: %s)", close,
-                    group, keys);
+                    group, list);
     else
-        scene_error(p->sc, line, group, key, "unknown key (&%s has: %s)", group, keys);
+        scene_error(p->sc, line, group, key, "unknown key (&%s has: %s)", group, list);
+    free(keys);
 }
 
 static void copy_name(const token *t, char *buf, size_t size)
@@ -532,9 +568,9 @@ static int parse_assignment(parser *p, const char *group)
         unknown_key(p, group, key, line);
         return -1;
     }
-    if (p->sc->values[vi].given) {
+    if (p->sc->origin[vi].given) {
         scene_error(p->sc, line, group, key, "repeated key (first given at line %d)",
-                    p->sc->values[vi].line);
+                    p->sc->origin[vi].line);
         return -1;
     }
     advance(p); /* key */
@@ -542,31 +578,24 @@ static int parse_assignment(parser *p, const char *group)
     return parse_values(p, vi, group, key, line);
 }
 
-static int group_index(const char *name)
-{
-    for (size_t i = 0; i < scene_group_count(); i++)
-        if (strcmp(scene_group_name(i), name) == 0) return (int)i;
-    return -1;
-}
-
 static int parse_group(parser *p)
 {
     char group[32], buf[48];
     int line = p->tok.line;
     copy_name(&p->tok, group, sizeof group);
-    int gi = p->tok.len < sizeof group ? group_index(group) : -1;
+    int gi = p->tok.len < sizeof group ? scene_group_index(group) : -1;
     if (gi < 0) {
         scene_error(p->sc, line, tok_text(&p->tok, buf, sizeof buf), NULL,
                     "unknown group (groups: &chain, &solver, &output, &fit, &table, "
                     "&figure)");
         return -1;
     }
-    if (p->group_line[gi]) {
+    if (p->sc->group_line[gi]) {
         scene_error(p->sc, line, group, NULL, "group given twice (first at line %d): merge them",
-                    p->group_line[gi]);
+                    p->sc->group_line[gi]);
         return -1;
     }
-    p->group_line[gi] = line;
+    p->sc->group_line[gi] = line;
     advance(p);
     for (;;) {
         if (p->failed) return -1;
@@ -647,5 +676,55 @@ size_t scene_load(scene *sc)
         scene_parse(sc, buf, n);
     fclose(fp);
     free(buf);
+    return sc->n_errors - before;
+}
+
+/* --set GROUP.KEY=VALUE: the value is parsed as the namelist
+ * "&GROUP KEY = VALUE /" on its own, so that it means exactly what it
+ * would in the file, then moved into sc over the file's value. */
+size_t scene_set(scene *sc, const char *assignment)
+{
+    size_t before = sc->n_errors;
+    const char *dot = strchr(assignment, '.'), *eq = strchr(assignment, '=');
+    if (!dot || !eq || dot > eq) {
+        scene_error(sc, 0, NULL, NULL, "--set %s: write GROUP.KEY=VALUE (e.g. fit.k_min=12)",
+                    assignment);
+        return sc->n_errors - before;
+    }
+    char *group = text_printf("%.*s", (int)(dot - assignment), assignment);
+    char *key = text_printf("%.*s", (int)(eq - dot - 1), dot + 1);
+    char *text = text_printf("&%s %s = %s /", group ? group : "", key ? key : "", eq + 1);
+    scene *tmp = scene_new(sc->path);
+    int vi = scene_var_find(group, key);
+    if (!group || !key || !text || !tmp) {
+        scene_error(sc, 0, NULL, NULL, "out of memory");
+    } else if (vi < 0) {
+        scene_error(sc, 0, group, key, "--set %s: no such variable (taper --defaults lists them)",
+                    assignment);
+    } else if (scene_parse(tmp, text, strlen(text)) != 0) {
+        for (size_t i = 0; i < tmp->n_diags; i++)
+            scene_error(sc, 0, tmp->diags[i].group, tmp->diags[i].key, "--set %s: %s", assignment,
+                        tmp->diags[i].message);
+    } else {
+        for (size_t i = 0; i < scene_var_count(); i++)
+            if (tmp->origin[i].given && (int)i != vi) {
+                scene_error(sc, 0, group, key, "--set %s: one variable at a time", assignment);
+                goto out;
+            }
+        /* Swap the fields: sc takes the new value, tmp frees the old. */
+        const scene_var *var = scene_var_at((size_t)vi);
+        unsigned char save[sizeof(scene_reals)]; /* the largest field (scene.c) */
+        size_t size = scene_field_size(var);
+        memcpy(save, scene_field(&sc->cfg, var), size);
+        memcpy(scene_field(&sc->cfg, var), scene_field(&tmp->cfg, var), size);
+        memcpy(scene_field(&tmp->cfg, var), save, size);
+        sc->origin[vi].given = 1;
+        sc->origin[vi].line = 0;
+    }
+out:
+    scene_free(tmp);
+    free(text);
+    free(key);
+    free(group);
     return sc->n_errors - before;
 }

@@ -11,10 +11,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-void scene_format_real(double x, char *buf, size_t size)
+void scene_format_real(double x, char buf[SCENE_REAL_TEXT])
 {
     /* Shortest representation that reads back exactly: tidy scenes, and
-     * the echo re-parses to the same doubles. */
+     * the echo re-parses to the same doubles.  At most 24 characters
+     * (%.17g of a double), so buf cannot overflow. */
+    const size_t size = SCENE_REAL_TEXT;
     int prec = 15;
     snprintf(buf, size, "%.*g", prec, x);
     if (strtod(buf, NULL) == x) {
@@ -41,155 +43,232 @@ void scene_format_real(double x, char *buf, size_t size)
     snprintf(buf, size, "%.*g", prec, x);
 }
 
-static void append(char *buf, size_t size, size_t *used, const char *fmt_text)
+char *scene_range_text(const scene_var *var)
 {
-    if (*used >= size) return;
-    int k = snprintf(buf + *used, size - *used, "%s", fmt_text);
-    if (k > 0) *used = *used + (size_t)k < size ? *used + (size_t)k : size;
-}
-
-void scene_range_text(const scene_var *var, char *buf, size_t size)
-{
-    size_t used = 0;
-    buf[0] = '\0';
-    if (var->type == SCENE_STRING) {
-        for (const char *const *c = var->choices; c && *c; c++) {
-            char item[64];
-            snprintf(item, sizeof item, "%s'%s'", c == var->choices ? "" : ", ", *c);
-            append(buf, size, &used, item);
-        }
-    } else if (var->type == SCENE_REAL || var->type == SCENE_INTEGER) {
-        char lo[40], hi[40];
-        scene_format_real(var->lo, lo, sizeof lo);
-        scene_format_real(var->hi, hi, sizeof hi);
-        snprintf(buf, size, "%c%s, %s%c", (var->flags & SCENE_LO_OPEN) ? '(' : '[', lo, hi,
-                 (var->flags & SCENE_HI_OPEN) ? ')' : ']');
+    char *text = NULL;
+    size_t len = 0;
+    FILE *fp = open_memstream(&text, &len);
+    if (!fp) return NULL;
+    if (var->type == SCENE_CHOICE) {
+        for (int v = var->choice_first; var->choice(v); v++)
+            fprintf(fp, "%s'%s'", v == var->choice_first ? "" : ", ", var->choice(v));
+    } else if ((var->type == SCENE_REAL || var->type == SCENE_INTEGER ||
+                var->type == SCENE_REAL_LIST) && !(var->lo == 0 && var->hi == 0)) {
+        char lo[SCENE_REAL_TEXT], hi[SCENE_REAL_TEXT];
+        scene_format_real(var->lo, lo);
+        scene_format_real(var->hi, hi);
+        fprintf(fp, "%s%c%s, %s%c", var->type == SCENE_REAL_LIST ? "each in " : "",
+                (var->flags & SCENE_LO_OPEN) ? '(' : '[', lo, hi, isinf(var->hi) ? ')' : ']');
     } else if (var->type == SCENE_LOGICAL) {
-        snprintf(buf, size, ".true., .false.");
-    } else if (var->type == SCENE_REAL_LIST && (var->flags & SCENE_POSITIVE)) {
-        snprintf(buf, size, "each > 0");
+        fputs(".true., .false.", fp);
     }
+    fclose(fp);
+    return text;
 }
 
 /* Fortran string literal: quotes doubled, so any text survives. */
-static void quote(const char *s, char *buf, size_t size)
+static void write_quoted(const char *s, FILE *fp)
 {
-    size_t used = 0;
-    if (size < 3) return;
-    buf[used++] = '\'';
-    for (; *s && used + 3 < size; s++) {
-        buf[used++] = *s;
-        if (*s == '\'') buf[used++] = '\'';
+    fputc('\'', fp);
+    for (; *s; s++) {
+        fputc(*s, fp);
+        if (*s == '\'') fputc('\'', fp);
     }
-    buf[used++] = '\'';
-    buf[used] = '\0';
-}
-
-void scene_value_text(const scene_var *var, const scene_value *v, char *buf, size_t size)
-{
-    char num[40];
-    size_t used = 0;
-    buf[0] = '\0';
-    switch (var->type) {
-    case SCENE_STRING: quote(v->str ? v->str : "", buf, size); break;
-    case SCENE_INTEGER: snprintf(buf, size, "%lld", v->ival); break;
-    case SCENE_LOGICAL: snprintf(buf, size, "%s", v->bval ? ".true." : ".false."); break;
-    default:
-        for (size_t i = 0; i < v->count; i++) {
-            scene_format_real(v->list[i], num, sizeof num);
-            if (i > 0) append(buf, size, &used, ", ");
-            append(buf, size, &used, num);
-        }
-        break;
-    }
+    fputc('\'', fp);
 }
 
 /* A real list, five values per line (continuation lines are plain
  * namelist syntax). */
-static void write_list(const scene_value *v, FILE *fp)
+static void write_list(const scene_reals *r, FILE *fp)
 {
-    char num[40];
-    for (size_t i = 0; i < v->count; i++) {
-        scene_format_real(v->list[i], num, sizeof num);
-        fprintf(fp, "%s%s", num, i + 1 < v->count ? "," : "");
-        if (i + 1 < v->count) fputs((i + 1) % 5 == 0 ? "\n      " : " ", fp);
+    char num[SCENE_REAL_TEXT];
+    for (size_t i = 0; i < r->n; i++) {
+        scene_format_real(r->v[i], num);
+        fprintf(fp, "%s%s", num, i + 1 < r->n ? "," : "");
+        if (i + 1 < r->n) fputs((i + 1) % 5 == 0 ? "\n      " : " ", fp);
     }
 }
 
-static void write_var(const scene_var *var, const scene_value *v, FILE *fp, int doc)
+void scene_write_value(const scene_var *var, const scene_config *cfg, FILE *fp)
 {
-    if (doc && !v->given && strcmp(var->name, "dir") == 0) {
+    const void *f = scene_cfield(cfg, var);
+    char num[SCENE_REAL_TEXT];
+    if (scene_var_is_list(var)) {
+        const scene_reals *r = f;
+        for (size_t i = 0; i < r->n; i++) {
+            scene_format_real(r->v[i], num);
+            fprintf(fp, "%s%s", i ? ", " : "", num);
+        }
+        return;
+    }
+    switch (var->type) {
+    case SCENE_STRING: {
+        char *const *s = f;
+        write_quoted(*s ? *s : "", fp);
+        break;
+    }
+    case SCENE_CHOICE: {
+        int v;
+        memcpy(&v, f, sizeof v);
+        write_quoted(var->choice(v) ? var->choice(v) : "", fp);
+        break;
+    }
+    case SCENE_INTEGER: {
+        long long x;
+        memcpy(&x, f, sizeof x);
+        fprintf(fp, "%lld", x);
+        break;
+    }
+    case SCENE_LOGICAL: {
+        int b;
+        memcpy(&b, f, sizeof b);
+        fputs(b ? ".true." : ".false.", fp);
+        break;
+    }
+    default: {
+        double x;
+        memcpy(&x, f, sizeof x);
+        if (!isnan(x)) {
+            scene_format_real(x, num);
+            fputs(num, fp);
+        }
+        break;
+    }
+    }
+}
+
+/* The value text of var, malloc'd (for padded columns). */
+static char *value_text(const scene_var *var, const scene_config *cfg)
+{
+    char *text = NULL;
+    size_t len = 0;
+    FILE *fp = open_memstream(&text, &len);
+    if (!fp) return NULL;
+    scene_write_value(var, cfg, fp);
+    fclose(fp);
+    return text;
+}
+
+/* The values of a list row at one sweep point: a view, nothing owned. */
+static scene_reals row_reals(const scene_var *var, const scene_config *cfg, size_t point)
+{
+    scene_reals r = *(const scene_reals *)scene_cfield(cfg, var);
+    if ((var->flags & SCENE_SWEEP) && r.n > 1 && point < r.n) {
+        r.v += point;
+        r.n = 1;
+    }
+    return r;
+}
+
+static void write_var(const scene *sc, size_t i, FILE *fp, int doc, size_t point)
+{
+    const scene_var *var = scene_var_at(i);
+    if (doc && !sc->origin[i].given && (var->flags & SCENE_FROM_PATH)) {
         /* Its default depends on the scene's file name: leave it derived. */
         fprintf(fp, "  ! %-10s = %-18s ! %s\n", var->name, "'out/NAME'", var->doc);
         return;
     }
-    if (var->type == SCENE_REAL_LIST || (var->type == SCENE_REAL && v->count != 1)) {
-        if (v->count == 0) {
+    size_t count = 1;
+    scene_reals r = {0};
+    if (scene_var_is_list(var)) {
+        r = row_reals(var, &sc->cfg, point);
+        count = r.n;
+    } else if (var->type == SCENE_REAL) {
+        scene_var_reals(sc, i, &count);
+    }
+    if (var->type == SCENE_REAL_LIST || (var->type == SCENE_REAL && count != 1)) {
+        if (count == 0) {
             /* Namelists cannot say "empty list": leave it out, documented. */
             fprintf(fp, "  ! %s = (none)%s%s\n", var->name, doc ? "  ! " : "", doc ? var->doc : "");
             return;
         }
         if (doc) fprintf(fp, "  ! %s\n", var->doc);
         fprintf(fp, "  %s = ", var->name);
-        write_list(v, fp);
+        write_list(&r, fp);
         fputc('\n', fp);
         return;
     }
-    char text[1024];
-    scene_value_text(var, v, text, sizeof text);
-    if (doc)
-        fprintf(fp, "  %-12s = %-18s ! %s\n", var->name, text, var->doc);
-    else
-        fprintf(fp, "  %s = %s\n", var->name, text);
+    if (scene_var_is_list(var)) {
+        /* A sweep at one of its points: one value. */
+        char num[SCENE_REAL_TEXT];
+        scene_format_real(r.v[0], num);
+        if (doc)
+            fprintf(fp, "  %-12s = %-18s ! %s\n", var->name, num, var->doc);
+        else
+            fprintf(fp, "  %s = %s\n", var->name, num);
+        return;
+    }
+    if (doc) {
+        char *text = value_text(var, &sc->cfg);
+        fprintf(fp, "  %-12s = %-18s ! %s\n", var->name, text ? text : "", var->doc);
+        free(text);
+    } else {
+        fprintf(fp, "  %s = ", var->name);
+        scene_write_value(var, &sc->cfg, fp);
+        fputc('\n', fp);
+    }
 }
 
-/* sweep_index: write only that value of a swept variable (SIZE_MAX: all). */
-static void write_scene(const scene *sc, FILE *fp, int doc, size_t sweep_index)
+/* The optional groups are on when &fit model is not 'none' and &table or
+ * &figure has a name. */
+static int group_on(const scene *sc, const char *group)
 {
-    for (size_t g = 0; g < scene_group_count(); g++) {
+    if (strcmp(group, "fit") == 0) return sc->cfg.fit.model != SCENE_FIT_NONE;
+    if (strcmp(group, "table") == 0) return sc->cfg.table.name[0] != '\0';
+    if (strcmp(group, "figure") == 0) return sc->cfg.figure.name[0] != '\0';
+    return 1;
+}
+
+/* point: write only that value of a swept variable (SIZE_MAX: all). */
+static void write_scene(const scene *sc, FILE *fp, int doc, size_t point)
+{
+    for (size_t g = 0; g < SCENE_N_GROUPS; g++) {
         const char *group = scene_group_name(g);
         /* The echo leaves out optional groups that are off: shorter, and
          * the same scene. */
-        if (!doc && !scene_group_active(sc, group)) continue;
+        if (!doc && !group_on(sc, group)) continue;
         if (doc) fprintf(fp, "! &%s: %s\n", group, scene_group_doc(g));
         fprintf(fp, "&%s\n", group);
-        for (size_t i = 0; i < scene_var_count(); i++) {
-            const scene_var *var = scene_var_at(i);
-            if (strcmp(var->group, group) != 0) continue;
-            scene_value one = sc->values[i];
-            if ((var->flags & SCENE_SWEEP) && one.count > 1 && sweep_index < one.count) {
-                one.list += sweep_index; /* a view of one element, nothing owned */
-                one.count = 1;
-            }
-            write_var(var, &one, fp, doc);
-        }
+        for (size_t i = 0; i < scene_var_count(); i++)
+            if (strcmp(scene_var_at(i)->group, group) == 0) write_var(sc, i, fp, doc, point);
         fputs("/\n", fp);
     }
 }
 
 void scene_write(const scene *sc, FILE *fp, int doc) { write_scene(sc, fp, doc, SIZE_MAX); }
 
-void scene_write_point(const scene *sc, FILE *fp, size_t sweep_index)
+void scene_write_point(const scene *sc, FILE *fp, size_t point)
 {
-    write_scene(sc, fp, 0, sweep_index);
+    write_scene(sc, fp, 0, point);
 }
 
-/* Default column of the Markdown table. */
-static void doc_default(const scene *sc, size_t i, char *buf, size_t size)
+int scene_print_value(const scene *sc, const char *name, FILE *fp)
+{
+    const char *dot = strchr(name, '.');
+    if (!dot) return -1;
+    char *group = text_printf("%.*s", (int)(dot - name), name);
+    int i = group ? scene_var_find(group, dot + 1) : -1;
+    free(group);
+    if (i < 0) return -1;
+    scene_write_value(scene_var_at((size_t)i), &sc->cfg, fp);
+    fputc('\n', fp);
+    return 0;
+}
+
+/* Default column of the Markdown table (malloc'd). */
+static char *doc_default(const scene *sc, size_t i)
 {
     const scene_var *var = scene_var_at(i);
-    char text[256];
-    if (strcmp(var->group, "output") == 0 && strcmp(var->name, "dir") == 0) {
-        snprintf(buf, size, "`'out/NAME'` for NAME.nml");
-        return;
-    }
-    if (var->type == SCENE_REAL_LIST || (var->type == SCENE_REAL && !var->def &&
-                                         !(var->flags & SCENE_LIBDEF))) {
-        snprintf(buf, size, "none");
-        return;
-    }
-    scene_value_text(var, &sc->values[i], text, sizeof text);
-    snprintf(buf, size, "`%s`%s", text, (var->flags & SCENE_LIBDEF) ? " (library default)" : "");
+    size_t n = 1;
+    if (var->flags & SCENE_FROM_PATH) return text_printf("`'out/NAME'` for NAME.nml");
+    if (var->type == SCENE_REAL_LIST) return text_printf("none");
+    if (var->type == SCENE_REAL) scene_var_reals(sc, i, &n);
+    if (n == 0) return text_printf("none");
+    char *text = value_text(var, &sc->cfg);
+    char *cell = text_printf("`%s`%s", text ? text : "",
+                              var->lib != SCENE_OWN && !var->def ? " (library default)" : "");
+    free(text);
+    return cell;
 }
 
 static const char doc_intro[] =
@@ -209,7 +288,15 @@ static const char doc_intro[] =
     "\n"
     "Errors (unknown group or key, wrong type, repeated key, syntax, out-of-range\n"
     "values) are reported as `FILE:LINE: &group key: message`, and `taper` exits\n"
-    "with status 2.\n"
+    "with status 2.  Each rule has one owner: the chain and solver settings and\n"
+    "the fit's exponent are checked by the library (their ranges below are the\n"
+    "`TAPER_*_MIN`/`_MAX` constants of include/taper.h), everything else by the\n"
+    "scene (column \"checked by\").  A value the file leaves out is reported at\n"
+    "the line where its group opens.\n"
+    "\n"
+    "On the command line, `--set GROUP.KEY=VALUE` overrides one variable (the\n"
+    "value in namelist syntax, e.g. `--set fit.k_min=12`) and `--get GROUP.KEY`\n"
+    "prints its resolved value instead of running the scene.\n"
     "\n"
     "**Sweeps.** `s` and `q` accept a list of values (`s = 0.1, 0.2, 0.3`); only one\n"
     "variable may be swept.  The driver then runs each value into its own\n"
@@ -232,19 +319,21 @@ static const char doc_intro[] =
 void scene_write_doc(const scene *sc, FILE *fp)
 {
     fputs(doc_intro, fp);
-    for (size_t g = 0; g < scene_group_count(); g++) {
+    for (size_t g = 0; g < SCENE_N_GROUPS; g++) {
         const char *group = scene_group_name(g);
         fprintf(fp, "\n## `&%s`: %s\n\n", group, scene_group_doc(g));
-        fputs("| name | type | default | allowed | description |\n", fp);
-        fputs("|------|------|---------|---------|-------------|\n", fp);
+        fputs("| name | type | default | allowed | checked by | description |\n", fp);
+        fputs("|------|------|---------|---------|------------|-------------|\n", fp);
         for (size_t i = 0; i < scene_var_count(); i++) {
             const scene_var *var = scene_var_at(i);
             if (strcmp(var->group, group) != 0) continue;
-            char def[300], range[256];
-            doc_default(sc, i, def, sizeof def);
-            scene_range_text(var, range, sizeof range);
-            fprintf(fp, "| `%s` | %s | %s | %s | %s |\n", var->name, scene_type_name(var), def,
-                    range[0] ? range : "any", var->doc);
+            static const char *const checker[] = {"scene", "library (chain)", "library (solver)",
+                                                  "library (fit)"};
+            char *def = doc_default(sc, i), *range = scene_range_text(var);
+            fprintf(fp, "| `%s` | %s | %s | %s | %s | %s |\n", var->name, scene_type_name(var),
+                    def ? def : "", range && range[0] ? range : "any", checker[var->lib], var->doc);
+            free(def);
+            free(range);
         }
     }
 }

@@ -1,9 +1,9 @@
 /*
- * sweep.c -- a minimal parallel for: workers take the next index under a
+ * parallel.c -- a minimal parallel for: workers take the next index under a
  * mutex until none is left.  Which thread computes which run does not
  * matter: the runs are independent and deterministic.
  */
-#include "results/sweep.h"
+#include "run/parallel.h"
 
 #include <pthread.h>
 #include <unistd.h>
@@ -11,7 +11,7 @@
 typedef struct pool {
     pthread_mutex_t lock;
     size_t next, n;
-    sweep_fn fn;
+    parallel_fn fn;
     void *data;
 } pool;
 
@@ -33,7 +33,7 @@ static unsigned online_cpus(void)
     return n > 0 ? (unsigned)n : 1u;
 }
 
-unsigned sweep_parallel(size_t n, unsigned threads, sweep_fn fn, void *data)
+unsigned parallel_for(size_t n, unsigned threads, parallel_fn fn, void *data)
 {
     enum { MAX_THREADS = 256 };
     if (threads == 0) threads = online_cpus();

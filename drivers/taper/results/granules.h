@@ -1,0 +1,37 @@
+/*
+ * granules.h -- the result files of a run: DIR/granules.tsv (or
+ * granules.partial.tsv for a run that ended early) with the resolved scene
+ * and the run's statistics as '#' lines, and a sweep's DIR/sweep.tsv.
+ *
+ * Not part of libtaper.
+ */
+#ifndef TAPER_GRANULES_H
+#define TAPER_GRANULES_H
+
+#include "scene/scene.h"
+#include "taper.h"
+
+#include <stddef.h>
+
+/* What one run produced. */
+typedef struct granules_run {
+    const scene *sc;            /* echoed at its sweep point               */
+    size_t point;
+    const taper_chain *chain;
+    const taper_sim *sim;       /* NULL without numerics                   */
+    const double *theory[TAPER_N_THEORY_QUANTITIES]; /* by TAPER_THEORY_*  */
+    taper_status status;        /* of taper_sim_run (TAPER_OK without)     */
+    const char *message;        /* its message, for a partial result       */
+} granules_run;
+
+/* Writes DIR/granules.tsv (partial: DIR/granules.partial.tsv), removing
+ * the other one (a stale result must not pass for this one), and says so
+ * on stdout.  0, or -1 with *msg (malloc'd). */
+int granules_write(const char *dir, const granules_run *run, int partial, char **msg);
+
+/* DIR/sweep.tsv: every run's rows, the swept value `values[i]` of
+ * variable `name` first.  0, or -1 with *msg. */
+int granules_write_sweep(const char *dir, const granules_run *runs, size_t n, const char *name,
+                         const double *values, char **msg);
+
+#endif

@@ -1,0 +1,387 @@
+/*
+ * run.c -- the runs of a scene (run.h).
+ *
+ * Three phases, so that the output is the same whatever the number of
+ * threads:
+ *   prepare  (in sweep order)  the chain and the sim (the library checks
+ *            what needs the chain and computes the theory once), then the
+ *            output directory: a scene the library rejects leaves none;
+ *   compute  (in parallel)     taper_sim_run, or taper_theory_compute when
+ *            the numerics are off; nothing is printed here;
+ *   finish   (in sweep order)  messages and granules.tsv; then sweep.tsv,
+ *            fits, table and figure.
+ */
+#include "run/run.h"
+
+#include "results/analysis.h"
+#include "results/granules.h"
+#include "results/output.h"
+#include "results/plot.h"
+#include "results/table.h"
+#include "run/parallel.h"
+#include "util/text.h"
+
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+/* ---- interruption and progress ------------------------------------------ */
+
+static volatile sig_atomic_t interrupted;
+
+static void on_sigint(int sig)
+{
+    (void)sig;
+    interrupted = 1;
+}
+
+void run_install_sigint(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, NULL);
+}
+
+typedef struct progress_state {
+    int show;           /* stderr is a terminal and progress = .true.   */
+    int printed;        /* a progress line is on screen                 */
+    double start, last; /* wall-clock seconds                           */
+} progress_state;
+
+static double wall_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int monitor(const taper_progress *p, void *user)
+{
+    progress_state *ps = user;
+    if (ps->show) {
+        double now = wall_seconds();
+        if (now - ps->last >= 0.2 || p->granule >= p->target) {
+            double rate = (double)p->granule / fmax(now - ps->start, 1e-9);
+            size_t todo = p->granule < p->target ? p->target - p->granule : 0;
+            double left = rate > 0 ? (double)todo / rate : NAN;
+            fprintf(stderr, "\rtaper: granule %zu/%zu  %.3g granules/s  %.1f s left   ",
+                    p->granule, p->target, rate, left);
+            ps->last = now;
+            ps->printed = 1;
+        }
+    }
+    return interrupted != 0;
+}
+
+static void progress_done(progress_state *ps)
+{
+    if (ps->printed) fputc('\n', stderr);
+    ps->printed = 0;
+}
+
+/* The library's warnings (level 1) go to stderr, named by scene; its
+ * information messages (level 0) are not shown. */
+static void report_warning(int level, const char *message, void *user)
+{
+    if (level >= 1) fprintf(stderr, "%s: warning: %s\n", (const char *)user, message);
+}
+
+/* ---- one run ------------------------------------------------------------- */
+
+/* One value of a sweep (or the only run). */
+typedef struct run {
+    const scene *sc;
+    const scene_config *cfg;
+    size_t point;
+    char *dir;
+    taper_chain_spec *spec;
+    taper_chain *chain;
+    taper_sim *sim;                                   /* NULL without numerics */
+    double *own_theory[TAPER_N_THEORY_QUANTITIES];    /* without numerics      */
+    const double *theory[TAPER_N_THEORY_QUANTITIES];  /* by TAPER_THEORY_*     */
+    progress_state progress;
+    int show_progress;       /* only when runs are computed one at a time */
+    taper_status status;     /* taper_sim_run's (TAPER_OK without numerics) */
+    int rc;                  /* run_status of this run                      */
+    int computed;            /* 0: skipped (interrupted before it started)  */
+    taper_error err;
+    char *message;           /* printed by finish_run (malloc'd)            */
+} run;
+
+static void run_free(run *r)
+{
+    taper_sim_free(r->sim);
+    taper_chain_free(r->chain);
+    taper_chain_spec_free(r->spec);
+    for (int i = 0; i < TAPER_N_THEORY_QUANTITIES; i++) free(r->own_theory[i]);
+    free(r->message);
+    free(r->dir);
+}
+
+/* "SCENE: message" for finish_run. */
+static void set_message(run *r, const char *message)
+{
+    free(r->message);
+    r->message = text_printf("%s: %s", scene_path(r->sc), message);
+}
+
+/* A library refusal of a validated scene: what needs the whole chain
+ * (masses beyond double precision, last_granule beyond N).  The library
+ * names the setting; the scene names its line. */
+static int refused(const run *r, scene_lib lib)
+{
+    scene_print_library_error(r->sc, lib, &r->err, stderr);
+    return r->err.status == TAPER_ENOMEM ? RUN_FAILED : RUN_INPUT;
+}
+
+static int build_chain(run *r)
+{
+    if (!(r->spec = scene_chain_spec(r->cfg, r->point, &r->err))) return refused(r, SCENE_LIB_CHAIN);
+    if (!(r->chain = taper_chain_alloc(r->spec, &r->err))) return refused(r, SCENE_LIB_CHAIN);
+    return RUN_COMPLETE;
+}
+
+/* The sim, and with it the theory, computed once by the library. */
+static int build_sim(run *r)
+{
+    taper_solver_spec *spec = scene_solver_spec(r->cfg, &r->err);
+    if (!spec) return refused(r, SCENE_LIB_SOLVER);
+    taper_solver_spec_set_monitor(spec, monitor, &r->progress);
+    taper_solver_spec_set_log(spec, report_warning, (void *)scene_path(r->sc));
+    r->sim = taper_sim_alloc(r->chain, spec, &r->err);
+    taper_solver_spec_free(spec);
+    if (!r->sim) {
+        if (r->err.field) return refused(r, SCENE_LIB_SOLVER);
+        /* The theory overflowing, or memory: not the scene's syntax. */
+        fprintf(stderr, "%s: %s\n", scene_path(r->sc), r->err.message);
+        return RUN_FAILED;
+    }
+    for (int q = 0; q < TAPER_N_THEORY_QUANTITIES; q++)
+        r->theory[q] = taper_sim_theory(r->sim, (taper_theory_quantity)q);
+    return RUN_COMPLETE;
+}
+
+static int prepare_dir(const run *r)
+{
+    char *msg = NULL;
+    if (out_mkdir_p(r->dir, &msg) == 0 && access(r->dir, W_OK | X_OK) == 0) return 0;
+    if (!msg) msg = text_printf("output directory %s is not writable", r->dir);
+    scene_print_output_error(r->sc, msg ? msg : "out of memory", stderr);
+    free(msg);
+    return -1;
+}
+
+/* Before any computation: the chain and sim (a scene the library rejects
+ * leaves no empty directory), then the directory. */
+static void prepare_run(run *r)
+{
+    r->rc = build_chain(r);
+    if (r->rc == RUN_COMPLETE && r->cfg->solver.numerics) r->rc = build_sim(r);
+    if (r->rc == RUN_COMPLETE && prepare_dir(r) != 0) r->rc = RUN_INPUT;
+}
+
+/* Without numerics: the theory alone. */
+static int compute_theory(run *r)
+{
+    size_t n = taper_chain_size(r->chain);
+    for (int q = 0; q < TAPER_N_THEORY_QUANTITIES; q++) {
+        if (!(r->own_theory[q] = malloc(n * sizeof(double)))) {
+            set_message(r, "out of memory");
+            return RUN_FAILED;
+        }
+        r->theory[q] = r->own_theory[q];
+    }
+    if (taper_theory_compute(r->chain, r->own_theory[TAPER_THEORY_V],
+                             r->own_theory[TAPER_THEORY_MU], r->own_theory[TAPER_THEORY_T_RES],
+                             r->own_theory[TAPER_THEORY_T], &r->err) == TAPER_OK)
+        return RUN_COMPLETE;
+    /* The library's theory messages name it already ("theory: velocity of ..."). */
+    set_message(r, r->err.message);
+    return RUN_FAILED;
+}
+
+static int simulate(run *r)
+{
+    progress_state *ps = &r->progress;
+    ps->show = r->show_progress && r->cfg->output.progress && isatty(STDERR_FILENO);
+    ps->start = ps->last = wall_seconds();
+    r->status = taper_sim_run(r->sim, &r->err);
+    progress_done(ps);
+    if (r->status == TAPER_OK) return RUN_COMPLETE;
+    set_message(r, r->err.message);
+    if (r->status == TAPER_ESOLVER || r->status == TAPER_EINTERRUPTED || r->status == TAPER_ELIMIT)
+        return RUN_PARTIAL;
+    return RUN_FAILED;
+}
+
+/* The computation of one run: thread-safe (the library has no global
+ * state), prints nothing. */
+static void compute_run(size_t i, void *data)
+{
+    run *r = &((run *)data)[i];
+    if (r->rc != RUN_COMPLETE) return;
+    if (interrupted) {
+        r->rc = RUN_PARTIAL;
+        return;
+    }
+    r->computed = 1;
+    r->rc = r->sim ? simulate(r) : compute_theory(r);
+}
+
+static granules_run result_of(const run *r)
+{
+    granules_run g = {.sc = r->sc, .point = r->point, .chain = r->chain, .sim = r->sim,
+                      .status = r->status, .message = r->err.message};
+    for (int q = 0; q < TAPER_N_THEORY_QUANTITIES; q++) g.theory[q] = r->theory[q];
+    return g;
+}
+
+/* After the computation, in the order of the sweep. */
+static void finish_run(run *r)
+{
+    if (r->message) fprintf(stderr, "%s\n", r->message);
+    if (!r->computed || (r->rc != RUN_COMPLETE && r->rc != RUN_PARTIAL)) return;
+    granules_run g = result_of(r);
+    char *msg = NULL;
+    if (granules_write(r->dir, &g, r->rc == RUN_PARTIAL, &msg) != 0) {
+        fprintf(stderr, "%s: %s\n", scene_path(r->sc), msg ? msg : "out of memory");
+        r->rc = RUN_FAILED;
+    }
+    free(msg);
+}
+
+/* ---- the runs of a scene -------------------------------------------------- */
+
+static int worst(int a, int b)
+{
+    /* Order of gravity: input error > failure > partial > complete. */
+    static const int rank[] = {0, 2, 3, 1};
+    return rank[b] > rank[a] ? b : a;
+}
+
+/* DIR, or DIR/NAME=VALUE/ for each value of a swept variable. */
+static int run_dirs(const scene_config *cfg, run *runs)
+{
+    const char *dir = cfg->output.dir;
+    for (size_t i = 0; i < cfg->runs.n; i++) {
+        if (!cfg->runs.swept) {
+            if (!(runs[i].dir = text_dup(dir))) return -1;
+            continue;
+        }
+        char num[SCENE_REAL_TEXT];
+        const char *name = scene_chain_param_name(cfg->runs.sweep);
+        scene_format_real(scene_param_value(cfg, cfg->runs.sweep, i), num);
+        if (!(runs[i].dir = text_printf("%s/%s=%s", dir, name, num))) return -1;
+        printf("! sweep %s = %s -> %s\n", name, num, runs[i].dir);
+    }
+    return 0;
+}
+
+/* DIR/sweep.tsv: every run's granules.tsv rows, the swept value first. */
+static int write_sweep_table(const scene *sc, const run *runs)
+{
+    const scene_config *cfg = scene_cfg(sc);
+    size_t n = cfg->runs.n;
+    granules_run *results = calloc(n, sizeof *results);
+    double *values = calloc(n, sizeof *values);
+    char *msg = NULL;
+    int rc = RUN_FAILED;
+    if (results && values) {
+        for (size_t i = 0; i < n; i++) {
+            results[i] = result_of(&runs[i]);
+            values[i] = scene_param_value(cfg, cfg->runs.sweep, i);
+        }
+        if (granules_write_sweep(cfg->output.dir, results, n, scene_chain_param_name(cfg->runs.sweep),
+                                 values, &msg) == 0)
+            rc = RUN_COMPLETE;
+    }
+    if (rc != RUN_COMPLETE) fprintf(stderr, "%s: %s\n", scene_path(sc), msg ? msg : "out of memory");
+    free(msg);
+    free(values);
+    free(results);
+    return rc;
+}
+
+static void fill_point(const run *r, scene_chain_param param, report_point *p)
+{
+    memset(p, 0, sizeof *p);
+    p->spec = r->spec;
+    p->param = param == SCENE_PARAM_S ? taper_chain_spec_s(r->spec) : taper_chain_spec_q(r->spec);
+    p->src.n = taper_chain_size(r->chain);
+    for (int q = 0; q < TAPER_N_THEORY_QUANTITIES; q++) p->src.theory[q] = r->theory[q];
+    if (r->sim)
+        for (int o = 0; o < TAPER_N_OBSERVABLES; o++)
+            p->src.obs[o] = taper_sim_observable(r->sim, (taper_observable)o);
+}
+
+/* Fits, table and figure of a complete scene. */
+static int write_reports(const scene *sc, const run *runs)
+{
+    const scene_config *cfg = scene_cfg(sc);
+    report rep = {.cfg = cfg, .scene_path = scene_path(sc), .dir = cfg->output.dir,
+                  .n = cfg->runs.n, .param_name = scene_chain_param_name(cfg->runs.param)};
+    if (!(rep.points = calloc(rep.n, sizeof *rep.points))) return RUN_FAILED;
+    for (size_t i = 0; i < rep.n; i++) fill_point(&runs[i], cfg->runs.param, &rep.points[i]);
+    analysis_apply(&rep);
+    char *msg = NULL;
+    int rc = RUN_COMPLETE;
+    if (cfg->runs.fit && table_write_fits(&rep, &msg) != 0) rc = RUN_FAILED;
+    if (rc == RUN_COMPLETE && cfg->runs.table) {
+        if (table_write(&rep, &msg) != 0)
+            rc = RUN_FAILED;
+        else
+            table_print(&rep, stdout);
+    }
+    if (rc == RUN_COMPLETE && cfg->runs.figure) {
+        if (plot_write(&rep, &msg) != 0) rc = RUN_FAILED;
+        int rendered = rc == RUN_COMPLETE ? plot_render(rep.dir, &msg) : -1;
+        if (rendered == 0) printf("! wrote %s/figure.png\n", rep.dir);
+        if (rendered == 1) printf("! note: %s\n", msg ? msg : "figure not rendered");
+        if (rendered < 0) rc = RUN_FAILED;
+    }
+    if (rc != RUN_COMPLETE) fprintf(stderr, "%s: %s\n", scene_path(sc), msg ? msg : "out of memory");
+    free(msg);
+    analysis_free(&rep);
+    free(rep.points);
+    return rc;
+}
+
+int run_scene(const scene *sc)
+{
+    const scene_config *cfg = scene_cfg(sc);
+    size_t n = cfg->runs.n;
+    run *runs = calloc(n, sizeof *runs);
+    if (!runs) return RUN_FAILED;
+    int rc = RUN_COMPLETE;
+    if (run_dirs(cfg, runs) != 0) {
+        fprintf(stderr, "%s: out of memory\n", scene_path(sc));
+        rc = RUN_FAILED;
+        goto out;
+    }
+    for (size_t i = 0; i < n; i++) {
+        runs[i].sc = sc;
+        runs[i].cfg = cfg;
+        runs[i].point = i;
+        runs[i].show_progress = n == 1;
+        prepare_run(&runs[i]);
+    }
+    parallel_for(n, (unsigned)cfg->output.threads, compute_run, runs);
+    for (size_t i = 0; i < n; i++) {
+        finish_run(&runs[i]);
+        rc = worst(rc, runs[i].rc);
+    }
+    if (interrupted) rc = worst(rc, RUN_PARTIAL);
+    if (rc == RUN_COMPLETE && cfg->runs.swept) rc = write_sweep_table(sc, runs);
+    if (rc == RUN_COMPLETE) rc = write_reports(sc, runs);
+out:
+    for (size_t i = 0; i < n; i++) run_free(&runs[i]);
+    free(runs);
+    return rc;
+}

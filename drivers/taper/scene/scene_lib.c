@@ -1,0 +1,259 @@
+/*
+ * scene_lib.c -- where the scene meets the library's settings: the
+ * defaults of the chain and solver variables are read from freshly
+ * allocated library specs; the settings go into the specs through the
+ * library's setters; and validation is those same setter calls (each value
+ * of a sweep too) plus taper_chain_spec_check, each refusal reported
+ * against the variable the library names in taper_error.field.  No bound
+ * of a library setting is repeated here.
+ */
+#include "scene_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- defaults ---------------------------------------------------------------- */
+
+static int one_value(scene_reals *r, double x)
+{
+    free(r->v);
+    r->n = 0;
+    if (!(r->v = malloc(sizeof *r->v))) return -1;
+    r->v[0] = x;
+    r->n = 1;
+    return 0;
+}
+
+int scene_library_defaults(scene_config *cfg)
+{
+    taper_chain_spec *chain = taper_chain_spec_alloc(NULL);
+    taper_solver_spec *solver = taper_solver_spec_alloc(NULL);
+    int rc = -1;
+    if (!chain || !solver) goto out;
+    cfg->chain.profile = taper_chain_spec_profile(chain);
+    cfg->chain.n_granules = (long long)taper_chain_spec_n_granules(chain);
+    if (one_value(&cfg->chain.s, taper_chain_spec_s(chain)) != 0) goto out;
+    if (one_value(&cfg->chain.q, taper_chain_spec_q(chain)) != 0) goto out;
+    cfg->chain.exponent = taper_chain_spec_exponent(chain);
+    cfg->solver.method = taper_solver_spec_method(solver);
+    cfg->solver.rtol = taper_solver_spec_rtol(solver);
+    cfg->solver.atol = taper_solver_spec_atol(solver);
+    cfg->solver.window = taper_solver_spec_window(solver) != 0;
+    cfg->solver.last_granule = (long long)taper_solver_spec_last_granule(solver);
+    cfg->solver.t_max = taper_solver_spec_t_max(solver);
+    cfg->solver.max_steps = taper_solver_spec_max_steps(solver);
+    rc = 0;
+out:
+    taper_chain_spec_free(chain);
+    taper_solver_spec_free(solver);
+    return rc;
+}
+
+/* ---- setter calls ---------------------------------------------------------------- */
+
+/* Where refusals go: recorded against their variable in a scene being
+ * validated (one error per variable), and/or the first kept for a caller. */
+typedef struct sink {
+    scene *sc;            /* NULL: not validating                          */
+    scene_lib lib;
+    taper_error *first;   /* NULL: not wanted                              */
+    taper_status status;  /* the first refusal's status                    */
+} sink;
+
+static int already_reported(const scene *sc, const scene_var *var)
+{
+    for (size_t i = 0; i < sc->n_diags; i++)
+        if (strcmp(sc->diags[i].group, var->group) == 0 && strcmp(sc->diags[i].key, var->name) == 0)
+            return 1;
+    return 0;
+}
+
+static void note(sink *k, taper_status status, const taper_error *e)
+{
+    if (status == TAPER_OK) return;
+    if (k->status == TAPER_OK) {
+        k->status = status;
+        if (k->first) *k->first = *e;
+    }
+    if (!k->sc) return;
+    int i = scene_error_row(k->sc, k->lib, e->field);
+    if (i < 0)
+        scene_error(k->sc, 0, NULL, NULL, "%s", e->message);
+    else if (!already_reported(k->sc, scene_var_at((size_t)i)))
+        scene_var_error(k->sc, (size_t)i, "%s", e->message);
+}
+
+static void set_s_or_q(sink *k, const scene_config *cfg, scene_chain_param p, size_t point,
+                       taper_chain_spec *spec)
+{
+    taper_error e;
+    double x = scene_param_value(cfg, p, point);
+    if (p == SCENE_PARAM_S)
+        note(k, taper_chain_spec_set_s(spec, x, &e), &e);
+    else
+        note(k, taper_chain_spec_set_q(spec, x, &e), &e);
+}
+
+/* Every chain setting, at run `point` of a sweep. */
+static void apply_chain(sink *k, const scene_config *cfg, size_t point, taper_chain_spec *spec)
+{
+    const scene_chain_config *c = &cfg->chain;
+    taper_error e;
+    note(k, taper_chain_spec_set_profile(spec, c->profile, &e), &e);
+    /* Negative counts never get here (scene_check.c). */
+    note(k, taper_chain_spec_set_n_granules(spec, (size_t)c->n_granules, &e), &e);
+    set_s_or_q(k, cfg, SCENE_PARAM_S, point, spec);
+    set_s_or_q(k, cfg, SCENE_PARAM_Q, point, spec);
+    note(k, taper_chain_spec_set_exponent(spec, c->exponent, &e), &e);
+    note(k, taper_chain_spec_set_radii(spec, c->radii.v, c->radii.n, &e), &e);
+}
+
+static void apply_solver(sink *k, const scene_config *cfg, taper_solver_spec *spec)
+{
+    const scene_solver_config *s = &cfg->solver;
+    taper_error e;
+    note(k, taper_solver_spec_set_method(spec, s->method, &e), &e);
+    note(k, taper_solver_spec_set_rtol(spec, s->rtol, &e), &e);
+    note(k, taper_solver_spec_set_atol(spec, s->atol, &e), &e);
+    note(k, taper_solver_spec_set_window(spec, s->window, &e), &e);
+    note(k, taper_solver_spec_set_last_granule(spec, (size_t)s->last_granule, &e), &e);
+    note(k, taper_solver_spec_set_t_max(spec, s->t_max, &e), &e);
+    note(k, taper_solver_spec_set_max_steps(spec, (long)s->max_steps, &e), &e);
+}
+
+/* &fit as a spec: the model, a fixed exponent when given, granules
+ * k_min..k_max as the index window [k_min - 1, k_max). */
+static taper_fit_spec *apply_fit(sink *k, const scene_config *cfg)
+{
+    taper_error e;
+    taper_fit_spec *spec = taper_fit_spec_alloc((taper_fit_model)cfg->fit.model, &e);
+    if (!spec) {
+        note(k, e.status, &e);
+        return NULL;
+    }
+    if (!isnan(cfg->fit.p)) note(k, taper_fit_spec_set_exponent(spec, cfg->fit.p, &e), &e);
+    note(k, taper_fit_spec_set_index_window(spec, (size_t)(cfg->fit.k_min - 1),
+                                            (size_t)cfg->fit.k_max, &e), &e);
+    return spec;
+}
+
+static taper_status ok(taper_error *err)
+{
+    if (err) {
+        err->status = TAPER_OK;
+        err->field = NULL;
+        err->message[0] = '\0';
+    }
+    return TAPER_OK;
+}
+
+taper_status scene_apply_chain(const scene_config *cfg, size_t point, taper_chain_spec *spec,
+                               taper_error *err)
+{
+    sink k = {.lib = SCENE_LIB_CHAIN, .first = err};
+    apply_chain(&k, cfg, point, spec);
+    return k.status == TAPER_OK ? ok(err) : k.status;
+}
+
+taper_status scene_apply_solver(const scene_config *cfg, taper_solver_spec *spec,
+                                taper_error *err)
+{
+    sink k = {.lib = SCENE_LIB_SOLVER, .first = err};
+    apply_solver(&k, cfg, spec);
+    return k.status == TAPER_OK ? ok(err) : k.status;
+}
+
+taper_chain_spec *scene_chain_spec(const scene_config *cfg, size_t point, taper_error *err)
+{
+    taper_chain_spec *spec = taper_chain_spec_alloc(err);
+    if (spec && scene_apply_chain(cfg, point, spec, err) != TAPER_OK) {
+        taper_chain_spec_free(spec);
+        return NULL;
+    }
+    return spec;
+}
+
+taper_solver_spec *scene_solver_spec(const scene_config *cfg, taper_error *err)
+{
+    taper_solver_spec *spec = taper_solver_spec_alloc(err);
+    if (spec && scene_apply_solver(cfg, spec, err) != TAPER_OK) {
+        taper_solver_spec_free(spec);
+        return NULL;
+    }
+    return spec;
+}
+
+taper_fit_spec *scene_fit_spec(const scene_config *cfg, taper_error *err)
+{
+    taper_error local;
+    if (!err) err = &local;
+    if (cfg->fit.model == SCENE_FIT_NONE) {
+        err->status = TAPER_EINVAL;
+        err->field = "model";
+        snprintf(err->message, sizeof err->message, "no fit: &fit model = 'none'");
+        return NULL;
+    }
+    sink k = {.lib = SCENE_LIB_FIT, .first = err};
+    taper_fit_spec *spec = apply_fit(&k, cfg);
+    if (k.status != TAPER_OK) {
+        taper_fit_spec_free(spec);
+        return NULL;
+    }
+    ok(err);
+    return spec;
+}
+
+/* ---- validation --------------------------------------------------------------------- */
+
+static void out_of_memory(scene *sc)
+{
+    scene_error(sc, 0, NULL, NULL, "out of memory");
+}
+
+/* The chain at every run of the sweep: every setting once, then the swept
+ * variable value by value, each time with taper_chain_spec_check. */
+static void check_chain(scene *sc)
+{
+    const scene_config *cfg = &sc->cfg;
+    taper_chain_spec *spec = taper_chain_spec_alloc(NULL);
+    if (!spec) {
+        out_of_memory(sc);
+        return;
+    }
+    sink k = {.sc = sc, .lib = SCENE_LIB_CHAIN};
+    taper_error e;
+    apply_chain(&k, cfg, 0, spec);
+    if (k.status == TAPER_OK) note(&k, taper_chain_spec_check(spec, &e), &e);
+    /* The other values of a sweep, once the rest of the chain is right. */
+    for (size_t point = 1; k.status == TAPER_OK && cfg->runs.swept && point < cfg->runs.n;
+         point++) {
+        set_s_or_q(&k, cfg, cfg->runs.sweep, point, spec);
+        if (k.status == TAPER_OK) note(&k, taper_chain_spec_check(spec, &e), &e);
+    }
+    taper_chain_spec_free(spec);
+}
+
+size_t scene_check_library(scene *sc)
+{
+    size_t before = sc->n_errors;
+    check_chain(sc);
+    taper_solver_spec *spec = taper_solver_spec_alloc(NULL);
+    if (!spec) {
+        out_of_memory(sc);
+        return sc->n_errors - before;
+    }
+    sink k = {.sc = sc, .lib = SCENE_LIB_SOLVER};
+    apply_solver(&k, &sc->cfg, spec);
+    taper_solver_spec_free(spec);
+    return sc->n_errors - before;
+}
+
+size_t scene_check_fit_library(scene *sc)
+{
+    size_t before = sc->n_errors;
+    if (sc->cfg.fit.model == SCENE_FIT_NONE) return 0;
+    sink k = {.sc = sc, .lib = SCENE_LIB_FIT};
+    taper_fit_spec_free(apply_fit(&k, &sc->cfg));
+    return sc->n_errors - before;
+}
