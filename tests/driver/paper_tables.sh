@@ -36,23 +36,22 @@ LOOSE_EXCEPT="table4:0.05"
 
 in_list() { case " $2 " in *" $1 "*) return 0 ;; esac; return 1; }
 
-# window_variant SCENE OUT: the fit window shortened by a fifth at both ends.
-window_variant() {
-    lo=$(sed -n 's/^ *k_min *= *\([0-9]*\).*/\1/p' "$1")
-    hi=$(sed -n 's/^ *k_max *= *\([0-9]*\).*/\1/p' "$1")
-    cut=$(( (hi - lo) / 5 ))
-    sed -e "s/^\( *k_min *= *\)[0-9]*/\1$((lo + cut))/" \
-        -e "s/^\( *k_max *= *\)[0-9]*/\1$((hi - cut))/" "$1" > "$2"
-}
+# value SCENE GROUP.KEY: the scene's resolved value, read by the driver
+# itself (no second namelist reader here).
+value() { "$TAPER" "$1" --get "$2"; }
 
 for t in 1 2 3 4 5; do
     scene=$SRC/share/scenes/paper/table$t.nml
     "$TAPER" "$scene" -o "table$t" > "table$t.out" 2> "table$t.err" ||
         { fail "table$t: exit status $? ($(cat "table$t.err"))"; continue; }
-    window_variant "$scene" "variant$t.nml"
-    "$TAPER" "variant$t.nml" -o "variant$t" > /dev/null 2>&1 ||
+    # The window variant: the fit window shortened by a fifth at both ends.
+    lo=$(value "$scene" fit.k_min) && hi=$(value "$scene" fit.k_max) &&
+        digits=$(value "$scene" table.digits) ||
+        { fail "table$t: the driver cannot read the scene's fit window"; continue; }
+    cut=$(( (hi - lo) / 5 ))
+    "$TAPER" "$scene" --set "fit.k_min=$((lo + cut))" --set "fit.k_max=$((hi - cut))" \
+        -o "variant$t" > /dev/null 2>&1 ||
         { fail "table$t: the window variant does not run"; continue; }
-    digits=$(sed -n 's/^ *digits *= *\([0-9]*\).*/\1/p' "$scene")
     sed -n '/^Table/,$p' "table$t.out"
     # param theory numerics stderr paper_th paper_num variant_numerics
     paste "table$t/table.tsv" "variant$t/table.tsv" | grep -v '^#' | tail -n +2 |
