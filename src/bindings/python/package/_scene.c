@@ -21,15 +21,8 @@ int pyscene_load(const char *path, pyscene **out, char **diag)
     *out = NULL;
     *diag = NULL;
     pyscene *ps = calloc(1, sizeof *ps);
-    taper_solver_spec *lib = taper_solver_spec_alloc(NULL);
-    if (!ps || !lib) {
-        free(ps);
-        taper_solver_spec_free(lib);
-        return -2;
-    }
-    ps->sc = scene_new(path, lib);
-    taper_solver_spec_free(lib);
-    if (!ps->sc) {
+    if (!ps) return -2;
+    if (!(ps->sc = scene_new(path))) {
         free(ps);
         return -2;
     }
@@ -37,7 +30,7 @@ int pyscene_load(const char *path, pyscene **out, char **diag)
         *out = ps;
         return 0;
     }
-    int rc = ps->sc->n_errors ? -1 : -2;
+    int rc = scene_error_count(ps->sc) ? -1 : -2;
     if (rc == -1) {
         /* The diagnostics exactly as the driver prints them on stderr. */
         size_t len = 0;
@@ -62,24 +55,19 @@ void pyscene_free(pyscene *ps)
 
 size_t pyscene_runs(const pyscene *ps)
 {
-    int sv = scene_sweep_var(ps->sc);
-    return sv < 0 ? 1 : ps->sc->values[sv].count;
+    return scene_cfg(ps->sc)->runs.n;
 }
 
 int pyscene_numerics(const pyscene *ps)
 {
-    return scene_bool(ps->sc, "solver", "numerics");
+    return scene_cfg(ps->sc)->solver.numerics;
 }
 
 taper_status pyscene_specs(const pyscene *ps, size_t i, taper_chain_spec *chain,
                            taper_solver_spec *solver, taper_error *err)
 {
-    scene_chain_spec(ps->sc, i, chain);
-    scene_solver_spec(ps->sc, solver);
-    if (err) {
-        err->status = TAPER_OK;
-        err->field = NULL;
-        err->message[0] = '\0';
-    }
-    return TAPER_OK;
+    const scene_config *cfg = scene_cfg(ps->sc);
+    taper_status rc = scene_apply_chain(cfg, i, chain, err);
+    if (rc == TAPER_OK) rc = scene_apply_solver(cfg, solver, err);
+    return rc;
 }
