@@ -23,7 +23,8 @@ import venv
 
 # What the package's build needs (pyproject.toml [build-system] requires),
 # what its tests need, and the optional extras the tests exercise.
-REQUIREMENTS = ["meson-python>=0.15", "meson>=1.0.1", "ninja", "numpy>=2.0", "pytest"]
+REQUIREMENTS = ["meson-python>=0.15", "meson>=1.0.1", "ninja", "numpy>=2.0", "pytest",
+                "pandas", "matplotlib"]
 
 
 def run(cmd, **kw):
