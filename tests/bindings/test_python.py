@@ -2,8 +2,11 @@
 """test_python.py BUILD_DIR SOURCE_DIR -- src/bindings/python/taper.py (ctypes)
 against the C driver: the same chain run through Python and through
 drivers/taper (scene file -> granules.tsv) gives the same numbers, bit for
-bit (same library, same default solver), and library errors arrive as
-taper.TaperError carrying the library's message."""
+bit (same library, same default solver), statistics by the library's names
+equal the driver's header, and library errors arrive as taper.TaperError
+carrying the library's message and the setting at fault (.field).  The
+binding keeps no list of its own: profile, method, fit model and statistic
+names come from the library."""
 
 import math
 import os
@@ -41,6 +44,8 @@ SCENE = """! test_python: a short backward linear chain
 
 
 def driver_table(tmp):
+    """The driver's granules.tsv: its columns, and its '# name = value'
+    header lines (the statistics among them)."""
     scene = os.path.join(tmp, "pytest.nml")
     with open(scene, "w") as f:
         f.write(SCENE)
@@ -49,21 +54,32 @@ def driver_table(tmp):
                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if proc.returncode != 0:
         sys.exit("driver failed (%d): %s" % (proc.returncode, proc.stderr))
-    rows = [line.rstrip("\n").split("\t")
-            for line in open(os.path.join(out, "granules.tsv")) if not line.startswith("#")]
+    lines = open(os.path.join(out, "granules.tsv")).read().splitlines()
+    rows = [line.split("\t") for line in lines if not line.startswith("#")]
     header, rows = rows[0], rows[1:]
-    return {name: [float(r[i]) for r in rows] for i, name in enumerate(header)}
+    values = dict(line[2:].split(" = ", 1) for line in lines
+                  if line.startswith("# ") and " = " in line and not line.startswith("#  "))
+    return {name: [float(r[i]) for r in rows] for i, name in enumerate(header)}, values
 
 
 with tempfile.TemporaryDirectory() as tmp:
-    table = driver_table(tmp)
+    table, header = driver_table(tmp)
 
-check(taper.version() == "0.1.0" or taper.version().count(".") == 2, "version")
+check(taper.version() == "0.2.0", "version %s" % taper.version())
+check(taper.PROFILES == ("monodisperse", "backward_linear", "forward_linear",
+                         "backward_exponential", "forward_exponential", "custom"),
+      "profiles from the library: %r" % (taper.PROFILES,))
+check(taper.METHODS == ("adams", "bdf"), "methods %r" % (taper.METHODS,))
+check(len(taper.STATISTICS) == 14 and taper.STATISTICS[0] == "steps"
+      and taper.STATISTICS[-1] == "complete", "statistics %r" % (taper.STATISTICS,))
 chain = taper.Chain("backward_linear", n_granules=40, s=0.2)
 check(len(chain) == 40 and chain.profile == "backward_linear", "chain")
 sim = taper.Sim(chain)
 check(sim.run() == 0, "run status")
 th = taper.theory(chain)
+for key in taper.THEORY:  # the sim's theory, computed once, is theory(chain)'s
+    check(all(same(float(a), float(b)) for a, b in zip(sim.theory[key], th[key])),
+          "Sim.theory[%r] differs from theory(chain)" % key)
 columns = {"t_pass": sim.t_pass, "v_peak": sim.v_peak, "t_peak": sim.t_peak,
            "X_pass": sim.x_pass, "T_res": sim.t_res, "R": chain.radius, "m": chain.mass,
            "X0": chain.rest_position, "theory_v": th["v"], "theory_T": th["T"],
@@ -77,21 +93,53 @@ for name, values in columns.items():
 check(math.isnan(sim.t_pass[-1]), "t_pass of the last granule is NaN")
 stats = sim.stats
 check(stats["complete"] == 1 and stats["granule_reached"] == 39, "stats %r" % stats)
+for name, value in stats.items():  # the driver's header prints the same statistics
+    if name not in header:
+        continue  # 'complete' is a line of its own
+    ref = header[name]
+    ok = ("%.4g" % value == ref) if name.endswith("_error") else (float(ref) == value)
+    check(ok, "statistic %s = %r, driver %s" % (name, value, ref))
+check(all(name in header for name in taper.STATISTICS if name != "complete"),
+      "statistics missing from the driver's header: %r"
+      % [n for n in taper.STATISTICS if n not in header])
 x, v = sim.state()
 check(len(x) == 40 and len(v) == 40, "state")
 check(taper.asymptotic_exponent("v_of_k") == -1.5, "asymptotic_exponent")
 
-# Errors carry the library's status and message.
+# Errors carry the library's status, message and the setting at fault.
+def refused(field, make, status=1):
+    try:
+        make()
+        check(False, "%s: accepted" % field)
+    except taper.TaperError as e:
+        check(e.status == status and e.name == taper.STATUS[status] and e.field == field
+              and len(e.message) > 10, "%s: error %r (field %r)" % (field, e, e.field))
+
+
+refused("n_granules", lambda: taper.Chain("forward_linear", n_granules=100, s=0.5))
+refused("rtol", lambda: taper.Sim(chain, rtol=-1))
+refused("atol", lambda: taper.Sim(chain, atol=0.5))
+refused("s", lambda: taper.Chain("backward_linear", s=float("nan")))
+refused("n_granules", lambda: taper.Chain("monodisperse", n_granules=1))
+refused("n_granules", lambda: taper.Chain("monodisperse", n_granules=-3))
+refused("exponent", lambda: taper.Chain("monodisperse", exponent=1.0))
+refused("radii", lambda: taper.Chain(radii=[1.0, -1.0, 1.0]))
+refused("radii", lambda: taper.Chain("custom", n_granules=3))
+refused("profile", lambda: taper.Chain("no_such_profile"))
+refused("method", lambda: taper.Sim(chain, method="rk4"))
+refused("last_granule", lambda: taper.Sim(chain, last_granule=41))
+refused("max_order", lambda: taper.Sim(chain, method="bdf", max_order=6))
+refused("xtol", lambda: taper.fit("power", [1, 2, 3], [1, 2, 3], xtol=0))
 try:
-    taper.Chain("forward_linear", n_granules=100, s=0.5)
-    check(False, "forward_linear N > 1 + 1/S accepted")
-except taper.TaperError as e:
-    check(e.status == 1 and e.name == "TAPER_EINVAL" and len(e.message) > 10, "chain error %r" % e)
-try:
-    taper.Sim(chain, rtol=-1)
-    check(False, "rtol = -1 accepted")
-except taper.TaperError as e:
-    check(e.status == 1 and "rtol" in e.message, "rtol error %r" % e)
+    taper.Sim(chain, no_such_setting=1)
+    check(False, "unknown keyword accepted")
+except TypeError:
+    pass
+custom = taper.Chain(radii=[1.0, 1.5, 2.0, 2.5])
+check(custom.profile == "custom" and len(custom) == 4 and float(custom.radius[3]) == 2.5, "custom")
+f = taper.fit("power", [1.0, 2.0, 4.0, 8.0], [1.0, 0.25, 0.0625, 0.015625])
+check(f["model"] == "power" and abs(f["params"][1] + 2.0) < 1e-12 and f["n_points"] == 4,
+      "fit %r" % f)
 partial = taper.Sim(chain, max_steps=10)
 try:
     partial.run()
@@ -105,11 +153,6 @@ check(taper.Sim(chain, max_steps=10).run(check=False) == 6, "run(check=False)")
 seen = []
 stopper = taper.Sim(chain, monitor=lambda p: seen.append(p["granule"]) or len(seen) >= 3)
 check(stopper.run(check=False) == 5 and len(seen) == 3, "monitor stop: %r" % seen)
-try:
-    taper.Sim(chain, method="rk4")
-    check(False, "unknown method accepted")
-except ValueError:
-    pass
 
 # Lists without numpy, numpy arrays with it.
 if taper._np is not None:
