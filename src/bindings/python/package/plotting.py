@@ -15,6 +15,8 @@ from __future__ import annotations
 
 from typing import Any, Iterable, Optional, Sequence, Union
 
+import numpy as np
+
 from .result import Result
 
 __all__ = ["plot", "QUANTITIES"]
@@ -37,15 +39,32 @@ def _label(r: Result) -> str:
     return profile or r.source
 
 
+def _thin(n: int, every: Optional[int], geometric: bool) -> np.ndarray:
+    """The granules drawn: every n-th, or on log axes (every None) about 40
+    per decade of k, as the driver's figures (results/plot.c)."""
+    if every is not None:
+        return np.arange(0, n, max(int(every), 1))
+    if not geometric:
+        return np.arange(n)
+    keep, kept = [], 0
+    for i in range(n):
+        if i > 0 and i + 1 < 1.06 * kept:
+            continue
+        kept = i + 1
+        keep.append(i)
+    return np.asarray(keep, dtype=np.intp)
+
+
 def plot(results: Union[Result, Sequence[Result]], quantity: str = "v", *, ax: Any = None,
-         x: str = "k", curves: str = "both", loglog: bool = True, every: int = 1,
+         x: str = "k", curves: str = "both", loglog: bool = True, every: Optional[int] = None,
          labels: Optional[Iterable[str]] = None) -> Any:
     """Draws `quantity` ("v", "T_res" or "t") against `x` (a column, "k" by
     default) for each result: numerics filled, theory open circles.
 
-    curves: "both", "theory" or "numerics"; every: draw every n-th granule;
-    loglog: logarithmic axes; labels: one legend entry per result (default:
-    the swept parameter).  Returns the matplotlib Axes.
+    curves: "both", "theory" or "numerics"; loglog: logarithmic axes; every:
+    draw every n-th granule (default: all on linear axes, about 40 per decade
+    of k on log axes, as the driver); labels: one legend entry per result
+    (default: the swept parameter).  Returns the matplotlib Axes.
     """
     try:
         import matplotlib.pyplot as plt
@@ -63,13 +82,14 @@ def plot(results: Union[Result, Sequence[Result]], quantity: str = "v", *, ax: A
         _, ax = plt.subplots()
     for i, r in enumerate(results):
         color = f"C{i % 10}"
-        xs = r[x][::every]
+        idx = _thin(len(r), every, loglog)
+        xs = r[x][idx]
         label = labels[i] if i < len(labels) else None
         if curves in ("both", "theory") and th_col in r:
-            ax.plot(xs, r[th_col][::every], "o", mfc="none", color=color,
+            ax.plot(xs, r[th_col][idx], "o", mfc="none", color=color,
                     label=f"{label} (theory)" if curves == "both" else label)
         if curves in ("both", "numerics") and num_col in r:
-            ax.plot(xs, r[num_col][::every], "o", ms=3, color=color,
+            ax.plot(xs, r[num_col][idx], "o", ms=3, color=color,
                     label=f"{label} (numerics)" if curves == "both" else label)
     if loglog:
         ax.set_xscale("log")
