@@ -150,7 +150,7 @@ cat "$work/sources.list.d/taper-deb-src.sources" >&2
 # shellcheck disable=SC2086
 apt-get $apt_opts -q update >&2 || echo "sundials: apt-get update reported errors (ignored if the source is found)" >&2
 # shellcheck disable=SC2086
-apt-cache $apt_opts showsrc "sundials=$version" 2>/dev/null | grep -q '^Package: sundials' ||
+apt-cache $apt_opts showsrc sundials 2>/dev/null | grep -qx "Version: $version" ||
     fail "no deb-src reachable for sundials $version"
 
 # 3. The source package, unpacked with Debian's own patches applied.
