@@ -23,7 +23,7 @@ build_dir=${BUILD_DIR:-build}
 # patch SUNDIALS' source package (libsundials-dev stays: the fallback, and the
 # -Dsundials=system build).
 packages="meson ninja-build pkg-config gcc g++ gfortran cmake libsundials-dev libgsl-dev \
-libcmocka-dev gnuplot-nox python3 dpkg-dev patch"
+libcmocka-dev gnuplot-nox python3 python3-dev python3-venv dpkg-dev patch"
 
 missing=""
 for p in $packages; do
