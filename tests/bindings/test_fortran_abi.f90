@@ -1,11 +1,35 @@
-! test_fortran_abi -- the bind(C) derived types of share/fortran/taper.f90
-! have the size and field offsets of the C structs of taper.h (asked of the
-! C compiler in fortran_abi.c), and the module calls the library correctly:
-! a short chain runs and its observables come back through the interfaces.
+! test_fortran_abi -- the Fortran module src/bindings/fortran/taper.f90
+! against the library: the two bind(C) derived types it declares
+! (taper_error, taper_progress) have the size and field offsets of the C
+! structs (asked of the C compiler in fortran_abi.c); every other object is
+! opaque, set and read through the interfaces, which are exercised here: the
+! name lists, setters (a refusal names its setting and leaves the spec as
+! it was), a run with a monitor written in Fortran, statistics by name, the
+! sim's theory, taper_dynamics and a fit.
+module test_fortran_abi_monitor
+  use, intrinsic :: iso_c_binding
+  use taper, only: taper_progress
+  implicit none
+  integer, save :: calls = 0
+  integer(c_size_t), save :: last_granule_seen = 0
+contains
+  ! Stops the run at the third pulse event.
+  function stop_at_third(progress, user) bind(C) result(stop)
+    type(taper_progress), intent(in) :: progress
+    type(c_ptr), value :: user
+    integer(c_int) :: stop
+    if (c_associated(user)) continue
+    calls = calls + 1
+    last_granule_seen = progress%granule
+    stop = merge(1_c_int, 0_c_int, calls >= 3)
+  end function stop_at_third
+end module test_fortran_abi_monitor
+
 program test_fortran_abi
   use, intrinsic :: iso_c_binding
   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
   use taper
+  use test_fortran_abi_monitor
   implicit none
   interface
      function layout(type, field) bind(C, name="taper_test_layout") result(n)
@@ -15,90 +39,123 @@ program test_fortran_abi
      end function layout
   end interface
   type(taper_error), target :: e
-  type(taper_chain_spec), target :: cs
-  type(taper_solver_spec), target :: ss
-  type(taper_stats), target :: st
   type(taper_progress), target :: pr
-  type(taper_fit_spec), target :: fs
-  type(taper_fit_result), target :: fr
-  type(c_ptr) :: chain, sim
-  real(c_double), pointer :: t_pass(:), radius(:)
-  real(c_double), allocatable, target :: v(:), t(:)
-  integer :: fails
+  type(c_ptr) :: cs, ss, chain, sim, dyn, fs, fr
+  real(c_double), pointer :: t_pass(:), radius(:), t_th(:)
+  real(c_double), allocatable :: y(:), ydot(:)
+  real(c_double) :: energy, momentum
+  real(c_double) :: x(4) = [1d0, 2d0, 4d0, 8d0], yf(4) = [1d0, 0.25d0, 0.0625d0, 0.015625d0]
+  integer :: fails, i
   integer(c_int) :: status, p
 
   fails = 0
-  call same(0, "taper_error", c_sizeof(e), [off(c_loc(e%status), c_loc(e)), off(c_loc(e%message), c_loc(e))])
-  call same(1, "taper_chain_spec", c_sizeof(cs), [off(c_loc(cs%profile), c_loc(cs)), &
-       off(c_loc(cs%n_granules), c_loc(cs)), off(c_loc(cs%s), c_loc(cs)), off(c_loc(cs%q), c_loc(cs)), &
-       off(c_loc(cs%exponent), c_loc(cs)), off(c_loc(cs%radii), c_loc(cs))])
-  call same(2, "taper_solver_spec", c_sizeof(ss), [off(c_loc(ss%method), c_loc(ss)), &
-       off(c_loc(ss%rtol), c_loc(ss)), off(c_loc(ss%atol), c_loc(ss)), &
-       off(c_loc(ss%last_granule), c_loc(ss)), off(c_loc(ss%window), c_loc(ss)), &
-       off(c_loc(ss%max_order), c_loc(ss)), off(c_loc(ss%t_max), c_loc(ss)), &
-       off(c_loc(ss%max_steps), c_loc(ss)), off(c_loc(ss%monitor), c_loc(ss)), &
-       off(c_loc(ss%monitor_data), c_loc(ss)), off(c_loc(ss%log), c_loc(ss)), &
-       off(c_loc(ss%log_data), c_loc(ss))])
-  call same(3, "taper_stats", c_sizeof(st), [off(c_loc(st%steps), c_loc(st)), &
-       off(c_loc(st%rhs_evals), c_loc(st)), off(c_loc(st%root_evals), c_loc(st)), &
-       off(c_loc(st%jac_evals), c_loc(st)), off(c_loc(st%nonlin_iters), c_loc(st)), &
-       off(c_loc(st%err_test_fails), c_loc(st)), off(c_loc(st%window_changes), c_loc(st)), &
-       off(c_loc(st%restarts), c_loc(st)), off(c_loc(st%max_window), c_loc(st)), &
-       off(c_loc(st%granule_reached), c_loc(st)), off(c_loc(st%t_final), c_loc(st)), &
-       off(c_loc(st%energy_error), c_loc(st)), off(c_loc(st%momentum_error), c_loc(st)), &
-       off(c_loc(st%complete), c_loc(st))])
-  call same(4, "taper_progress", c_sizeof(pr), [off(c_loc(pr%granule), c_loc(pr)), &
+  call same(0, "taper_error", c_sizeof(e), [off(c_loc(e%status), c_loc(e)), &
+       off(c_loc(e%field), c_loc(e)), off(c_loc(e%message), c_loc(e))])
+  call same(1, "taper_progress", c_sizeof(pr), [off(c_loc(pr%granule), c_loc(pr)), &
        off(c_loc(pr%target), c_loc(pr)), off(c_loc(pr%t), c_loc(pr)), off(c_loc(pr%steps), c_loc(pr)), &
        off(c_loc(pr%window_lo), c_loc(pr)), off(c_loc(pr%window_hi), c_loc(pr))])
-  call same(5, "taper_fit_spec", c_sizeof(fs), [off(c_loc(fs%model), c_loc(fs)), &
-       off(c_loc(fs%p), c_loc(fs)), off(c_loc(fs%index_begin), c_loc(fs)), &
-       off(c_loc(fs%index_end), c_loc(fs)), off(c_loc(fs%x_min), c_loc(fs)), &
-       off(c_loc(fs%x_max), c_loc(fs)), off(c_loc(fs%skip_invalid), c_loc(fs)), &
-       off(c_loc(fs%max_iter), c_loc(fs)), off(c_loc(fs%xtol), c_loc(fs))])
-  call same(6, "taper_fit_result", c_sizeof(fr), [off(c_loc(fr%model), c_loc(fr)), &
-       off(c_loc(fr%n_params), c_loc(fr)), off(c_loc(fr%param), c_loc(fr)), &
-       off(c_loc(fr%param_err), c_loc(fr)), off(c_loc(fr%n_points), c_loc(fr)), &
-       off(c_loc(fr%n_skipped), c_loc(fr)), off(c_loc(fr%chi2), c_loc(fr)), &
-       off(c_loc(fr%iterations), c_loc(fr))])
 
-  ! The interfaces: a run through the module.
+  ! The library's names: each list ends in '' (NULL), and reads back.
   if (taper_version() /= TAPER_VERSION_STRING) call fail("version "//taper_version())
-  if (taper_profile_from_name("Backward_Linear", p) /= TAPER_OK .or. p /= TAPER_BACKWARD_LINEAR) &
-       call fail("taper_profile_from_name")
+  ! (One impure call per statement: Fortran fixes no order of evaluation
+  ! in an expression and may skip a reference whose value is not needed.)
+  if (count_names(1) /= TAPER_N_PROFILES) call fail("profile names")
+  if (count_names(2) /= TAPER_N_METHODS) call fail("method names")
+  if (count_names(3) /= TAPER_N_FIT_MODELS) call fail("fit model names")
+  if (count_names(4) /= TAPER_N_STATISTICS) call fail("statistic names")
+  status = taper_profile_from_name("Backward_Linear", p, e)
+  if (status /= TAPER_OK .or. p /= TAPER_BACKWARD_LINEAR) call fail("taper_profile_from_name")
   if (taper_profile_name(TAPER_FORWARD_EXPONENTIAL) /= "forward_exponential") call fail("profile_name")
-  call taper_chain_spec_init(cs)
-  if (cs%n_granules /= 100 .or. cs%exponent /= 2.5_c_double) call fail("chain_spec_init defaults")
-  cs%profile = TAPER_BACKWARD_LINEAR
-  cs%n_granules = 30
-  cs%s = 0.1_c_double
+  if (taper_statistic_name(TAPER_STAT_GRANULE_REACHED) /= "granule_reached") call fail("statistic_name")
+  status = taper_method_from_name("rk4", p, e)
+  call refused(status, "method")
+
+  ! Settings: defaults, setters, a refusal that names its setting.
+  cs = taper_chain_spec_alloc(e)
+  if (.not. c_associated(cs)) call fail("chain spec: "//taper_message(e))
+  if (taper_chain_spec_n_granules(cs) /= 100) call fail("chain spec default n_granules")
+  if (abs(taper_chain_spec_exponent(cs) - 2.5_c_double) > 0) call fail("chain spec default exponent")
+  if (taper_chain_spec_set_profile(cs, TAPER_BACKWARD_LINEAR, e) /= TAPER_OK) call fail("profile")
+  if (taper_chain_spec_set_n_granules(cs, 30_c_size_t, e) /= TAPER_OK) call fail("n_granules")
+  if (taper_chain_spec_set_s(cs, 0.1_c_double, e) /= TAPER_OK) call fail("s")
+  status = taper_chain_spec_set_n_granules(cs, 1_c_size_t, e)
+  call refused(status, "n_granules")
+  if (taper_chain_spec_n_granules(cs) /= 30) call fail("a refusal changed n_granules")
+  status = taper_chain_spec_set_s(cs, -1.0_c_double, e)
+  call refused(status, "s")
   chain = taper_chain_alloc(cs, e)
+  call taper_chain_spec_free(cs)
   if (.not. c_associated(chain)) call fail("chain: "//taper_message(e))
+  if (e%status /= TAPER_OK .or. c_associated(e%field) .or. len(taper_message(e)) /= 0) &
+       call fail("a success clears the error")
   radius => taper_chain_array(chain, taper_chain_radius(chain))
-  if (size(radius) /= 30 .or. abs(radius(30) - 3.9_c_double) > 1d-12) call fail("radius")
-  allocate (v(30), t(30))
-  if (taper_theory_compute(chain, c_loc(v), c_null_ptr, c_null_ptr, c_loc(t), e) /= TAPER_OK) &
-       call fail("theory")
-  call taper_solver_spec_init(ss)
-  sim = taper_sim_alloc(chain, ss, e)
+  if (size(radius) /= 30) call fail("radius size")
+  if (abs(radius(30) - 3.9_c_double) > 1d-12) call fail("radius(30)")
+
+  ! A run with the defaults, its theory and statistics.
+  sim = taper_sim_alloc(chain, c_null_ptr, e)
   status = taper_sim_run(sim, e)
   if (status /= TAPER_OK) call fail("run: "//taper_message(e))
   t_pass => taper_observable(sim, chain, TAPER_T_PASS)
-  if (abs(t_pass(10) / t(10) - 1) > 0.02_c_double .or. .not. ieee_is_nan(t_pass(30))) &
+  t_th => taper_theory(sim, chain, TAPER_THEORY_T)
+  if (abs(t_pass(10) / t_th(10) - 1) > 0.02_c_double .or. .not. ieee_is_nan(t_pass(30))) &
        call fail("t_pass vs theory")
-  call taper_sim_stats(sim, st)
-  if (st%complete /= 1 .or. st%granule_reached /= 29) call fail("stats")
+  if (abs(taper_sim_statistic(sim, TAPER_STAT_COMPLETE) - 1) > 0) call fail("complete")
+  if (abs(taper_sim_statistic(sim, TAPER_STAT_GRANULE_REACHED) - 29) > 0) call fail("granule_reached")
+  if (.not. taper_sim_statistic(sim, TAPER_STAT_STEPS) > 0) call fail("steps")
   call taper_sim_free(sim)
-  ! An error: the message arrives through the bind(C) taper_error.
-  ss%rtol = -1
+
+  ! Solver settings that do not fit the chain name the setting; a monitor
+  ! in Fortran stops the run.
+  ss = taper_solver_spec_alloc(e)
+  status = taper_solver_spec_set_rtol(ss, -1.0_c_double, e)
+  call refused(status, "rtol")
+  if (taper_solver_spec_set_last_granule(ss, 31_c_size_t, e) /= TAPER_OK) call fail("last_granule")
   sim = taper_sim_alloc(chain, ss, e)
-  if (c_associated(sim) .or. e%status /= TAPER_EINVAL .or. index(taper_message(e), "rtol") == 0) &
-       call fail("error message: "//taper_message(e))
+  if (c_associated(sim)) call fail("last_granule > N accepted")
+  call refused(e%status, "last_granule")
+  if (taper_solver_spec_set_last_granule(ss, 0_c_size_t, e) /= TAPER_OK) call fail("last_granule 0")
+  call taper_solver_spec_set_monitor(ss, c_funloc(stop_at_third), c_null_ptr)
+  sim = taper_sim_alloc(chain, ss, e)
+  call taper_solver_spec_free(ss)
+  status = taper_sim_run(sim, e)
+  if (status /= TAPER_EINTERRUPTED .or. calls /= 3 .or. last_granule_seen < 1) &
+       call fail("monitor: "//taper_message(e))
+  if (abs(taper_sim_statistic(sim, TAPER_STAT_COMPLETE)) > 0) call fail("interrupted but complete")
+  call taper_sim_free(sim)
+
+  ! The equations of motion for one's own integrator: the impulse state.
+  dyn = taper_dynamics_alloc(chain, e)
+  if (.not. c_associated(dyn)) call fail("dynamics: "//taper_message(e))
+  allocate (y(60), ydot(60))
+  y = 0
+  y(1) = 1                   ! v_1 = 1 (Fortran index 2k-1), z_k at 2k
+  call taper_dynamics_rhs(dyn, y, ydot)
+  call taper_dynamics_energy_momentum(dyn, y, energy, momentum)
+  if (abs(ydot(2) - 1) > 0 .or. any(abs(ydot(3:)) > 0) .or. abs(energy - 0.5_c_double) > 0 .or. &
+       abs(momentum - 1) > 0) call fail("dynamics at the impulse")
+  call taper_dynamics_free(dyn)
   call taper_chain_free(chain)
+
+  ! A fit: y = x^-2.
+  fs = taper_fit_spec_alloc(TAPER_FIT_POWER, e)
+  status = taper_fit_spec_set_xtol(fs, 0.0_c_double, e)
+  call refused(status, "xtol")
+  fr = taper_fit(fs, x, yf, 4_c_size_t, e)
+  if (.not. c_associated(fr)) then
+     call fail("fit: "//taper_message(e))
+  else
+     if (abs(taper_fit_result_param(fr, 1_c_size_t) + 2) > 1d-12) call fail("fit exponent")
+     if (taper_fit_result_n_points(fr) /= 4) call fail("fit points")
+  end if
+  call taper_fit_result_free(fr)
+  call taper_fit_spec_free(fs)
   ! Main-program variables are implicitly SAVE'd: never deallocated for us.
-  deallocate (v, t)
+  deallocate (y, ydot)
 
   if (fails > 0) error stop 1
-  print '(a)', "Fortran module: 7 struct layouts equal to C, calls and messages work"
+  print '(a)', "Fortran module: taper_error and taper_progress laid out as in C; setters, "// &
+       "fields, names, statistics, monitor, dynamics and fits work"
 
 contains
 
@@ -107,23 +164,57 @@ contains
     off = int(transfer(field, 0_c_intptr_t) - transfer(base, 0_c_intptr_t), c_size_t)
   end function off
 
+  ! The length of one of the library's name lists (1 profiles, 2 methods,
+  ! 3 fit models, 4 statistics).
+  integer function count_names(list) result(n)
+    integer, intent(in) :: list
+    character(len=:), allocatable :: name
+    n = 0
+    do i = 0, 100
+       select case (list)
+       case (1)
+          name = taper_profile_name(int(i, c_int))
+       case (2)
+          name = taper_method_name(int(i, c_int))
+       case (3)
+          name = taper_fit_model_name(int(i, c_int))
+       case default
+          name = taper_statistic_name(int(i, c_int))
+       end select
+       if (len(name) == 0) exit
+       n = n + 1
+    end do
+  end function count_names
+
   subroutine same(type, name, nbytes, offsets)
     integer, intent(in) :: type
     character(len=*), intent(in) :: name
     integer(c_size_t), intent(in) :: nbytes, offsets(:)
-    integer :: i
+    integer :: j
     if (nbytes /= layout(int(type, c_int), 0_c_int)) then
        print '(a,i0,a,i0)', name//": Fortran size ", nbytes, ", C size ", layout(int(type, c_int), 0_c_int)
        fails = fails + 1
     end if
-    do i = 1, size(offsets)
-       if (offsets(i) /= layout(int(type, c_int), int(i, c_int))) then
-          print '(a,i0,a,i0,a,i0)', name//": field ", i, " at Fortran offset ", offsets(i), &
-               ", C offset ", layout(int(type, c_int), int(i, c_int))
+    do j = 1, size(offsets)
+       if (offsets(j) /= layout(int(type, c_int), int(j, c_int))) then
+          print '(a,i0,a,i0,a,i0)', name//": field ", j, " at Fortran offset ", offsets(j), &
+               ", C offset ", layout(int(type, c_int), int(j, c_int))
           fails = fails + 1
        end if
     end do
   end subroutine same
+
+  ! A refusal: status TAPER_EINVAL, err naming `field`, with a message.
+  subroutine refused(got, field)
+    integer(c_int), intent(in) :: got
+    character(len=*), intent(in) :: field
+    character(len=:), allocatable :: named, message
+    named = taper_field(e)
+    message = taper_message(e)
+    if (got /= TAPER_EINVAL .or. e%status /= TAPER_EINVAL .or. named /= field .or. &
+         len(message) == 0) &
+         call fail(field//": status "//char(48 + got)//", field '"//named//"': "//message)
+  end subroutine refused
 
   subroutine fail(what)
     character(len=*), intent(in) :: what

@@ -1,77 +1,101 @@
 ! taper.f90 -- Fortran interface to libtaper (iso_c_binding, Fortran 2008).
 !
 ! Pulse propagation in tapered granular chains: the C API of include/taper.h
-! as bind(C) interfaces, its structs as interoperable derived types (field
-! by field, in the same order: size_t -> c_size_t, long -> c_long, function
-! pointers -> c_funptr), and a few helpers that turn C strings and the
+! as bind(C) interfaces, and a few helpers that turn C strings and the
 ! library's arrays into Fortran ones.
 !
+! Settings live in objects the library allocates (type(c_ptr)), written
+! through setters and read through getters, as CVODE's memory is: nothing
+! here mirrors a struct of settings, so a later libtaper that adds settings
+! needs no change of this module (docs/api.md, "Why opaque objects").  Each
+! setter checks its value; a refusal returns TAPER_EINVAL and names the
+! setting in the error (taper_field(err): "rtol", "n_granules", ...).  The
+! only structs declared here are the two the library fills and never
+! reorders: taper_error and taper_progress.  Enums are integer(c_int)
+! constants; names come from the library (taper_profile_name, ...).
+!
 !   use taper
-!   type(taper_chain_spec)  :: cs
-!   type(taper_solver_spec) :: ss
-!   type(taper_error)       :: err
-!   type(c_ptr)             :: chain, sim
+!   type(taper_error) :: err
+!   type(c_ptr) :: cs, ss, chain, sim
 !   real(c_double), pointer :: t_pass(:)
-!   call taper_chain_spec_init(cs)
-!   cs%profile = TAPER_BACKWARD_LINEAR; cs%n_granules = 100; cs%s = 0.1d0
+!   cs = taper_chain_spec_alloc(err)
+!   if (taper_chain_spec_set_profile(cs, TAPER_BACKWARD_LINEAR, err) /= TAPER_OK .or. &
+!       taper_chain_spec_set_n_granules(cs, 100_c_size_t, err) /= TAPER_OK .or. &
+!       taper_chain_spec_set_s(cs, 0.1_c_double, err) /= TAPER_OK) &
+!       error stop taper_field(err)//": "//taper_message(err)
 !   chain = taper_chain_alloc(cs, err)
+!   call taper_chain_spec_free(cs)
 !   if (.not. c_associated(chain)) error stop taper_message(err)
-!   call taper_solver_spec_init(ss)
+!   ss = taper_solver_spec_alloc(err)            ! the library's defaults
 !   sim = taper_sim_alloc(chain, ss, err)
+!   call taper_solver_spec_free(ss)
 !   if (taper_sim_run(sim, err) /= TAPER_OK) print *, taper_message(err)
 !   t_pass => taper_observable(sim, chain, TAPER_T_PASS)  ! length N, owned by sim
+!   print *, taper_statistic_name(TAPER_STAT_STEPS), taper_sim_statistic(sim, TAPER_STAT_STEPS)
 !   call taper_sim_free(sim); call taper_chain_free(chain)
 !
 ! Granule k is element k of every array (C index k-1).  Values that do not
 ! exist are NaN (ieee_is_nan).  Arrays returned as pointers belong to the
-! chain or sim and are valid until it is freed.  Objects are type(c_ptr).
-! Optional C arguments (NULL) are passed as c_null_ptr where the interface
-! takes type(c_ptr); the taper_error argument is always required here.
+! chain or sim and are valid until it is freed.  Optional C arguments (NULL)
+! are passed as c_null_ptr where the interface takes type(c_ptr); the
+! taper_error argument is always required here.  integer(c_size_t) is
+! signed in Fortran: a negative count reaches the library as a huge one.
 module taper
   use, intrinsic :: iso_c_binding
   implicit none
   private
 
   ! ---- version ------------------------------------------------------------
-  integer, parameter, public :: TAPER_VERSION_MAJOR = 0, TAPER_VERSION_MINOR = 1, &
+  integer, parameter, public :: TAPER_VERSION_MAJOR = 0, TAPER_VERSION_MINOR = 2, &
                                 TAPER_VERSION_PATCH = 0
-  character(len=*), parameter, public :: TAPER_VERSION_STRING = "0.1.0"
+  character(len=*), parameter, public :: TAPER_VERSION_STRING = "0.2.0"
 
   ! ---- status codes (enum taper_status) -----------------------------------
   integer(c_int), parameter, public :: TAPER_OK = 0, TAPER_EINVAL = 1, TAPER_ENOMEM = 2, &
-       TAPER_ERANGE = 3, TAPER_ESOLVER = 4, TAPER_EINTERRUPTED = 5, TAPER_ELIMIT = 6, &
-       TAPER_EIO = 7
+       TAPER_ERANGE = 3, TAPER_ESOLVER = 4, TAPER_EINTERRUPTED = 5, TAPER_ELIMIT = 6
   integer, parameter, public :: TAPER_MESSAGE_SIZE = 512
+
+  ! ---- ranges of the settings (taper.h states them; the setters check) ------
+  integer(c_size_t), parameter, public :: TAPER_N_GRANULES_MIN = 2, &
+       TAPER_N_GRANULES_MAX = 10000000
+  real(c_double), parameter, public :: TAPER_S_MAX = 1d3, TAPER_Q_MAX = 1d3, &
+       TAPER_EXPONENT_MIN = 1d0, TAPER_EXPONENT_MAX = 20d0, TAPER_RTOL_MIN = 1d-14, &
+       TAPER_RTOL_MAX = 0.1d0, TAPER_ATOL_MAX = 0.1d0
+  integer(c_int), parameter, public :: TAPER_MAX_ORDER_ADAMS = 12, TAPER_MAX_ORDER_BDF = 5
 
   ! ---- enums ------------------------------------------------------------------
   integer(c_int), parameter, public :: TAPER_MONODISPERSE = 0, TAPER_BACKWARD_LINEAR = 1, &
        TAPER_FORWARD_LINEAR = 2, TAPER_BACKWARD_EXPONENTIAL = 3, &
        TAPER_FORWARD_EXPONENTIAL = 4, TAPER_CUSTOM = 5
+  integer, parameter, public :: TAPER_N_PROFILES = 6
   integer(c_int), parameter, public :: TAPER_ADAMS = 0, TAPER_BDF = 1
+  integer, parameter, public :: TAPER_N_METHODS = 2
   integer(c_int), parameter, public :: TAPER_T_PASS = 0, TAPER_T_RES = 1, TAPER_V_PEAK = 2, &
        TAPER_T_PEAK = 3, TAPER_X_PASS = 4
   integer, parameter, public :: TAPER_N_OBSERVABLES = 5
+  integer(c_int), parameter, public :: TAPER_THEORY_V = 0, TAPER_THEORY_MU = 1, &
+       TAPER_THEORY_T_RES = 2, TAPER_THEORY_T = 3
+  integer, parameter, public :: TAPER_N_THEORY_QUANTITIES = 4
+  integer(c_int), parameter, public :: TAPER_STAT_STEPS = 0, TAPER_STAT_RHS_EVALS = 1, &
+       TAPER_STAT_ROOT_EVALS = 2, TAPER_STAT_JAC_EVALS = 3, TAPER_STAT_NONLIN_ITERS = 4, &
+       TAPER_STAT_ERR_TEST_FAILS = 5, TAPER_STAT_WINDOW_CHANGES = 6, TAPER_STAT_RESTARTS = 7, &
+       TAPER_STAT_MAX_WINDOW = 8, TAPER_STAT_GRANULE_REACHED = 9, TAPER_STAT_T_FINAL = 10, &
+       TAPER_STAT_ENERGY_ERROR = 11, TAPER_STAT_MOMENTUM_ERROR = 12, TAPER_STAT_COMPLETE = 13
+  integer, parameter, public :: TAPER_N_STATISTICS = 14
   integer(c_int), parameter, public :: TAPER_LAW_V_OF_K = 0, TAPER_LAW_T_RES_OF_K = 1, &
        TAPER_LAW_T_OF_K = 2, TAPER_LAW_K_OF_T = 3, TAPER_LAW_V_OF_T = 4, &
        TAPER_LAW_X_OF_T = 5, TAPER_LAW_C_OF_T = 6, TAPER_LAW_FWD_V_OF_K = 7, &
        TAPER_LAW_FWD_T_OF_K = 8, TAPER_LAW_FWD_V_OF_T = 9
   integer(c_int), parameter, public :: TAPER_FIT_POWER = 0, TAPER_FIT_EXPONENTIAL = 1, &
        TAPER_FIT_DIVERGENCE_B = 2, TAPER_FIT_DIVERGENCE_C = 3, TAPER_FIT_DIVERGENCE_M = 4
+  integer, parameter, public :: TAPER_N_FIT_MODELS = 5
 
-  ! ---- structs of taper.h, field by field ------------------------------------
+  ! ---- the two structs the library fills (fields only ever appended) --------
   type, bind(C), public :: taper_error
      integer(c_int) :: status = 0
-     character(kind=c_char) :: message(TAPER_MESSAGE_SIZE) = c_null_char
+     type(c_ptr) :: field = c_null_ptr          ! taper_field(err)
+     character(kind=c_char) :: message(TAPER_MESSAGE_SIZE) = c_null_char  ! taper_message(err)
   end type taper_error
-
-  type, bind(C), public :: taper_chain_spec
-     integer(c_int) :: profile
-     integer(c_size_t) :: n_granules
-     real(c_double) :: s
-     real(c_double) :: q
-     real(c_double) :: exponent
-     type(c_ptr) :: radii           ! TAPER_CUSTOM: c_loc(radii(1)), copied
-  end type taper_chain_spec
 
   type, bind(C), public :: taper_progress
      integer(c_size_t) :: granule
@@ -82,80 +106,49 @@ module taper
      integer(c_size_t) :: window_hi
   end type taper_progress
 
-  type, bind(C), public :: taper_solver_spec
-     integer(c_int) :: method
-     real(c_double) :: rtol
-     real(c_double) :: atol
-     integer(c_size_t) :: last_granule
-     integer(c_int) :: window
-     integer(c_int) :: max_order
-     real(c_double) :: t_max
-     integer(c_long) :: max_steps
-     type(c_funptr) :: monitor       ! c_funloc of a bind(C) function, see taper.h
-     type(c_ptr) :: monitor_data
-     type(c_funptr) :: log
-     type(c_ptr) :: log_data
-  end type taper_solver_spec
-
-  type, bind(C), public :: taper_stats
-     integer(c_long) :: steps
-     integer(c_long) :: rhs_evals
-     integer(c_long) :: root_evals
-     integer(c_long) :: jac_evals
-     integer(c_long) :: nonlin_iters
-     integer(c_long) :: err_test_fails
-     integer(c_long) :: window_changes
-     integer(c_long) :: restarts
-     integer(c_size_t) :: max_window
-     integer(c_size_t) :: granule_reached
-     real(c_double) :: t_final
-     real(c_double) :: energy_error
-     real(c_double) :: momentum_error
-     integer(c_int) :: complete
-  end type taper_stats
-
-  type, bind(C), public :: taper_fit_spec
-     integer(c_int) :: model
-     real(c_double) :: p
-     integer(c_size_t) :: index_begin
-     integer(c_size_t) :: index_end
-     real(c_double) :: x_min
-     real(c_double) :: x_max
-     integer(c_int) :: skip_invalid
-     integer(c_size_t) :: max_iter
-     real(c_double) :: xtol
-  end type taper_fit_spec
-
-  type, bind(C), public :: taper_fit_result
-     integer(c_int) :: model
-     integer(c_size_t) :: n_params
-     real(c_double) :: param(3)
-     real(c_double) :: param_err(3)
-     integer(c_size_t) :: n_points
-     integer(c_size_t) :: n_skipped
-     real(c_double) :: chi2
-     integer(c_size_t) :: iterations
-  end type taper_fit_result
-
   ! ---- the C API ---------------------------------------------------------------
-  public :: c_taper_version, c_taper_strerror, c_taper_profile_name, c_taper_profile_from_name
-  public :: taper_chain_spec_init, taper_chain_alloc, taper_chain_free, taper_chain_size, &
-            taper_chain_exponent, taper_chain_profile, taper_chain_radius, taper_chain_mass, &
-            taper_chain_contact, taper_chain_rest_position
+  public :: c_taper_version, c_taper_strerror, c_taper_profile_name, c_taper_method_name, &
+            c_taper_fit_model_name, c_taper_statistic_name
+  public :: taper_chain_spec_alloc, taper_chain_spec_free, taper_chain_spec_set_profile, &
+            taper_chain_spec_set_n_granules, taper_chain_spec_set_s, taper_chain_spec_set_q, &
+            taper_chain_spec_set_exponent, taper_chain_spec_set_radii, taper_chain_spec_profile, &
+            taper_chain_spec_n_granules, taper_chain_spec_s, taper_chain_spec_q, &
+            taper_chain_spec_exponent, taper_chain_spec_radii, taper_chain_spec_check
+  public :: taper_chain_alloc, taper_chain_free, taper_chain_size, taper_chain_exponent, &
+            taper_chain_profile, taper_chain_radius, taper_chain_mass, taper_chain_contact, &
+            taper_chain_rest_position
+  public :: taper_dynamics_alloc, taper_dynamics_free, taper_dynamics_rhs, &
+            taper_dynamics_energy_momentum, taper_dynamics_peak_function
   public :: taper_theory_collision_time, taper_theory_compute
-  public :: taper_solver_spec_init, taper_sim_alloc, taper_sim_free, taper_sim_run, &
-            taper_sim_observable, taper_sim_stats, taper_sim_state
+  public :: taper_solver_spec_alloc, taper_solver_spec_free, taper_solver_spec_set_method, &
+            taper_solver_spec_set_rtol, taper_solver_spec_set_atol, &
+            taper_solver_spec_set_last_granule, taper_solver_spec_set_window, &
+            taper_solver_spec_set_max_order, taper_solver_spec_set_t_max, &
+            taper_solver_spec_set_max_steps, taper_solver_spec_set_monitor, &
+            taper_solver_spec_set_log, taper_solver_spec_method, taper_solver_spec_rtol, &
+            taper_solver_spec_atol, taper_solver_spec_last_granule, taper_solver_spec_window, &
+            taper_solver_spec_max_order, taper_solver_spec_t_max, taper_solver_spec_max_steps
+  public :: taper_sim_alloc, taper_sim_free, taper_sim_run, taper_sim_observable, &
+            taper_sim_theory, taper_sim_statistic, taper_sim_state
   public :: taper_asymptotic_exponent, taper_asymptotic_A, taper_asymptotic_lnA, &
             taper_asymptotic_eta, taper_asymptotic_f, taper_asymptotic_position_exponent, &
             taper_asymptotic_speed_exponent, taper_asymptotic_timescale, taper_asymptotic_M, &
             taper_asymptotic_C0, taper_asymptotic_C, taper_asymptotic_forward_linear_b
-  public :: taper_fit_spec_init, taper_fit
+  public :: taper_fit_spec_alloc, taper_fit_spec_free, taper_fit_spec_set_exponent, &
+            taper_fit_spec_set_index_window, taper_fit_spec_set_x_window, &
+            taper_fit_spec_set_skip_invalid, taper_fit_spec_set_max_iter, &
+            taper_fit_spec_set_xtol, taper_fit_spec_model, taper_fit_spec_exponent, taper_fit, &
+            taper_fit_result_free, taper_fit_result_model, taper_fit_result_n_params, &
+            taper_fit_result_param, taper_fit_result_param_error, taper_fit_result_n_points, &
+            taper_fit_result_n_skipped, taper_fit_result_chi2, taper_fit_result_iterations
   ! Fortran helpers
-  public :: taper_version, taper_strerror, taper_profile_name, taper_profile_from_name, &
-            taper_message, taper_observable, taper_chain_array, c_string
+  public :: taper_version, taper_strerror, taper_profile_name, taper_method_name, &
+            taper_fit_model_name, taper_statistic_name, taper_profile_from_name, &
+            taper_method_from_name, taper_fit_model_from_name, taper_message, taper_field, &
+            taper_observable, taper_theory, taper_chain_array, c_string
 
   interface
-     ! Strings come back as C pointers: use the helpers below.
+     ! ---- version, errors, names: strings come back as C pointers (helpers below)
      function c_taper_version() bind(C, name="taper_version") result(s)
        import :: c_ptr
        type(c_ptr) :: s
@@ -170,21 +163,149 @@ module taper
        integer(c_int), value :: profile
        type(c_ptr) :: s
      end function c_taper_profile_name
-     function c_taper_profile_from_name(name, profile) bind(C, name="taper_profile_from_name") &
-          result(status)
-       import :: c_char, c_int
+     function c_taper_method_name(method) bind(C, name="taper_method_name") result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: method
+       type(c_ptr) :: s
+     end function c_taper_method_name
+     function c_taper_fit_model_name(model) bind(C, name="taper_fit_model_name") result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: model
+       type(c_ptr) :: s
+     end function c_taper_fit_model_name
+     function c_taper_statistic_name(which) bind(C, name="taper_statistic_name") result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: which
+       type(c_ptr) :: s
+     end function c_taper_statistic_name
+     function c_taper_profile_from_name(name, profile, err) &
+          bind(C, name="taper_profile_from_name") result(status)
+       import :: c_char, c_int, taper_error
        character(kind=c_char), intent(in) :: name(*)
        integer(c_int), intent(out) :: profile
+       type(taper_error), intent(inout) :: err
        integer(c_int) :: status
      end function c_taper_profile_from_name
+     function c_taper_method_from_name(name, method, err) &
+          bind(C, name="taper_method_from_name") result(status)
+       import :: c_char, c_int, taper_error
+       character(kind=c_char), intent(in) :: name(*)
+       integer(c_int), intent(out) :: method
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function c_taper_method_from_name
+     function c_taper_fit_model_from_name(name, model, err) &
+          bind(C, name="taper_fit_model_from_name") result(status)
+       import :: c_char, c_int, taper_error
+       character(kind=c_char), intent(in) :: name(*)
+       integer(c_int), intent(out) :: model
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function c_taper_fit_model_from_name
 
-     subroutine taper_chain_spec_init(spec) bind(C, name="taper_chain_spec_init")
-       import :: taper_chain_spec
-       type(taper_chain_spec), intent(out) :: spec
-     end subroutine taper_chain_spec_init
+     ! ---- chain settings
+     function taper_chain_spec_alloc(err) bind(C, name="taper_chain_spec_alloc") result(spec)
+       import :: c_ptr, taper_error
+       type(taper_error), intent(inout) :: err
+       type(c_ptr) :: spec
+     end function taper_chain_spec_alloc
+     subroutine taper_chain_spec_free(spec) bind(C, name="taper_chain_spec_free")
+       import :: c_ptr
+       type(c_ptr), value :: spec
+     end subroutine taper_chain_spec_free
+     function taper_chain_spec_set_profile(spec, profile, err) &
+          bind(C, name="taper_chain_spec_set_profile") result(status)
+       import :: c_ptr, c_int, taper_error
+       type(c_ptr), value :: spec
+       integer(c_int), value :: profile
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_profile
+     function taper_chain_spec_set_n_granules(spec, n, err) &
+          bind(C, name="taper_chain_spec_set_n_granules") result(status)
+       import :: c_ptr, c_int, c_size_t, taper_error
+       type(c_ptr), value :: spec
+       integer(c_size_t), value :: n
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_n_granules
+     function taper_chain_spec_set_s(spec, s, err) bind(C, name="taper_chain_spec_set_s") &
+          result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: s
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_s
+     function taper_chain_spec_set_q(spec, q, err) bind(C, name="taper_chain_spec_set_q") &
+          result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: q
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_q
+     function taper_chain_spec_set_exponent(spec, exponent, err) &
+          bind(C, name="taper_chain_spec_set_exponent") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: exponent
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_exponent
+     ! Copies n radii; (c_null_ptr, 0) removes them.  radii: c_loc(r(1)).
+     function taper_chain_spec_set_radii(spec, radii, n, err) &
+          bind(C, name="taper_chain_spec_set_radii") result(status)
+       import :: c_ptr, c_int, c_size_t, taper_error
+       type(c_ptr), value :: spec, radii
+       integer(c_size_t), value :: n
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_radii
+     function taper_chain_spec_profile(spec) bind(C, name="taper_chain_spec_profile") result(p)
+       import :: c_ptr, c_int
+       type(c_ptr), value :: spec
+       integer(c_int) :: p
+     end function taper_chain_spec_profile
+     function taper_chain_spec_n_granules(spec) bind(C, name="taper_chain_spec_n_granules") &
+          result(n)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: spec
+       integer(c_size_t) :: n
+     end function taper_chain_spec_n_granules
+     function taper_chain_spec_s(spec) bind(C, name="taper_chain_spec_s") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_s
+     function taper_chain_spec_q(spec) bind(C, name="taper_chain_spec_q") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_q
+     function taper_chain_spec_exponent(spec) bind(C, name="taper_chain_spec_exponent") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_exponent
+     function taper_chain_spec_radii(spec, n) bind(C, name="taper_chain_spec_radii") result(a)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: spec
+       integer(c_size_t), intent(out) :: n
+       type(c_ptr) :: a
+     end function taper_chain_spec_radii
+     function taper_chain_spec_check(spec, err) bind(C, name="taper_chain_spec_check") &
+          result(status)
+       import :: c_ptr, c_int, taper_error
+       type(c_ptr), value :: spec
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_check
+
+     ! ---- chains
      function taper_chain_alloc(spec, err) bind(C, name="taper_chain_alloc") result(chain)
-       import :: c_ptr, taper_chain_spec, taper_error
-       type(taper_chain_spec), intent(in) :: spec
+       import :: c_ptr, taper_error
+       type(c_ptr), value :: spec
        type(taper_error), intent(inout) :: err
        type(c_ptr) :: chain
      end function taper_chain_alloc
@@ -228,6 +349,41 @@ module taper
        type(c_ptr) :: a
      end function taper_chain_rest_position
 
+     ! ---- the equations of motion for one's own integrator (state of length 2N:
+     ! v_k at y(2k-1), z_k at y(2k) in Fortran's numbering)
+     function taper_dynamics_alloc(chain, err) bind(C, name="taper_dynamics_alloc") result(dyn)
+       import :: c_ptr, taper_error
+       type(c_ptr), value :: chain
+       type(taper_error), intent(inout) :: err
+       type(c_ptr) :: dyn
+     end function taper_dynamics_alloc
+     subroutine taper_dynamics_free(dyn) bind(C, name="taper_dynamics_free")
+       import :: c_ptr
+       type(c_ptr), value :: dyn
+     end subroutine taper_dynamics_free
+     subroutine taper_dynamics_rhs(dyn, y, ydot) bind(C, name="taper_dynamics_rhs")
+       import :: c_ptr, c_double
+       type(c_ptr), value :: dyn
+       real(c_double), intent(in) :: y(*)
+       real(c_double), intent(out) :: ydot(*)
+     end subroutine taper_dynamics_rhs
+     subroutine taper_dynamics_energy_momentum(dyn, y, energy, momentum) &
+          bind(C, name="taper_dynamics_energy_momentum")
+       import :: c_ptr, c_double
+       type(c_ptr), value :: dyn
+       real(c_double), intent(in) :: y(*)
+       real(c_double), intent(out) :: energy, momentum
+     end subroutine taper_dynamics_energy_momentum
+     function taper_dynamics_peak_function(dyn, y, k) &
+          bind(C, name="taper_dynamics_peak_function") result(g)
+       import :: c_ptr, c_double, c_size_t
+       type(c_ptr), value :: dyn
+       real(c_double), intent(in) :: y(*)
+       integer(c_size_t), value :: k
+       real(c_double) :: g
+     end function taper_dynamics_peak_function
+
+     ! ---- binary collision theory
      function taper_theory_collision_time(mu, r, zdot0, n) &
           bind(C, name="taper_theory_collision_time") result(t)
        import :: c_double
@@ -236,22 +392,157 @@ module taper
      end function taper_theory_collision_time
      ! v, mu, T (res_time), t (pass_time): c_loc of arrays of length N, or
      ! c_null_ptr to skip.
-     function taper_theory_compute(chain, v, mu, res_time, pass_time, err) bind(C, name="taper_theory_compute") &
-          result(status)
+     function taper_theory_compute(chain, v, mu, res_time, pass_time, err) &
+          bind(C, name="taper_theory_compute") result(status)
        import :: c_ptr, c_int, taper_error
        type(c_ptr), value :: chain, v, mu, res_time, pass_time
        type(taper_error), intent(inout) :: err
        integer(c_int) :: status
      end function taper_theory_compute
 
-     subroutine taper_solver_spec_init(spec) bind(C, name="taper_solver_spec_init")
-       import :: taper_solver_spec
-       type(taper_solver_spec), intent(out) :: spec
-     end subroutine taper_solver_spec_init
+     ! ---- solver settings
+     function taper_solver_spec_alloc(err) bind(C, name="taper_solver_spec_alloc") result(spec)
+       import :: c_ptr, taper_error
+       type(taper_error), intent(inout) :: err
+       type(c_ptr) :: spec
+     end function taper_solver_spec_alloc
+     subroutine taper_solver_spec_free(spec) bind(C, name="taper_solver_spec_free")
+       import :: c_ptr
+       type(c_ptr), value :: spec
+     end subroutine taper_solver_spec_free
+     function taper_solver_spec_set_method(spec, method, err) &
+          bind(C, name="taper_solver_spec_set_method") result(status)
+       import :: c_ptr, c_int, taper_error
+       type(c_ptr), value :: spec
+       integer(c_int), value :: method
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_method
+     function taper_solver_spec_set_rtol(spec, rtol, err) &
+          bind(C, name="taper_solver_spec_set_rtol") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: rtol
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_rtol
+     function taper_solver_spec_set_atol(spec, atol, err) &
+          bind(C, name="taper_solver_spec_set_atol") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: atol
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_atol
+     function taper_solver_spec_set_last_granule(spec, last_granule, err) &
+          bind(C, name="taper_solver_spec_set_last_granule") result(status)
+       import :: c_ptr, c_int, c_size_t, taper_error
+       type(c_ptr), value :: spec
+       integer(c_size_t), value :: last_granule
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_last_granule
+     function taper_solver_spec_set_window(spec, window, err) &
+          bind(C, name="taper_solver_spec_set_window") result(status)
+       import :: c_ptr, c_int, taper_error
+       type(c_ptr), value :: spec
+       integer(c_int), value :: window
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_window
+     function taper_solver_spec_set_max_order(spec, max_order, err) &
+          bind(C, name="taper_solver_spec_set_max_order") result(status)
+       import :: c_ptr, c_int, taper_error
+       type(c_ptr), value :: spec
+       integer(c_int), value :: max_order
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_max_order
+     function taper_solver_spec_set_t_max(spec, t_max, err) &
+          bind(C, name="taper_solver_spec_set_t_max") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: t_max
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_t_max
+     function taper_solver_spec_set_max_steps(spec, max_steps, err) &
+          bind(C, name="taper_solver_spec_set_max_steps") result(status)
+       import :: c_ptr, c_int, c_long, taper_error
+       type(c_ptr), value :: spec
+       integer(c_long), value :: max_steps
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_max_steps
+     ! monitor: c_funloc of a bind(C) function
+     !   integer(c_int) function f(progress, user) bind(C)
+     !     type(taper_progress), intent(in) :: progress; type(c_ptr), value :: user
+     ! log: c_funloc of a bind(C) subroutine
+     !   subroutine g(level, message, user) bind(C)
+     !     integer(c_int), value :: level; type(c_ptr), value :: message, user
+     ! Either c_null_funptr for none.
+     subroutine taper_solver_spec_set_monitor(spec, monitor, user) &
+          bind(C, name="taper_solver_spec_set_monitor")
+       import :: c_ptr, c_funptr
+       type(c_ptr), value :: spec
+       type(c_funptr), value :: monitor
+       type(c_ptr), value :: user
+     end subroutine taper_solver_spec_set_monitor
+     subroutine taper_solver_spec_set_log(spec, log, user) bind(C, name="taper_solver_spec_set_log")
+       import :: c_ptr, c_funptr
+       type(c_ptr), value :: spec
+       type(c_funptr), value :: log
+       type(c_ptr), value :: user
+     end subroutine taper_solver_spec_set_log
+     function taper_solver_spec_method(spec) bind(C, name="taper_solver_spec_method") result(m)
+       import :: c_ptr, c_int
+       type(c_ptr), value :: spec
+       integer(c_int) :: m
+     end function taper_solver_spec_method
+     function taper_solver_spec_rtol(spec) bind(C, name="taper_solver_spec_rtol") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_solver_spec_rtol
+     function taper_solver_spec_atol(spec) bind(C, name="taper_solver_spec_atol") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_solver_spec_atol
+     function taper_solver_spec_last_granule(spec) &
+          bind(C, name="taper_solver_spec_last_granule") result(n)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: spec
+       integer(c_size_t) :: n
+     end function taper_solver_spec_last_granule
+     function taper_solver_spec_window(spec) bind(C, name="taper_solver_spec_window") result(w)
+       import :: c_ptr, c_int
+       type(c_ptr), value :: spec
+       integer(c_int) :: w
+     end function taper_solver_spec_window
+     function taper_solver_spec_max_order(spec) bind(C, name="taper_solver_spec_max_order") &
+          result(q)
+       import :: c_ptr, c_int
+       type(c_ptr), value :: spec
+       integer(c_int) :: q
+     end function taper_solver_spec_max_order
+     function taper_solver_spec_t_max(spec) bind(C, name="taper_solver_spec_t_max") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_solver_spec_t_max
+     function taper_solver_spec_max_steps(spec) bind(C, name="taper_solver_spec_max_steps") &
+          result(n)
+       import :: c_ptr, c_long
+       type(c_ptr), value :: spec
+       integer(c_long) :: n
+     end function taper_solver_spec_max_steps
+
+     ! ---- simulations
+     ! spec: a solver spec, or c_null_ptr for the defaults.
      function taper_sim_alloc(chain, spec, err) bind(C, name="taper_sim_alloc") result(sim)
-       import :: c_ptr, taper_solver_spec, taper_error
-       type(c_ptr), value :: chain
-       type(taper_solver_spec), intent(in) :: spec
+       import :: c_ptr, taper_error
+       type(c_ptr), value :: chain, spec
        type(taper_error), intent(inout) :: err
        type(c_ptr) :: sim
      end function taper_sim_alloc
@@ -271,11 +562,18 @@ module taper
        integer(c_int), value :: which
        type(c_ptr) :: a
      end function taper_sim_observable
-     subroutine taper_sim_stats(sim, stats) bind(C, name="taper_sim_stats")
-       import :: c_ptr, taper_stats
+     function taper_sim_theory(sim, which) bind(C, name="taper_sim_theory") result(a)
+       import :: c_ptr, c_int
        type(c_ptr), value :: sim
-       type(taper_stats), intent(out) :: stats
-     end subroutine taper_sim_stats
+       integer(c_int), value :: which
+       type(c_ptr) :: a
+     end function taper_sim_theory
+     function taper_sim_statistic(sim, which) bind(C, name="taper_sim_statistic") result(x)
+       import :: c_ptr, c_int, c_double
+       type(c_ptr), value :: sim
+       integer(c_int), value :: which
+       real(c_double) :: x
+     end function taper_sim_statistic
      ! x, v: c_loc of arrays of length N, or c_null_ptr.
      function taper_sim_state(sim, x, v, err) bind(C, name="taper_sim_state") result(status)
        import :: c_ptr, c_int, taper_error
@@ -284,6 +582,7 @@ module taper
        integer(c_int) :: status
      end function taper_sim_state
 
+     ! ---- asymptotic laws
      function taper_asymptotic_exponent(law, n) bind(C, name="taper_asymptotic_exponent") result(p)
        import :: c_int, c_double
        integer(c_int), value :: law
@@ -349,20 +648,133 @@ module taper
        real(c_double) :: y
      end function taper_asymptotic_forward_linear_b
 
-     subroutine taper_fit_spec_init(spec, model) bind(C, name="taper_fit_spec_init")
-       import :: taper_fit_spec, c_int
-       type(taper_fit_spec), intent(out) :: spec
+     ! ---- fits
+     function taper_fit_spec_alloc(model, err) bind(C, name="taper_fit_spec_alloc") result(spec)
+       import :: c_ptr, c_int, taper_error
        integer(c_int), value :: model
-     end subroutine taper_fit_spec_init
-     function taper_fit(spec, x, y, n, result, err) bind(C, name="taper_fit") result(status)
-       import :: taper_fit_spec, taper_fit_result, taper_error, c_double, c_size_t, c_int
-       type(taper_fit_spec), intent(in) :: spec
-       real(c_double), intent(in) :: x(*), y(*)
-       integer(c_size_t), value :: n
-       type(taper_fit_result), intent(out) :: result
+       type(taper_error), intent(inout) :: err
+       type(c_ptr) :: spec
+     end function taper_fit_spec_alloc
+     subroutine taper_fit_spec_free(spec) bind(C, name="taper_fit_spec_free")
+       import :: c_ptr
+       type(c_ptr), value :: spec
+     end subroutine taper_fit_spec_free
+     function taper_fit_spec_set_exponent(spec, p, err) &
+          bind(C, name="taper_fit_spec_set_exponent") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: p
        type(taper_error), intent(inout) :: err
        integer(c_int) :: status
+     end function taper_fit_spec_set_exponent
+     ! Points begin <= i < end, C (0-based) indices; end 0: to the end.
+     function taper_fit_spec_set_index_window(spec, begin, end, err) &
+          bind(C, name="taper_fit_spec_set_index_window") result(status)
+       import :: c_ptr, c_int, c_size_t, taper_error
+       type(c_ptr), value :: spec
+       integer(c_size_t), value :: begin, end
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_fit_spec_set_index_window
+     function taper_fit_spec_set_x_window(spec, x_min, x_max, err) &
+          bind(C, name="taper_fit_spec_set_x_window") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: x_min, x_max
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_fit_spec_set_x_window
+     function taper_fit_spec_set_skip_invalid(spec, skip, err) &
+          bind(C, name="taper_fit_spec_set_skip_invalid") result(status)
+       import :: c_ptr, c_int, taper_error
+       type(c_ptr), value :: spec
+       integer(c_int), value :: skip
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_fit_spec_set_skip_invalid
+     function taper_fit_spec_set_max_iter(spec, max_iter, err) &
+          bind(C, name="taper_fit_spec_set_max_iter") result(status)
+       import :: c_ptr, c_int, c_size_t, taper_error
+       type(c_ptr), value :: spec
+       integer(c_size_t), value :: max_iter
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_fit_spec_set_max_iter
+     function taper_fit_spec_set_xtol(spec, xtol, err) bind(C, name="taper_fit_spec_set_xtol") &
+          result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: xtol
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_fit_spec_set_xtol
+     function taper_fit_spec_model(spec) bind(C, name="taper_fit_spec_model") result(m)
+       import :: c_ptr, c_int
+       type(c_ptr), value :: spec
+       integer(c_int) :: m
+     end function taper_fit_spec_model
+     function taper_fit_spec_exponent(spec) bind(C, name="taper_fit_spec_exponent") result(p)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: p
+     end function taper_fit_spec_exponent
+     function taper_fit(spec, x, y, n, err) bind(C, name="taper_fit") result(res)
+       import :: c_ptr, c_double, c_size_t, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), intent(in) :: x(*), y(*)
+       integer(c_size_t), value :: n
+       type(taper_error), intent(inout) :: err
+       type(c_ptr) :: res
      end function taper_fit
+     subroutine taper_fit_result_free(res) bind(C, name="taper_fit_result_free")
+       import :: c_ptr
+       type(c_ptr), value :: res
+     end subroutine taper_fit_result_free
+     function taper_fit_result_model(res) bind(C, name="taper_fit_result_model") result(m)
+       import :: c_ptr, c_int
+       type(c_ptr), value :: res
+       integer(c_int) :: m
+     end function taper_fit_result_model
+     function taper_fit_result_n_params(res) bind(C, name="taper_fit_result_n_params") result(n)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: res
+       integer(c_size_t) :: n
+     end function taper_fit_result_n_params
+     ! Parameter i, 0-based as in C (0: a; 1: b, C or M; 2: p or f).
+     function taper_fit_result_param(res, i) bind(C, name="taper_fit_result_param") result(x)
+       import :: c_ptr, c_size_t, c_double
+       type(c_ptr), value :: res
+       integer(c_size_t), value :: i
+       real(c_double) :: x
+     end function taper_fit_result_param
+     function taper_fit_result_param_error(res, i) bind(C, name="taper_fit_result_param_error") &
+          result(x)
+       import :: c_ptr, c_size_t, c_double
+       type(c_ptr), value :: res
+       integer(c_size_t), value :: i
+       real(c_double) :: x
+     end function taper_fit_result_param_error
+     function taper_fit_result_n_points(res) bind(C, name="taper_fit_result_n_points") result(n)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: res
+       integer(c_size_t) :: n
+     end function taper_fit_result_n_points
+     function taper_fit_result_n_skipped(res) bind(C, name="taper_fit_result_n_skipped") result(n)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: res
+       integer(c_size_t) :: n
+     end function taper_fit_result_n_skipped
+     function taper_fit_result_chi2(res) bind(C, name="taper_fit_result_chi2") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: res
+       real(c_double) :: x
+     end function taper_fit_result_chi2
+     function taper_fit_result_iterations(res) bind(C, name="taper_fit_result_iterations") &
+          result(n)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: res
+       integer(c_size_t) :: n
+     end function taper_fit_result_iterations
   end interface
 
 contains
@@ -390,7 +802,7 @@ contains
     s = transfer(chars, s)
   end function c_string
 
-  ! The version of the loaded library ("0.1.0").
+  ! The version of the loaded library ("0.2.0").
   function taper_version() result(s)
     character(len=:), allocatable :: s
     s = c_string(c_taper_version())
@@ -402,20 +814,57 @@ contains
     s = c_string(c_taper_strerror(status))
   end function taper_strerror
 
-  ! "backward_linear", ...; '' for an unknown profile.
+  ! The library's names ("backward_linear", "bdf", "divergence_c", "steps");
+  ! '' outside the enum, so that a loop from 0 until '' walks each list.
   function taper_profile_name(profile) result(s)
     integer(c_int), intent(in) :: profile
     character(len=:), allocatable :: s
     s = c_string(c_taper_profile_name(profile))
   end function taper_profile_name
 
-  ! TAPER_OK and the profile number for a (case-insensitive) name, or TAPER_EINVAL.
-  function taper_profile_from_name(name, profile) result(status)
+  function taper_method_name(method) result(s)
+    integer(c_int), intent(in) :: method
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_method_name(method))
+  end function taper_method_name
+
+  function taper_fit_model_name(model) result(s)
+    integer(c_int), intent(in) :: model
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_fit_model_name(model))
+  end function taper_fit_model_name
+
+  function taper_statistic_name(which) result(s)
+    integer(c_int), intent(in) :: which
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_statistic_name(which))
+  end function taper_statistic_name
+
+  ! Case-insensitive inverses (trailing blanks ignored): TAPER_OK, or
+  ! TAPER_EINVAL with err naming the field ("profile", "method", "model").
+  function taper_profile_from_name(name, profile, err) result(status)
     character(len=*), intent(in) :: name
     integer(c_int), intent(out) :: profile
+    type(taper_error), intent(inout) :: err
     integer(c_int) :: status
-    status = c_taper_profile_from_name(trim(name)//c_null_char, profile)
+    status = c_taper_profile_from_name(trim(name)//c_null_char, profile, err)
   end function taper_profile_from_name
+
+  function taper_method_from_name(name, method, err) result(status)
+    character(len=*), intent(in) :: name
+    integer(c_int), intent(out) :: method
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = c_taper_method_from_name(trim(name)//c_null_char, method, err)
+  end function taper_method_from_name
+
+  function taper_fit_model_from_name(name, model, err) result(status)
+    character(len=*), intent(in) :: name
+    integer(c_int), intent(out) :: model
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = c_taper_fit_model_from_name(trim(name)//c_null_char, model, err)
+  end function taper_fit_model_from_name
 
   ! The message of a failed call.
   function taper_message(err) result(s)
@@ -431,6 +880,15 @@ contains
     s = transfer(err%message(1:n), s)
   end function taper_message
 
+  ! The setting at fault in a failed call, spelt as its setter's suffix and
+  ! the scene variable ("rtol", "n_granules", ...); '' when no single setting
+  ! is (out of memory, a solver failure).
+  function taper_field(err) result(s)
+    type(taper_error), intent(in) :: err
+    character(len=:), allocatable :: s
+    s = c_string(err%field)
+  end function taper_field
+
   ! Observable `which` of a run of `chain`: N values owned by the sim (a
   ! null pointer for an unknown observable).  Valid until taper_sim_free.
   function taper_observable(sim, chain, which) result(a)
@@ -440,7 +898,16 @@ contains
     a => taper_chain_array(chain, taper_sim_observable(sim, which))
   end function taper_observable
 
-  ! An array of length N owned by a chain (taper_chain_radius(chain), ...).
+  ! Column `which` (TAPER_THEORY_*) of the binary collision theory the sim
+  ! computed once: N values owned by the sim.
+  function taper_theory(sim, chain, which) result(a)
+    type(c_ptr), intent(in) :: sim, chain
+    integer(c_int), intent(in) :: which
+    real(c_double), pointer :: a(:)
+    a => taper_chain_array(chain, taper_sim_theory(sim, which))
+  end function taper_theory
+
+  ! An array of length N owned by a chain or its sim (taper_chain_radius(chain), ...).
   function taper_chain_array(chain, p) result(a)
     type(c_ptr), intent(in) :: chain, p
     real(c_double), pointer :: a(:)

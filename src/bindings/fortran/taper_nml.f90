@@ -7,10 +7,14 @@
 ! Our scene files (share/scenes/*.nml, docs/scene.md) are standard Fortran
 ! namelists with the groups &chain, &solver, &output, &fit, &table and &figure;
 ! this program reads them with READ(unit, NML=...) and hands the values of the
-! first three to libtaper through the
-! iso_c_binding module `taper` (share/fortran/taper.f90).  The variables and
-! their defaults are those of the table in drivers/taper/scene/scene.c; the solver defaults
-! come from the library itself (taper_solver_spec_init), as in the C driver.
+! first three to libtaper through the iso_c_binding module `taper`
+! (src/bindings/fortran/taper.f90), one setter per variable: the library
+! checks each value and names the variable it refuses, so this program keeps
+! no bounds of its own, and the names of profiles, methods and fit models
+! are the library's (taper_profile_name, ...).  The variables are those of
+! the table in drivers/taper/scene/scene.c; the defaults of &chain and
+! &solver come from the library itself (a fresh taper_chain_spec and
+! taper_solver_spec), as in the C driver.
 ! A list of values for s or q is a sweep: each value is run in turn.  The
 ! analysis groups &fit, &table and &figure (the C driver's fits, tables and
 ! figures) are read too, so that --dump proves every group of a scene is a
@@ -58,12 +62,9 @@ program taper_nml
   integer(int64) :: figure_every, figure_k_max
   real(c_double) :: figure_inset_reference
 
-  ! Allowed strings (drivers/taper/scene/scene.c); the C parser stores their canonical spelling.
-  character(len=*), parameter :: PROFILES(6) = [character(len=20) :: "monodisperse", &
-       "backward_linear", "forward_linear", "backward_exponential", "forward_exponential", "custom"]
-  character(len=*), parameter :: METHODS(2) = [character(len=5) :: "adams", "bdf"]
-  character(len=*), parameter :: FIT_MODELS(6) = [character(len=12) :: "none", "power", &
-       "exponential", "divergence_b", "divergence_c", "divergence_m"]
+  ! Allowed strings of the driver's own analysis groups
+  ! (drivers/taper/scene/scene.c); the C parser stores their canonical
+  ! spelling.  Profiles, methods and fit models are the library's.
   character(len=*), parameter :: QUANTITIES(6) = [character(len=7) :: "k", "v", "T_res", "t", &
        "t_reach", "t_peak"]
   character(len=*), parameter :: FIT_PARAMS(6) = [character(len=1) :: "a", "b", "c", "m", "p", "f"]
@@ -76,14 +77,20 @@ program taper_nml
 
   character(len=LEN_STR) :: path, arg
   logical :: dump, n_given
-  integer :: n_s, n_q, n_radii, n_sweep, i, status, worst
+  integer :: n_s, n_q, n_radii, n_sweep, i, status, worst, arg_status
   real(c_double) :: nan
-  type(taper_solver_spec) :: defaults
+  type(c_ptr) :: chain_defaults, solver_defaults
+  type(taper_error) :: err
 
   dump = .false.
   path = ""
   do i = 1, command_argument_count()
-     call get_command_argument(i, arg)
+     call get_command_argument(i, arg, status=arg_status)
+     if (arg_status /= 0) then   ! -1: longer than arg, never cut silently
+        write (error_unit, '(a,i0,a)') "taper_nml: argument ", i, " is longer than ", LEN_STR, &
+             " characters"
+        error stop 2
+     end if
      if (arg == "--dump") then
         dump = .true.
      else if (arg == "-h" .or. arg == "--help") then
@@ -98,23 +105,29 @@ program taper_nml
      error stop 2
   end if
 
-  ! Defaults: the table of drivers/taper/scene/scene.c; solver defaults from the library.
+  ! Defaults: those of fresh library specs (the table of
+  ! drivers/taper/scene/scene.c takes them from there too).
   nan = ieee_value(nan, ieee_quiet_nan)
-  call taper_solver_spec_init(defaults)
-  profile = "monodisperse"
-  n_granules = -1            ! not given: 100, or the number of radii
-  s = nan
+  chain_defaults = taper_chain_spec_alloc(err)
+  solver_defaults = taper_solver_spec_alloc(err)
+  if (.not. c_associated(chain_defaults) .or. .not. c_associated(solver_defaults)) then
+     write (error_unit, '(a)') "taper_nml: "//taper_message(err)
+     error stop 1
+  end if
+  profile = taper_profile_name(taper_chain_spec_profile(chain_defaults))
+  n_granules = -1            ! not given: the library's default, or the number of radii
+  s = nan                    ! not given: the library's default
   q = nan
-  exponent = 2.5_c_double
+  exponent = taper_chain_spec_exponent(chain_defaults)
   allocate (radii(MAX_RADII))
   radii = nan
-  method = merge("bdf  ", "adams", defaults%method == TAPER_BDF)
-  rtol = defaults%rtol
-  atol = defaults%atol
-  window = defaults%window /= 0
-  last_granule = 0
-  t_max = 0
-  max_steps = 0
+  method = taper_method_name(taper_solver_spec_method(solver_defaults))
+  rtol = taper_solver_spec_rtol(solver_defaults)
+  atol = taper_solver_spec_atol(solver_defaults)
+  window = taper_solver_spec_window(solver_defaults) /= 0
+  last_granule = int(taper_solver_spec_last_granule(solver_defaults), int64)
+  t_max = taper_solver_spec_t_max(solver_defaults)
+  max_steps = int(taper_solver_spec_max_steps(solver_defaults), int64)
   numerics = .true.
   dir = default_dir(path)
   progress = .true.
@@ -123,11 +136,36 @@ program taper_nml
   ! Defaults of &fit, &table and &figure: set by read_fit, read_table and
   ! read_figure, which read_scene calls.
   call read_scene(path)
+  ! Namelist READ cuts a string at its variable's length without a word: a
+  ! value that fills the whole variable may have been cut, so it is refused.
+  call check_length("chain", "profile", profile)
+  call check_length("solver", "method", method)
+  call check_length("output", "dir", dir)
+  call check_length("fit", "model", fit_model)
+  call check_length("fit", "x", fit_x)
+  call check_length("fit", "y", fit_y)
+  call check_length("fit", "report", fit_report)
+  call check_length("fit", "label", fit_label)
+  call check_length("fit", "theory", fit_theory)
+  call check_length("table", "name", table_name)
+  call check_length("table", "caption", table_caption)
+  call check_length("figure", "name", figure_name)
+  call check_length("figure", "title", figure_title)
+  call check_length("figure", "x", figure_x)
+  call check_length("figure", "y", figure_y)
+  call check_length("figure", "curves", figure_curves)
+  call check_length("figure", "x_label", figure_x_label)
+  call check_length("figure", "y_label", figure_y_label)
 
-  ! Allowed strings in their canonical spelling, as the C parser stores them.
-  profile = canonical(profile, PROFILES)
-  method = canonical(method, METHODS)
-  fit_model = canonical(fit_model, FIT_MODELS)
+  ! Allowed strings in their canonical spelling, as the C parser stores them:
+  ! the library's names for profiles, methods and fit models.
+  profile = library_name(profile, "profile")
+  method = library_name(method, "method")
+  if (lower(fit_model) == "none") then
+     fit_model = "none"
+  else
+     fit_model = library_name(fit_model, "fit_model")
+  end if
   fit_x = canonical(fit_x, QUANTITIES)
   fit_y = canonical(fit_y, QUANTITIES)
   fit_report = canonical(fit_report, FIT_PARAMS)
@@ -136,20 +174,22 @@ program taper_nml
   figure_y = canonical(figure_y, QUANTITIES)
   figure_curves = canonical(figure_curves, CURVES)
 
-  ! Resolve: a sweep is the list given; nothing given is the default 0.
+  ! Resolve: a sweep is the list given; nothing given is the library's default.
   n_s = count_given(s)
   n_q = count_given(q)
   n_radii = count_given(radii)
   if (n_s == 0) then
-     s(1) = 0
+     s(1) = taper_chain_spec_s(chain_defaults)
      n_s = 1
   end if
   if (n_q == 0) then
-     q(1) = 0
+     q(1) = taper_chain_spec_q(chain_defaults)
      n_q = 1
   end if
   n_given = n_granules >= 0
-  if (.not. n_given) n_granules = 100
+  if (.not. n_given) n_granules = int(taper_chain_spec_n_granules(chain_defaults), int64)
+  call taper_chain_spec_free(chain_defaults)
+  call taper_solver_spec_free(solver_defaults)
   if (lower(profile) == "custom" .and. n_radii > 0) then
      if (n_given .and. n_granules /= n_radii) then
         write (error_unit, '(a,i0,a,i0,a)') trim(path)//": n_granules = ", n_granules, &
@@ -315,6 +355,33 @@ contains
     figure_inset = inset
     figure_inset_reference = inset_reference
   end subroutine read_figure
+
+  ! The library's spelling of a profile, method or fit model name (any
+  ! case), or str itself if the library does not know it (the run then
+  ! reports the library's message).
+  function library_name(str, kind) result(c)
+    character(len=*), intent(in) :: str, kind
+    character(len=len(str)) :: c
+    type(taper_error) :: e
+    integer(c_int) :: code
+    c = str
+    select case (kind)
+    case ("profile")
+       if (taper_profile_from_name(str, code, e) == TAPER_OK) c = taper_profile_name(code)
+    case ("method")
+       if (taper_method_from_name(str, code, e) == TAPER_OK) c = taper_method_name(code)
+    case ("fit_model")
+       if (taper_fit_model_from_name(str, code, e) == TAPER_OK) c = taper_fit_model_name(code)
+    end select
+  end function library_name
+
+  subroutine check_length(group, name, value)
+    character(len=*), intent(in) :: group, name, value
+    if (len_trim(value) < len(value)) return
+    write (error_unit, '(a,i0,a)') trim(path)//": &"//group//" "//name//": longer than ", &
+         len(value) - 1, " characters, which taper_nml cannot hold"
+    error stop 2
+  end subroutine check_length
 
   ! The allowed string that str spells (case-insensitive), or str itself.
   function canonical(str, choices) result(c)
@@ -500,74 +567,149 @@ contains
     call print_optional("figure.inset_reference", figure_inset_reference)
   end subroutine print_dump
 
-  ! One point of the scene: chain, theory, dynamics; 0, 1 (failure) or 3 (partial).
-  integer function run_point(is, iq) result(rc)
-    integer, intent(in) :: is, iq
-    type(taper_chain_spec) :: cs
-    type(taper_solver_spec) :: ss
-    type(taper_error) :: err
-    type(c_ptr) :: c, sim
-    real(c_double), allocatable, target :: v_th(:), t_th(:)
-    real(c_double), pointer :: t_pass(:), v_peak(:)
-    integer(c_int) :: p, st
-    integer(c_size_t) :: n, k, step
-    type(taper_stats) :: stats
+  ! A library refusal, as the C driver reports it: the file, the group and
+  ! the variable the library names (every setter is named as its scene
+  ! variable), then the library's message.
+  subroutine report(group, e)
+    character(len=*), intent(in) :: group
+    type(taper_error), intent(in) :: e
+    if (len(taper_field(e)) > 0) then
+       write (error_unit, '(a)') trim(path)//": &"//group//" "//taper_field(e)//": "// &
+            taper_message(e)
+    else
+       write (error_unit, '(a)') trim(path)//": "//taper_message(e)
+    end if
+  end subroutine report
 
-    rc = 0
-    call taper_chain_spec_init(cs)
-    if (taper_profile_from_name(profile, p) /= TAPER_OK) then
-       write (error_unit, '(a)') trim(path)//": &chain profile: unknown '"//trim(profile)//"'"
-       rc = 2
+  ! A count of the scene as the library's size_t: a negative one cannot be
+  ! passed (it would wrap around), so it is refused here, naming it.
+  logical function count_ok(group, name, value)
+    character(len=*), intent(in) :: group, name
+    integer(int64), intent(in) :: value
+    count_ok = value >= 0
+    if (.not. count_ok) write (error_unit, '(a,i0,a)') trim(path)//": &"//group//" "//name// &
+         ": ", value, " is negative"
+  end function count_ok
+
+  ! The chain of sweep point (is, iq), built through the setters; c_null_ptr
+  ! after reporting why not.  (One call per statement: Fortran may skip a
+  ! function reference in a logical expression whose value is known.)
+  function make_chain(is, iq) result(c)
+    integer, intent(in) :: is, iq
+    type(c_ptr) :: c, cs
+    type(taper_error) :: e
+    integer(c_int) :: p, st
+    c = c_null_ptr
+    if (.not. count_ok("chain", "n_granules", n_granules)) return
+    cs = taper_chain_spec_alloc(e)
+    if (.not. c_associated(cs)) then
+       call report("chain", e)
        return
     end if
-    cs%profile = p
-    cs%n_granules = int(n_granules, c_size_t)
-    cs%s = s(is)
-    cs%q = q(iq)
-    cs%exponent = exponent
-    if (p == TAPER_CUSTOM .and. n_radii > 0) cs%radii = c_loc(radii(1))
-    c = taper_chain_alloc(cs, err)
+    st = taper_profile_from_name(profile, p, e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_profile(cs, p, e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_n_granules(cs, int(n_granules, c_size_t), e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_s(cs, s(is), e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_q(cs, q(iq), e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_exponent(cs, exponent, e)
+    if (st == TAPER_OK .and. n_radii > 0) &
+         st = taper_chain_spec_set_radii(cs, c_loc(radii(1)), int(n_radii, c_size_t), e)
+    if (st == TAPER_OK) c = taper_chain_alloc(cs, e)
+    if (.not. c_associated(c)) call report("chain", e)
+    call taper_chain_spec_free(cs)
+  end function make_chain
+
+  ! The solver settings of the scene through the setters; c_null_ptr after
+  ! reporting why not.
+  function make_solver() result(ss)
+    type(c_ptr) :: ss
+    type(taper_error) :: e
+    integer(c_int) :: m, st
+    ss = c_null_ptr
+    if (.not. count_ok("solver", "last_granule", last_granule)) return
+    ss = taper_solver_spec_alloc(e)
+    if (.not. c_associated(ss)) then
+       call report("solver", e)
+       return
+    end if
+    st = taper_method_from_name(method, m, e)
+    if (st == TAPER_OK) st = taper_solver_spec_set_method(ss, m, e)
+    if (st == TAPER_OK) st = taper_solver_spec_set_rtol(ss, rtol, e)
+    if (st == TAPER_OK) st = taper_solver_spec_set_atol(ss, atol, e)
+    if (st == TAPER_OK) st = taper_solver_spec_set_window(ss, merge(1_c_int, 0_c_int, window), e)
+    if (st == TAPER_OK) &
+         st = taper_solver_spec_set_last_granule(ss, int(last_granule, c_size_t), e)
+    if (st == TAPER_OK) st = taper_solver_spec_set_t_max(ss, t_max, e)
+    if (st == TAPER_OK) st = taper_solver_spec_set_max_steps(ss, int(max_steps, c_long), e)
+    if (st /= TAPER_OK) then
+       call report("solver", e)
+       call taper_solver_spec_free(ss)
+       ss = c_null_ptr
+    end if
+  end function make_solver
+
+  ! One point of the scene: chain, dynamics (with the theory the sim computes
+  ! once) or the theory alone; 0, 1 (failure), 2 (bad input) or 3 (partial).
+  integer function run_point(is, iq) result(rc)
+    integer, intent(in) :: is, iq
+    type(taper_error) :: e
+    type(c_ptr) :: c, ss, sim
+    real(c_double), allocatable, target :: v_buf(:), t_buf(:)
+    real(c_double), pointer :: t_pass(:), v_peak(:), v_th(:), t_th(:)
+    integer(c_int) :: st
+    integer(c_size_t) :: n, k, step
+
+    rc = 0
+    c = make_chain(is, iq)
     if (.not. c_associated(c)) then
-       write (error_unit, '(a)') trim(path)//": "//taper_message(err)
        rc = 2
        return
     end if
     n = taper_chain_size(c)
-    allocate (v_th(n), t_th(n))
-    if (taper_theory_compute(c, c_loc(v_th), c_null_ptr, c_null_ptr, c_loc(t_th), err) &
-         /= TAPER_OK) then
-       write (error_unit, '(a)') trim(path)//": "//taper_message(err)   ! "theory: ..."
-       call taper_chain_free(c)
-       rc = 1
-       return
-    end if
-
-    write (output_unit, '(5a,i0,3(a,g0.6))') "# ", trim(path), ": ", &
-         taper_profile_name(p), " N = ", n, "  s = ", cs%s, "  q = ", cs%q, "  n = ", exponent
     sim = c_null_ptr
     if (numerics) then
-       call taper_solver_spec_init(ss)
-       ss%method = merge(TAPER_BDF, TAPER_ADAMS, lower(method) == "bdf")
-       ss%rtol = rtol
-       ss%atol = atol
-       ss%window = merge(1, 0, window)
-       ss%last_granule = int(last_granule, c_size_t)
-       ss%t_max = t_max
-       ss%max_steps = int(max_steps, c_long)
-       sim = taper_sim_alloc(c, ss, err)
-       if (.not. c_associated(sim)) then
-          write (error_unit, '(a)') trim(path)//": "//taper_message(err)
+       ss = make_solver()
+       if (.not. c_associated(ss)) then
           call taper_chain_free(c)
           rc = 2
           return
        end if
-       st = taper_sim_run(sim, err)
+       sim = taper_sim_alloc(c, ss, e)
+       call taper_solver_spec_free(ss)
+       if (.not. c_associated(sim)) then
+          call report("solver", e)
+          call taper_chain_free(c)
+          rc = merge(1, 2, e%status == TAPER_ERANGE .or. e%status == TAPER_ENOMEM)
+          return
+       end if
+       v_th => taper_theory(sim, c, TAPER_THEORY_V)
+       t_th => taper_theory(sim, c, TAPER_THEORY_T)
+       t_pass => taper_observable(sim, c, TAPER_T_PASS)  ! filled by the run
+       v_peak => taper_observable(sim, c, TAPER_V_PEAK)
+    else
+       allocate (v_buf(n), t_buf(n))
+       if (taper_theory_compute(c, c_loc(v_buf), c_null_ptr, c_null_ptr, c_loc(t_buf), e) &
+            /= TAPER_OK) then
+          call report("chain", e)
+          call taper_chain_free(c)
+          rc = 1
+          return
+       end if
+       v_th => v_buf
+       t_th => t_buf
+       t_pass => t_buf   ! not printed without numerics; associated all the same
+       v_peak => v_buf
+    end if
+
+    write (output_unit, '(5a,i0,3(a,g0.6))') "# ", trim(path), ": ", &
+         taper_profile_name(taper_chain_profile(c)), " N = ", n, "  s = ", s(is), "  q = ", q(iq), &
+         "  n = ", taper_chain_exponent(c)
+    if (numerics) then
+       st = taper_sim_run(sim, e)
        if (st /= TAPER_OK) then
-          write (error_unit, '(a)') trim(path)//": "//taper_message(err)
+          write (error_unit, '(a)') trim(path)//": "//taper_message(e)
           rc = merge(1, 3, st == TAPER_EINVAL .or. st == TAPER_ENOMEM)
        end if
-       t_pass => taper_observable(sim, c, TAPER_T_PASS)
-       v_peak => taper_observable(sim, c, TAPER_V_PEAK)
        write (output_unit, '(a2,a8,4a16)') "# ", "k", "t_pass", "t_k theory", "v_peak", "v_k theory"
     else
        write (output_unit, '(a2,a8,2a16)') "# ", "k", "t_k theory", "v_k theory"
@@ -589,9 +731,10 @@ contains
        end if
     end do
     if (numerics) then
-       call taper_sim_stats(sim, stats)
-       write (output_unit, '(a,i0,a,es9.2,a,l1)') "# steps ", stats%steps, "  energy error ", &
-            stats%energy_error, "  complete ", stats%complete /= 0
+       write (output_unit, '(a,i0,a,es9.2,a,l1)') "# steps ", &
+            int(taper_sim_statistic(sim, TAPER_STAT_STEPS), int64), "  energy error ", &
+            taper_sim_statistic(sim, TAPER_STAT_ENERGY_ERROR), "  complete ", &
+            taper_sim_statistic(sim, TAPER_STAT_COMPLETE) > 0.5_c_double  ! 0 or 1
        call taper_sim_free(sim)
     end if
     call taper_chain_free(c)
