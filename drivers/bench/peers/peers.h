@@ -5,7 +5,7 @@
  * taper_dynamics for the whole-chain right-hand side, energy and peak
  * function, so that they integrate exactly the equations taper_sim does.
  *
- * Two honest peers that measure the same observables as taper_sim_run
+ * Three honest peers that measure the same observables as taper_sim_run
  * (t_pass and v_peak per granule, the energy drift) on the whole chain:
  *
  *  - taper_peer_verlet: textbook velocity Verlet in displacements x_k with a
@@ -14,26 +14,26 @@
  *    linear interpolation of the acceleration a_k and the peak value from
  *    the parabola v(t) that this linear a(t) integrates to.
  *  - taper_peer_arkode: an ARKODE ERKStep explicit Runge-Kutta table
- *    (Verner 6(5), Fehlberg 8(7) or Dormand-Prince 5(4);
- *    ARKODE's names are NAME_stages_embedding_order), adaptive, WRMS error control
- *    (rtol, atol), on taper_dynamics_rhs over the whole chain; events by ARKODE's
- *    root finder on its dense output, a ring of TAPER_PEER_SLOTS pass and
- *    peak slots as in events.c.  drivers/bench/peers/peer_arkode.c is not part of the core
- *    library (libtaper does not link ARKODE): link taper_peer_arkode_dep.
+ *    (Verner 6(5), Fehlberg 8(7) or Dormand-Prince 5(4); ARKODE's names are
+ *    NAME_stages_embedding_order), adaptive, WRMS error control (rtol,
+ *    atol), on taper_dynamics_rhs; events by ARKODE's root finder on its
+ *    dense output, a ring of TAPER_PEER_SLOTS pass and peak slots as in
+ *    taper_sim (src/sim/events.c).  Not in libtaper (which does not link
+ *    ARKODE): link taper_peer_arkode_dep.
  *  - taper_peer_rk8pd: GSL odeiv2 rk8pd (Prince-Dormand 8(7)), adaptive,
- *    control_y_new(atol, rtol) (max norm), on taper_dynamics_rhs over the
- *    whole chain (its state layout: v_k at 2(k-1), z_k at 2(k-1)+1).  rk8pd has no dense output, so
- *    events are located by sign changes of the same root functions as
- *    events.c between accepted steps, then refined by the Illinois method
- *    on the step size theta: g(theta) is evaluated on one fresh rk8pd step
- *    of size theta from the start of the accepted step (order-8 accurate,
- *    costs 12 RHS evaluations per evaluation of g, counted in rhs_evals).
+ *    control_y_new(atol, rtol) (max norm), on taper_dynamics_rhs (state:
+ *    v_k at 2(k-1), z_k at 2(k-1)+1).  rk8pd has no dense output, so events
+ *    are located by sign changes of taper_sim's root functions between
+ *    accepted steps, then refined by the Illinois method on the step size
+ *    theta: g(theta) is evaluated on one fresh rk8pd step of size theta from
+ *    the start of the accepted step (order-8 accurate, costs 12 RHS
+ *    evaluations per evaluation of g, counted in rhs_evals).
  *
- * Event arming is that of events.c: pass(k) is looked for only while
- * k is the next granule to be passed or v_k > 1e-6 v_ref, peak(k) only while
+ * Event arming is taper_sim's: pass(k) is looked for only while k is the
+ * next granule to be passed or v_k > 1e-6 v_ref, peak(k) only while
  * v_k > 1e-6 v_ref; a ring of TAPER_PEER_SLOTS granules follows the front.
  * A run ends when every pass time and peak is known, or (missing peaks)
- * 20 residence times after the last pass, as in solve.c.
+ * 20 residence times after the last pass, as taper_sim's does.
  */
 #ifndef TAPER_PEERS_H
 #define TAPER_PEERS_H
