@@ -456,7 +456,7 @@ contains
     end do
   end function count_given
 
-  ! out/NAME for scene file .../NAME.nml (drivers/taper/scene/scene.c: derived_dir).
+  ! out/NAME for scene file .../NAME.nml (drivers/taper/scene/scene_new.c: derived_dir).
   function default_dir(file) result(d)
     character(len=*), intent(in) :: file
     character(len=LEN_STR) :: d
