@@ -828,13 +828,42 @@ static void test_table_output(void **state)
     char *text = NULL;
     size_t len = 0;
     FILE *fp = open_memstream(&text, &len);
-    out_write_table(fp, &cols);
+    out_write_header(fp, &cols, NULL);
+    out_write_rows(fp, &cols, NULL, 0);
     fclose(fp);
     assert_string_equal(text,
                         "k\tR\tm\tX0\tt_pass\tT_res\tv_peak\tt_peak\tX_pass\ttheory_v\ttheory_T\ttheory_t\n"
                         "1\t1\tnan\tnan\t0.10000000000000001\tnan\tnan\tnan\tnan\tnan\tnan\tnan\n"
                         "2\t2\tnan\tnan\tnan\tnan\tnan\tnan\tnan\tnan\tnan\tnan\n");
     free(text);
+}
+
+/* &output columns and every: the chosen columns (k always), rows 1, 1 +
+ * every, ... and the last. */
+static void test_table_columns_every(void **state)
+{
+    (void)state;
+    double a[] = {1, 2, 3, 4, 5, 6}, b[] = {10, 20, 30, 40, 50, 60};
+    out_columns cols = {.n = 6, .every = 4};
+    cols.col[1] = a;
+    cols.col[6] = b;
+    cols.set = 1u << 0 | 1u << 6;
+    char *text = NULL;
+    size_t len = 0;
+    FILE *fp = open_memstream(&text, &len);
+    out_write_header(fp, &cols, "s");
+    out_write_rows(fp, &cols, "s", 0.5);
+    fclose(fp);
+    assert_string_equal(text, "s\tk\tv_peak\n0.5\t1\t10\n0.5\t5\t50\n0.5\t6\t60\n");
+    free(text);
+
+    scene *sc = load_ok("&output columns = 'v_peak, theory_v' every = 10 /");
+    assert_int_equal(cfg_of(sc)->output.column_set, 1u << 0 | 1u << 6 | 1u << 9);
+    assert_int_equal(cfg_of(sc)->output.every, 10);
+    scene_free(sc);
+    sc = load_ok("&solver numerics = .false. /");
+    assert_int_equal(cfg_of(sc)->output.column_set, 0xfu | 0xeu << 8);
+    scene_free(sc);
 }
 
 int main(void)
@@ -858,6 +887,7 @@ int main(void)
         cmocka_unit_test(test_library_refusals),
         cmocka_unit_test(test_library_error_without_key),
         cmocka_unit_test(test_long_line),
+        cmocka_unit_test(test_table_columns_every),
         cmocka_unit_test(test_validation_reports_all),
         cmocka_unit_test(test_two_sweeps_rejected),
         cmocka_unit_test(test_missing_file),

@@ -42,6 +42,12 @@ static const char *const fit_reports[] = {"a", "b", "c", "m", "p", "f"};
 static const char *const fit_theories[] = {"fit", "rate", "f", "b"};
 static const char *const curves[] = {"both", "theory", "numerics"};
 static const char *const chain_params[] = {"s", "q"};
+static const char *const columns[SCENE_N_COLUMNS] = {
+    "k", "R", "m", "X0", "t_pass", "T_res", "v_peak", "t_peak", "X_pass",
+    "theory_v", "theory_T", "theory_t"};
+
+const char *scene_column_name(scene_column c) { return NAME_AT(columns, (int)c); }
+int scene_column_numerics(scene_column c) { return c >= SCENE_COL_T_PASS && c <= SCENE_COL_X_PASS; }
 
 const char *scene_quantity_name(scene_quantity q) { return NAME_AT(quantities, (int)q); }
 const char *scene_fit_report_name(scene_fit_report r) { return NAME_AT(fit_reports, (int)r); }
@@ -143,6 +149,20 @@ static const scene_var table[] = {
     {"output", "threads", SCENE_INTEGER, 0, AT(output.threads), "0", SCENE_OWN, NULL, 0, 256,
      NO_CHOICE,
      "runs of a sweep computed at once (results identical to one at a time); 0: one per core"},
+    {"output", "columns", SCENE_STRING, 0, AT(output.columns), "''", SCENE_OWN, NULL, 0, 0,
+     NO_CHOICE,
+     "columns of granules.tsv and sweep.tsv, names separated by blanks or commas, written in "
+     "the file's order with k always first (e.g. 'v_peak theory_v'); empty: every column the "
+     "run has (without numerics: k R m X0 theory_v theory_T theory_t)"},
+    {"output", "every", SCENE_INTEGER, 0, AT(output.every), "1", SCENE_OWN, NULL, 1, 1e7,
+     NO_CHOICE, "write the rows of granules k = 1, 1 + every, 1 + 2 every, ... and the last"},
+    {"output", "max_energy_error", SCENE_REAL, SCENE_LO_OPEN, AT(output.max_energy_error),
+     "1e-3", SCENE_OWN, NULL, 0, 1e300, NO_CHOICE,
+     "a run whose relative energy error exceeds this is UNTRUSTED: its granules.tsv says so "
+     "and taper exits with status 4"},
+    {"output", "max_momentum_error", SCENE_REAL, SCENE_LO_OPEN, AT(output.max_momentum_error),
+     "1e-3", SCENE_OWN, NULL, 0, 1e300, NO_CHOICE,
+     "the same bound on the relative momentum error"},
 
     {"fit", "model", SCENE_CHOICE, 0, AT(fit.model), "'none'", SCENE_LIB_FIT, NULL, 0, 0,
      CHOICE(fit_model_choice, SCENE_FIT_NONE),

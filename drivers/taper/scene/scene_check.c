@@ -188,6 +188,47 @@ static void check_fit(scene *sc)
                         fit->k_min, fit->k_max);
 }
 
+/* &output columns -> column_set: known names, and none the run cannot
+ * have (the numerics' columns without numerics). */
+static void resolve_columns(scene *sc)
+{
+    scene_output_config *o = &sc->cfg.output;
+    int numerics = sc->cfg.solver.numerics;
+    size_t r = (size_t)row("output", "columns");
+    unsigned set = 1u << SCENE_COL_K;
+    const char *p = o->columns;
+    int named = 0;
+    while (*p) {
+        size_t n = strcspn(p, " ,\t");
+        if (n == 0) {
+            p++;
+            continue;
+        }
+        int c = 0;
+        while (c < SCENE_N_COLUMNS && !(strlen(scene_column_name((scene_column)c)) == n &&
+                                          strncmp(scene_column_name((scene_column)c), p, n) == 0))
+            c++;
+        if (c == SCENE_N_COLUMNS) {
+            scene_var_error(sc, r, "no column '%.*s' (columns: k R m X0 t_pass T_res v_peak "
+                            "t_peak X_pass theory_v theory_T theory_t)", n > 31 ? 31 : (int)n, p);
+            return;
+        }
+        if (!numerics && scene_column_numerics((scene_column)c)) {
+            scene_var_error(sc, r, "column %s is a result of the dynamics, and &solver "
+                            "numerics = .false.: drop it or turn the numerics on",
+                            scene_column_name((scene_column)c));
+            return;
+        }
+        set |= 1u << c;
+        named = 1;
+        p += n;
+    }
+    if (!named)
+        for (int c = 0; c < SCENE_N_COLUMNS; c++)
+            if (numerics || !scene_column_numerics((scene_column)c)) set |= 1u << c;
+    o->column_set = set;
+}
+
 /* Optional groups: what each needs from the others. */
 static void check_optional(scene *sc)
 {
@@ -227,6 +268,7 @@ size_t scene_validate(scene *sc)
     resolve_custom(sc);
     check_unused(sc);
     resolve_runs(sc);
+    resolve_columns(sc);
     if (!sc->cfg.output.dir[0])
         scene_var_error(sc, (size_t)row("output", "dir"), "the output directory must not be empty");
     /* The library checks its settings one by one, then their relations;

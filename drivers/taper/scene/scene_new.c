@@ -86,7 +86,8 @@ scene *scene_new(const char *path)
 {
     scene *sc = calloc(1, sizeof *sc);
     if (!sc) return NULL;
-    sc->path = text_dup(path ? path : "<scene>");
+    sc->from_stdin = path && strcmp(path, "-") == 0;
+    sc->path = text_dup(sc->from_stdin ? "stdin" : path ? path : "<scene>");
     sc->origin = calloc(scene_var_count(), sizeof *sc->origin);
     if (!sc->path || !sc->origin) goto fail;
     sc->cfg.fit.model = SCENE_FIT_NONE;

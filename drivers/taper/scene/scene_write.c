@@ -294,9 +294,15 @@ static const char doc_intro[] =
     "scene (column \"checked by\").  A value the file leaves out is reported at\n"
     "the line where its group opens.\n"
     "\n"
-    "On the command line, `--set GROUP.KEY=VALUE` overrides one variable (the\n"
-    "value in namelist syntax, e.g. `--set fit.k_min=12`) and `--get GROUP.KEY`\n"
-    "prints its resolved value instead of running the scene.\n"
+    "On the command line, `GROUP.KEY=VALUE` (or `--set GROUP.KEY=VALUE`) overrides\n"
+    "one variable (the value in namelist syntax, e.g. `taper scene.nml\n"
+    "chain.n_granules=1000 fit.k_min=12`) and `--get GROUP.KEY` prints its\n"
+    "resolved value instead of running the scene.  Several scenes run one after\n"
+    "the other (`taper a.nml b.nml`), each into its own `&output dir`, every\n"
+    "override applying to each; `-o DIR` takes one scene.  `-` reads the scene\n"
+    "from standard input (named `stdin` in messages, default directory\n"
+    "`out/stdin`).  A group may also end with `&end` instead of `/`, as older\n"
+    "namelist files do.\n"
     "\n"
     "**Sweeps.** `s` and `q` accept a list of values (`s = 0.1, 0.2, 0.3`); only one\n"
     "variable may be swept.  The driver then runs each value into its own\n"
@@ -315,6 +321,87 @@ static const char doc_intro[] =
     "These three groups are off unless `&fit model` or `&table`/`&figure name` is\n"
     "given.  The scenes of the paper's figures and tables are in\n"
     "`share/scenes/paper/` (see docs/paper.md).\n";
+
+/* After the tables: the driver's contract around the scene (exit status,
+ * result files, signals, concurrent runs, limits). */
+static void write_doc_outro(FILE *fp)
+{
+    fputs("\n## Exit status\n"
+          "\n"
+          "| status | meaning |\n"
+          "|--------|---------|\n"
+          "| 0 | complete: every result written, conservation within the bounds |\n"
+          "| 1 | failure: the library (memory, theory overflow), a result file, or standard "
+          "output could not be written (`taper ... > /dev/full`: the echo is the record of "
+          "what ran, so nothing runs) |\n"
+          "| 2 | bad input: scene, command line, output directory (also: in use by another run) |\n"
+          "| 3 | partial: a run ended early (solver failure, `t_max`, `max_steps`, or SIGINT, "
+          "SIGTERM, SIGHUP, SIGXCPU); `granules.partial.tsv` holds what was found, and there "
+          "is no `granules.tsv` |\n"
+          "| 4 | untrusted: complete, but the relative energy or momentum error exceeds "
+          "`&output max_energy_error` / `max_momentum_error` (default 1e-3, the library's "
+          "drift warning); `granules.tsv` has the line `# UNTRUSTED: ...` after `# complete` |\n"
+          "\n"
+          "With several runs (a sweep, several scenes) the status is the gravest: 2, then 1, "
+          "3, 4, 0.  A reader that stops reading standard output (`taper ... | head -1`) is "
+          "not a failure: the runs go on, their files are complete, and the status is theirs "
+          "(SIGPIPE is ignored, and the echo stops quietly).\n"
+          "\n"
+          "## Result files\n"
+          "\n"
+          "`granules.tsv` (and `granules.partial.tsv`, `sweep.tsv`) is tab-separated: the "
+          "column names on the first line, then `#` comment lines (version, status, the "
+          "resolved scene, the run's statistics), then one row per granule.  So\n"
+          "\n"
+          "    numpy.genfromtxt('granules.tsv', names=True)     # names from line 1, comments skipped\n"
+          "    numpy.loadtxt('granules.tsv', skiprows=1)          # always exactly one line\n"
+          "    pandas.read_csv('granules.tsv', sep='\\t', comment='#')\n"
+          "    gnuplot> set datafile columnheaders; plot 'granules.tsv' using 'k':'v_peak'\n"
+          "\n"
+          "read it as it is; `nan` marks a value that does not exist.  A run without "
+          "numerics has no columns of the dynamics (`k R m X0 theory_v theory_T theory_t`).  "
+          "`&output columns` chooses columns (`k` is always first) and `&output every` thins "
+          "the rows (granules 1, 1 + every, ..., and the last).  The files are written under a "
+          "temporary name (`DIR/.granules.tsv.XXXXXX`) and renamed when complete: a file with "
+          "a result's name is always whole.\n"
+          "\n"
+          "A re-run into the same directory replaces the files it writes (`granules.tsv` "
+          "removes a stale `granules.partial.tsv` and the other way round); files it does not "
+          "write stay (an earlier sweep's `s=VALUE/` directories, `fits.tsv` of a scene that "
+          "had `&fit`): compare the `# scene file` and scene block of each file, or use a "
+          "fresh directory.  Two runs into one directory at once are refused: each run holds "
+          "a lock on `DIR/.taper.lock` (flock) until it exits, and a second one exits with "
+          "status 2 naming the directory.\n"
+          "\n"
+          "## Signals, time limits and batch queues\n"
+          "\n"
+          "SIGINT (Ctrl-C), SIGTERM (`timeout`, `kill`, Slurm and PBS at the time limit), "
+          "SIGHUP (the terminal closed; left ignored under `nohup`) and SIGXCPU (a CPU-time "
+          "limit) stop the runs at the next event of the integration: what was found is "
+          "written to `granules.partial.tsv` (`# PARTIAL result (interrupted): interrupted by "
+          "SIGTERM`), the message names the signal, and the status is 3; scenes after it on "
+          "the command line are not started.  A second such signal while that file is "
+          "written removes its temporary file and ends the process at once (status 128 + "
+          "signal, no partial file).  A queue that sends SIGTERM and then SIGKILL after a "
+          "grace period (Slurm: KillWait, 30 s by default) keeps the partial file if it was "
+          "written within the grace period (the 160 MB partial file of a 2*10^6-granule chain "
+          "took 2.5 s from SIGTERM to exit, tests/driver/edges.sh signals; `&output columns` "
+          "and `every` make it smaller), "
+          "and nothing of that run if SIGKILL comes first (SIGKILL cannot be caught: a "
+          "temporary `.granules.partial.tsv.XXXXXX` may remain).  There is no checkpoint to "
+          "continue from: a run killed by a queue is run again, with `&solver last_granule` "
+          "or a shorter chain if the limit cannot be raised.\n"
+          "\n"
+          "## Limits\n"
+          "\n", fp);
+    fprintf(fp,
+            "A scene file holds at most %u bytes (%u MB) and lines of at most %d characters "
+            "(split long lists over several lines); all lists of more than one value together "
+            "(custom radii, sweeps, table values) hold at most %d values, so that the echo of "
+            "any valid scene fits the same limits and reads back.  Custom chains therefore "
+            "have at most %d granules.\n",
+            SCENE_MAX_FILE, SCENE_MAX_FILE >> 20, SCENE_MAX_LINE, SCENE_MAX_LIST, SCENE_MAX_LIST);
+}
 
 void scene_write_doc(const scene *sc, FILE *fp)
 {
@@ -336,4 +423,5 @@ void scene_write_doc(const scene *sc, FILE *fp)
             free(range);
         }
     }
+    write_doc_outro(fp);
 }
