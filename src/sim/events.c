@@ -19,11 +19,13 @@
  *
  * Where CVODE's root finder compares signs (SUNDIALS >= 6.5, or the bundled
  * 6.4.1 with our backport; pulse.arm_all), every event is armed from the
- * start: a slot is armed as soon as its granule moves at all, and the rings
- * grow (at root returns, taper_events_fit_rings) to cover every window
- * granule whose event is unknown, so their size is bounded by the window's
- * (typically 3..12 slots, at most the window).  No event can then happen
- * before its root function was armed.
+ * start: a pass slot is armed as soon as its granule moves, a peak slot as
+ * soon as the error test resolves its velocity (RESOLVED_FRACTION below), and
+ * the rings grow (at root returns,
+ * taper_events_fit_rings) to cover every window granule whose event is
+ * unknown, so their size is bounded by the window's (7-8 slots each on
+ * paper chains).  No pass is then missed, nor a peak of a velocity the
+ * error test resolves.
  *
  * With Debian's 6.4.1 (no fix) the rings stay at TAPER_RING_SLOTS and a
  * slot is armed only while its granule moves at a velocity above
@@ -48,9 +50,30 @@
 
 #define ARM_FRACTION 1e-6
 
-/* Fraction of v_ref above which a slot is armed: 0 (moving at all) where
- * every root is armed from the start. */
-static double arm_fraction(const taper_sim *sim) { return sim->pulse.arm_all ? 0.0 : ARM_FRACTION; }
+/* Where every root is armed from the start, a pass slot is armed as soon
+ * as its granule moves (v > 0), and a peak slot once its granule's
+ * velocity exceeds RESOLVED_FRACTION of the velocity error rtol v_ref that
+ * the error test allows at the pulse.  Below, the precursor's
+ * accelerations are not what the tolerance controls, and their sign can be
+ * noise: forward exponential q = 0.05, N = 100 at max order 9 "peaked"
+ * granule 6 at v = 2e-38 with peak slots armed at any v > 0.  (Not the
+ * granule's own atol v_scale: the binary-collision scale of the lightest
+ * granules of q = 0.3 is 1e10 times the velocity they peak at.)  Passes
+ * need no such guard (v_{k+1} - v_k of the precursor is dominated by
+ * v_k), and do happen at such velocities: the light granules of q = 0.3
+ * overtake there, located within 3e-11 of a run at rtol 1e-13. */
+#define RESOLVED_FRACTION 1e-2
+
+static double pass_arm_velocity(const taper_sim *sim)
+{
+    return sim->pulse.arm_all ? 0.0 : ARM_FRACTION * sim->pulse.v_ref;
+}
+
+static double peak_arm_velocity(const taper_sim *sim)
+{
+    const double f = sim->pulse.arm_all ? RESOLVED_FRACTION * sim->spec.rtol : ARM_FRACTION;
+    return f * sim->pulse.v_ref;
+}
 
 static double velocity(const taper_sim *sim, const double *y, size_t k)
 {
@@ -69,7 +92,7 @@ static int known(const taper_sim *sim, size_t k, unsigned bit) { return sim->pul
 static int pass_armed(const taper_sim *sim, const double *y, size_t k)
 {
     if (k > sim->pass_limit || k > sim->dyn.hi || known(sim, k, TAPER_EV_PASS)) return 0;
-    return k == sim->pulse.next_pass || velocity(sim, y, k) > arm_fraction(sim) * sim->pulse.v_ref;
+    return k == sim->pulse.next_pass || velocity(sim, y, k) > pass_arm_velocity(sim);
 }
 
 static double pass_function(const taper_sim *sim, const double *y, size_t k)
@@ -81,7 +104,7 @@ static double pass_function(const taper_sim *sim, const double *y, size_t k)
 static int peak_armed(const taper_sim *sim, const double *y, size_t k)
 {
     if (k > sim->target || k > sim->dyn.hi || known(sim, k, TAPER_EV_PEAK)) return 0;
-    return velocity(sim, y, k) > arm_fraction(sim) * sim->pulse.v_ref;
+    return velocity(sim, y, k) > peak_arm_velocity(sim);
 }
 
 static double peak_function(const taper_sim *sim, const double *y, size_t k)
@@ -100,13 +123,13 @@ static void ring_values(const taper_sim *sim, const double *y, double *g_pass, d
     const taper_dyn *d = &sim->dyn;
     const taper_pulse *p = &sim->pulse;
     const size_t begin = taper_dyn_begin(d), hi = d->hi;
-    const double v_arm = arm_fraction(sim) * p->v_ref;
+    const double v_pass = pass_arm_velocity(sim), v_peak = peak_arm_velocity(sim);
     const size_t np = p->pass_slots, last_pass = hi < sim->pass_limit ? hi : sim->pass_limit;
     for (size_t j = 0, k = p->next_pass, slot = (k - 1) % np; j < np; j++, k++) {
         double g = -1.0;
         if (k <= last_pass && !(p->events[k - 1] & TAPER_EV_PASS)) {
             const double v = y[taper_idx_v(k) - begin];
-            if (k == p->next_pass || v > v_arm) g = (k < hi ? y[taper_idx_v(k + 1) - begin] : 0.0) - v;
+            if (k == p->next_pass || v > v_pass) g = (k < hi ? y[taper_idx_v(k + 1) - begin] : 0.0) - v;
         }
         g_pass[slot] = g;
         if (++slot == np) slot = 0;
@@ -114,7 +137,8 @@ static void ring_values(const taper_sim *sim, const double *y, double *g_pass, d
     const size_t nk = p->peak_slots, last_peak = hi < sim->target ? hi : sim->target;
     for (size_t j = 0, k = p->next_peak, slot = (k - 1) % nk; j < nk; j++, k++) {
         double g = 1.0;
-        if (k <= last_peak && !(p->events[k - 1] & TAPER_EV_PEAK) && y[taper_idx_v(k) - begin] > v_arm) {
+        if (k <= last_peak && !(p->events[k - 1] & TAPER_EV_PEAK) &&
+            y[taper_idx_v(k) - begin] > v_peak) {
             const double left = k > 1 ? d->rho[k - 2] * y[taper_idx_z(k - 1) - begin] : 0.0;
             g = left - d->rho[k - 1] * y[taper_idx_z(k) - begin];
         }
