@@ -29,6 +29,10 @@
  * absent. */
 #define PEAK_GRACE 20.0
 #define INITIAL_STEP 1e-4
+/* Adams' default maximum order, and the growth below which the step is
+ * kept fixed (see setup_cvode). */
+#define ADAMS_ORDER 8
+#define ADAMS_ETA_FIXED 1.2
 /* The end of time when no t_max is given (pass times of exponential chains
  * grow like e^{eta k}: 1e30 is reached within a few hundred granules). */
 #define NO_TIME_LIMIT 1e300
@@ -204,10 +208,19 @@ static int setup_cvode(taper_sim *sim, taper_error *err)
      * docs/robustness.md; the affected values end up nan and are counted in
      * the log).  Once says it; CVODE's default repeated it ten times. */
     if (!status) status = check(CVodeSetMaxHnilWarns(mem, 1), "CVodeSetMaxHnilWarns", sim, err);
-    /* Adams above order 6 buys few steps here (the force is only C^1 at
-     * contact onset) and each step costs O(q^2) vector operations. */
-    int order = sim->spec.max_order ? sim->spec.max_order : (sim->spec.method == TAPER_ADAMS ? 6 : 5);
+    /* Adams: max order 8 and a step that changes once it may grow by 1.2
+     * (CVODE's default keeps h until it may grow by 1.5).  At order q the
+     * error goes like h^(q+1): a 1.5x growth needs an error 1.5^(q+1)
+     * times below the tolerance (38x at q = 8), so with the default band
+     * a higher order buys no longer steps; together they take monodisperse
+     * chains from 63 to 31 steps per granule at rtol 1e-10 (errors 3.6e-10
+     * instead of 7.1e-10), backward linear from 86 to 75 (contact openings:
+     * 12-23 % of steps fail the error test there).  docs/benchmarks.md,
+     * "Steps per granule". */
+    int order = sim->spec.max_order ? sim->spec.max_order : (sim->spec.method == TAPER_ADAMS ? ADAMS_ORDER : 5);
     if (!status) status = check(CVodeSetMaxOrd(mem, order), "CVodeSetMaxOrd", sim, err);
+    if (!status && sim->spec.method == TAPER_ADAMS)
+        status = check(CVodeSetEtaFixedStepBounds(mem, 0.0, ADAMS_ETA_FIXED), "CVodeSetEtaFixedStepBounds", sim, err);
     if (!status) status = attach_solvers(sim, err);
     return status;
 }
