@@ -432,11 +432,21 @@ static void test_relations(void **state)
     assert_non_null(c);
     taper_chain_free(c);
     taper_chain_spec_free(sp);
-    /* s and q are read only by the profiles that use them: q = 5 does not
-     * concern a linear chain, nor does a large s an exponential one. */
-    c = test_chain(TAPER_BACKWARD_LINEAR, 5, 0.5, 5.0, 2.5, NULL);
-    taper_chain_free(c);
-    c = test_chain(TAPER_BACKWARD_EXPONENTIAL, 5, 500.0, 0.5, 2.5, NULL);
+    /* s belongs to the linear profiles, q to the exponential ones (issue
+     * 18, item 5): a tapered profile without its parameter ran a
+     * monodisperse chain with no word (profile = 'backward_linear' and no
+     * s), and a parameter on a profile that does not read it was silently
+     * ignored.  Both refused, naming the parameter; 0 means "not given". */
+    expect_relation(spec_of(TAPER_BACKWARD_LINEAR, 5, 0, 0), "s", "give s > 0, or use profile = 'monodisperse'");
+    expect_relation(spec_of(TAPER_FORWARD_LINEAR, 5, 0, 0), "s", "give s > 0");
+    expect_relation(spec_of(TAPER_BACKWARD_EXPONENTIAL, 5, 0, 0), "q", "give q > 0, or use profile = 'monodisperse'");
+    expect_relation(spec_of(TAPER_FORWARD_EXPONENTIAL, 5, 0, 0), "q", "give q > 0");
+    expect_relation(spec_of(TAPER_MONODISPERSE, 5, 0.1, 0), "s", "no effect with profile = 'monodisperse'");
+    expect_relation(spec_of(TAPER_BACKWARD_EXPONENTIAL, 5, 500.0, 0.5), "s", "no effect");
+    expect_relation(spec_of(TAPER_MONODISPERSE, 5, 0, 0.1), "q", "no effect with profile = 'monodisperse'");
+    expect_relation(spec_of(TAPER_BACKWARD_LINEAR, 5, 0.5, 5.0), "q", "no effect");
+    expect_relation(spec_of(TAPER_CUSTOM, 5, 0.5, 0), "s", "no effect with profile = 'custom'");
+    c = test_chain(TAPER_MONODISPERSE, 5, 0, 0, 2.5, NULL);
     taper_chain_free(c);
 }
 
