@@ -57,38 +57,19 @@ static void check_count(scene *sc, size_t i)
 
 static int row(const char *group, const char *name) { return scene_var_find(group, name); }
 
-static int any_nonzero(const scene_reals *r)
-{
-    for (size_t i = 0; i < r->n; i++)
-        if (r->v[i] != 0.0) return 1;
-    return 0;
-}
-
-static int is_linear(taper_profile p)
-{
-    return p == TAPER_BACKWARD_LINEAR || p == TAPER_FORWARD_LINEAR;
-}
-
 static int is_exponential(taper_profile p)
 {
     return p == TAPER_BACKWARD_EXPONENTIAL || p == TAPER_FORWARD_EXPONENTIAL;
 }
 
-/* s only means something for the linear profiles, q for the exponential
- * ones, radii for custom: a value given to the wrong profile is a mistake
- * in the scene (the library simply ignores it). */
+/* radii only mean something for the custom profile: given to another
+ * profile they are a mistake in the scene.  (s and q given to a profile
+ * that does not read them, and a tapered profile without its parameter,
+ * are refused by the library's taper_chain_spec_check, reported at s or q
+ * by scene_lib.c: one owner per rule.) */
 static void check_unused(scene *sc)
 {
     const scene_chain_config *c = &sc->cfg.chain;
-    const char *profile = taper_profile_name(c->profile);
-    if (!is_linear(c->profile) && any_nonzero(&c->s))
-        scene_var_error(sc, (size_t)row("chain", "s"),
-                        "s has no effect with profile = '%s' (only the linear profiles use it): "
-                        "remove s or change the profile", profile);
-    if (!is_exponential(c->profile) && any_nonzero(&c->q))
-        scene_var_error(sc, (size_t)row("chain", "q"),
-                        "q has no effect with profile = '%s' (only the exponential profiles use "
-                        "it): remove q or change the profile", profile);
     int r = row("chain", "radii");
     if (c->profile != TAPER_CUSTOM && sc->origin[r].given)
         scene_var_error(sc, (size_t)r,
