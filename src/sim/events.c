@@ -17,28 +17,27 @@
  * granules ahead of the window are at rest and those behind it have every
  * event known, so only window granules can have an event.
  *
+ * A slot is armed only while its granule moves at a velocity above
+ * ARM_FRACTION of the pulse velocity v_ref (arm_velocity); otherwise it
+ * returns a fixed non-zero value of the "nothing happened yet" sign.  Below
+ * that, the precursor's signs are no pulse event, and with SUNDIALS 6.4.1
+ * (glo*ghi < 0, fixed upstream in 6.5) they would also underflow.  In the
+ * precursor of a Hertzian chain v_k > v_{k+1} and the acceleration is
+ * positive, so arming late misses no crossing of the pulse; the pass slot
+ * of the next granule the pulse must pass is always armed, because at the
+ * event that makes it next its velocity equals the pulse velocity.
+ *
  * Where CVODE's root finder compares signs (SUNDIALS >= 6.5, or the bundled
  * 6.4.1 with our backport; pulse.arm_all), every event is armed from the
- * start: a pass slot is armed as soon as its granule moves, a peak slot as
- * soon as the error test resolves its velocity (RESOLVED_FRACTION below), and
- * the rings grow (at root returns,
+ * start of the pulse: the rings grow (at root returns,
  * taper_events_fit_rings) to cover every window granule whose event is
  * unknown, so their size is bounded by the window's (7-8 slots each on
- * paper chains).  No pass is then missed, nor a peak of a velocity the
- * error test resolves.
- *
- * With Debian's 6.4.1 (no fix) the rings stay at TAPER_RING_SLOTS and a
- * slot is armed only while its granule moves at a velocity above
- * ARM_FRACTION of the pulse velocity v_ref; otherwise it returns a fixed
- * non-zero value of the "nothing happened yet" sign.  Why: ahead of the
- * front the precursor velocities fall to 1e-300 and below, and 6.4.1 tests
- * sign changes with glo*ghi < 0, which underflows on such values.  In the
- * precursor v_k > v_{k+1} and the acceleration is positive, so arming late
- * misses no crossing of a monotone chain; the pass slot of the next granule
- * the pulse must pass is always armed, because at the event that makes it
- * next its velocity equals the pulse velocity.  Steep forward chains, whose
- * light granules overtake in the precursor or beyond the ring, lose such
- * events (nan, counted in the log).
+ * paper chains), and an event several granules ahead of the lowest unknown
+ * one is seen (the light granules of steep forward chains, passed out of
+ * order within 1e-12 t).  With Debian's 6.4.1 (no fix) the rings stay at
+ * TAPER_RING_SLOTS (today's behaviour, byte-identical): events beyond the
+ * ring are found only as jumps when the ring reaches them (nan, counted in
+ * the log).
  *
  * Either way a granule at rest is unarmed: its functions would be exactly
  * zero, which CVODE takes for a root at every step.
@@ -50,30 +49,16 @@
 
 #define ARM_FRACTION 1e-6
 
-/* Where every root is armed from the start, a pass slot is armed as soon
- * as its granule moves (v > 0), and a peak slot once its granule's
- * velocity exceeds RESOLVED_FRACTION of the velocity error rtol v_ref that
- * the error test allows at the pulse.  Below, the precursor's
- * accelerations are not what the tolerance controls, and their sign can be
- * noise: forward exponential q = 0.05, N = 100 at max order 9 "peaked"
- * granule 6 at v = 2e-38 with peak slots armed at any v > 0.  (Not the
- * granule's own atol v_scale: the binary-collision scale of the lightest
- * granules of q = 0.3 is 1e10 times the velocity they peak at.)  Passes
- * need no such guard (v_{k+1} - v_k of the precursor is dominated by
- * v_k), and do happen at such velocities: the light granules of q = 0.3
- * overtake there, located within 3e-11 of a run at rtol 1e-13. */
-#define RESOLVED_FRACTION 1e-2
-
-static double pass_arm_velocity(const taper_sim *sim)
-{
-    return sim->pulse.arm_all ? 0.0 : ARM_FRACTION * sim->pulse.v_ref;
-}
-
-static double peak_arm_velocity(const taper_sim *sim)
-{
-    const double f = sim->pulse.arm_all ? RESOLVED_FRACTION * sim->spec.rtol : ARM_FRACTION;
-    return f * sim->pulse.v_ref;
-}
+/* Velocity above which a granule's slots are armed, in both modes.  Not
+ * only an underflow guard: ahead of the pulse, v_{k+1} - v_k and the
+ * acceleration can change sign at velocities that are no pulse event.
+ * Backward linear S = 0.5, N = 10 with contact exponent 3/2 (a force
+ * z^(1/2), strong at tiny compressions): the precursor of granule 9
+ * overtakes it at t = 0.004 with v ~ 1e-13, long before the pulse passes
+ * at t = 25; forward exponential q = 0.05, N = 100 at max order 9: a noise
+ * "peak" of granule 6 at v = 2e-38.  Armed at any v > 0 (1559963) these
+ * were taken for the pass and the peak. */
+static double arm_velocity(const taper_sim *sim) { return ARM_FRACTION * sim->pulse.v_ref; }
 
 static double velocity(const taper_sim *sim, const double *y, size_t k)
 {
@@ -92,7 +77,7 @@ static int known(const taper_sim *sim, size_t k, unsigned bit) { return sim->pul
 static int pass_armed(const taper_sim *sim, const double *y, size_t k)
 {
     if (k > sim->pass_limit || k > sim->dyn.hi || known(sim, k, TAPER_EV_PASS)) return 0;
-    return k == sim->pulse.next_pass || velocity(sim, y, k) > pass_arm_velocity(sim);
+    return k == sim->pulse.next_pass || velocity(sim, y, k) > arm_velocity(sim);
 }
 
 static double pass_function(const taper_sim *sim, const double *y, size_t k)
@@ -104,7 +89,7 @@ static double pass_function(const taper_sim *sim, const double *y, size_t k)
 static int peak_armed(const taper_sim *sim, const double *y, size_t k)
 {
     if (k > sim->target || k > sim->dyn.hi || known(sim, k, TAPER_EV_PEAK)) return 0;
-    return velocity(sim, y, k) > peak_arm_velocity(sim);
+    return velocity(sim, y, k) > arm_velocity(sim);
 }
 
 static double peak_function(const taper_sim *sim, const double *y, size_t k)
@@ -123,7 +108,7 @@ static void ring_values(const taper_sim *sim, const double *y, double *g_pass, d
     const taper_dyn *d = &sim->dyn;
     const taper_pulse *p = &sim->pulse;
     const size_t begin = taper_dyn_begin(d), hi = d->hi;
-    const double v_pass = pass_arm_velocity(sim), v_peak = peak_arm_velocity(sim);
+    const double v_pass = arm_velocity(sim), v_peak = v_pass;
     const size_t np = p->pass_slots, last_pass = hi < sim->pass_limit ? hi : sim->pass_limit;
     for (size_t j = 0, k = p->next_pass, slot = (k - 1) % np; j < np; j++, k++) {
         double g = -1.0;

@@ -808,6 +808,25 @@ static void every_root_armed_from_the_start(void **state)
     taper_chain_free(c);
 }
 
+/* Contact exponent 3/2 (force z^(1/2), strong at tiny compressions): the
+ * precursor of granule 9 overtakes it at t = 0.004 with v ~ 1e-13, long
+ * before the pulse passes it at t = 25.  Slots armed at any v > 0 took
+ * that for the pass (t_pass not increasing, then v_ref collapsed and a
+ * noise peak of 2e-13 followed); they are armed above 1e-6 v_ref. */
+static void precursor_crossings_are_no_pass(void **state)
+{
+    (void)state;
+    const size_t n = 10;
+    taper_chain *c = test_chain(TAPER_BACKWARD_LINEAR, n, 0.5, 0.5, 1.5, NULL);
+    taper_sim *sim = run(c, 2e-11, 2e-14, TAPER_ADAMS, 1, TAPER_OK);
+    const double *tp = taper_sim_observable(sim, TAPER_T_PASS);
+    const double *vp = taper_sim_observable(sim, TAPER_V_PEAK);
+    for (size_t k = 1; k + 1 < n; k++) assert_true(tp[k] > tp[k - 1]);
+    for (size_t k = 0; k < n; k++) assert_true(vp[k] > 1e-3);
+    taper_sim_free(sim);
+    taper_chain_free(c);
+}
+
 /* Issue 14, item 4: at most 35 steps per granule on a monodisperse chain at
  * the default settings, and the default accuracy (pass times within 1e-8
  * of rtol 1e-14).  Adams' max order 8 with a step that changes once it may
@@ -869,6 +888,7 @@ int main(void)
         cmocka_unit_test(last_peak_of_long_chain),
         cmocka_unit_test(every_root_armed_from_the_start),
         cmocka_unit_test(no_peaks_in_the_precursor_noise),
+        cmocka_unit_test(precursor_crossings_are_no_pass),
         cmocka_unit_test(steps_per_granule),
         cmocka_unit_test(pulse_position_advances),
         cmocka_unit_test(stops_at_last_granule),
