@@ -233,7 +233,7 @@ static const scene_var table[] = {
     {"figure", "y_label", SCENE_STRING, 0, AT(figure.y_label), "''", SCENE_OWN, NULL, 0, 0,
      NO_CHOICE, "y axis label; empty: from y"},
     {"figure", "inset", SCENE_LOGICAL, 0, AT(figure.inset), ".false.", SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE, "second panel: the &fit value of theory and numerics against the swept variable"},
+     NO_CHOICE, "an inset inside the main panel (as the paper's Figs. 1, 2, 9): the &fit value of theory and numerics against the swept variable"},
     {"figure", "inset_reference", SCENE_REAL, 0, AT(figure.inset_reference), NULL, SCENE_OWN,
      NULL, -1e3, 1e3, NO_CHOICE,
      "a horizontal line in the inset (e.g. an asymptotic exponent); left out: none"},
