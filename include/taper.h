@@ -109,7 +109,10 @@ TAPER_API const char *taper_strerror(taper_status status);
 #define TAPER_S_MAX 1e3                    /* 0 <= s <= TAPER_S_MAX            */
 #define TAPER_Q_MAX 1e3                    /* 0 <= q <= TAPER_Q_MAX (backward
                                               exponential: q < 1)              */
-#define TAPER_EXPONENT_MIN 1.0             /* exclusive: n > 1                 */
+#define TAPER_EXPONENT_MIN 1.5             /* inclusive: n >= 3/2 (below, the
+                                              force's unbounded slope at
+                                              contact onset stalls CVODE:
+                                              chain_spec.c)                    */
 #define TAPER_EXPONENT_MAX 20.0
 #define TAPER_RTOL_MIN 1e-14               /* double precision cannot follow
                                               tighter tolerances               */

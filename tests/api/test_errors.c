@@ -182,7 +182,7 @@ static void setter_refusals(void)
     REFUSE(taper_chain_spec_set_s(cs, TAPER_S_MAX * 2, &err), "s", taper_chain_spec_s(cs), 0.0);
     REFUSE(taper_chain_spec_set_q(cs, -0.1, &err), "q", taper_chain_spec_q(cs), 0.0);
     REFUSE(taper_chain_spec_set_q(cs, INFINITY, &err), "q", taper_chain_spec_q(cs), 0.0);
-    REFUSE(taper_chain_spec_set_exponent(cs, TAPER_EXPONENT_MIN, &err), "exponent",
+    REFUSE(taper_chain_spec_set_exponent(cs, nextafter(TAPER_EXPONENT_MIN, 0.0), &err), "exponent",
            taper_chain_spec_exponent(cs), 2.5);
     REFUSE(taper_chain_spec_set_exponent(cs, TAPER_EXPONENT_MAX * 2, &err), "exponent",
            taper_chain_spec_exponent(cs), 2.5);

@@ -467,7 +467,7 @@ static const bad_case bad_cases[] = {
     {"&chain n_granules = 1 /", 1, "chain", "n_granules", "[2, 1e+07]"},
     {"&chain n_granules = -5 /", 1, "chain", "n_granules", "out of range"},
     {"&chain n_granules = 0 /", 1, "chain", "n_granules", "out of range"},
-    {"&chain exponent = 1 /", 1, "chain", "exponent", "(1, 20]"},
+    {"&chain exponent = 1 /", 1, "chain", "exponent", "[1.5, 20]"},
     {"&chain\n profile = 'backward_linear'\n s = -0.5 /", 3, "chain", "s", "out of range"},
     {"&chain profile='backward_linear' s = 0.1, 1e9 /", 1, "chain", "s", "1e+09 is out of range"},
     {"&solver rtol = 1 /", 1, "solver", "rtol", "must lie in [1e-14, 0.1]"},
@@ -497,7 +497,7 @@ static const bad_case bad_cases[] = {
      "3 radii but n_granules = 4"},
     /* the library's refusals, each at its key */
     {"&solver\n rtol = 1e-20 /", 2, "solver", "rtol", "1e-20"},
-    {"&chain\n\n exponent = 25 /", 3, "chain", "exponent", "(1, 20]"},
+    {"&chain\n\n exponent = 25 /", 3, "chain", "exponent", "[1.5, 20]"},
     {"&chain profile = 'backward_exponential'\n q = 1.5 /", 2, "chain", "q", "q < 1"},
     {"&chain profile = 'backward_exponential'\n q = 0.5, 0.9, 1.5, 2 /", 2, "chain", "q",
      "q = 1.5"},

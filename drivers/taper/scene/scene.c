@@ -110,7 +110,7 @@ static const scene_var table[] = {
     {"chain", "q", SCENE_REAL, SCENE_SWEEP, AT(chain.q), NULL, SCENE_LIB_CHAIN, NULL, 0,
      TAPER_Q_MAX, NO_CHOICE,
      "exponential tapering q (backward_exponential needs q < 1); a list of values sweeps it"},
-    {"chain", "exponent", SCENE_REAL, SCENE_LO_OPEN, AT(chain.exponent), NULL, SCENE_LIB_CHAIN,
+    {"chain", "exponent", SCENE_REAL, 0, AT(chain.exponent), NULL, SCENE_LIB_CHAIN,
      NULL, TAPER_EXPONENT_MIN, TAPER_EXPONENT_MAX, NO_CHOICE,
      "contact exponent n: force ~ overlap^(n-1); 2.5 is Hertz"},
     {"chain", "radii", SCENE_REAL_LIST, SCENE_LO_OPEN, AT(chain.radii), NULL, SCENE_LIB_CHAIN,
