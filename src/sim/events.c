@@ -28,8 +28,9 @@
  * event that makes it next its velocity equals the pulse velocity.
  *
  * Where CVODE's root finder compares signs (SUNDIALS >= 6.5, or the bundled
- * 6.4.1 with our backport; pulse.arm_all), every event is armed from the
- * start of the pulse: the rings grow (at root returns,
+ * 6.4.1 with our backport) and the contact exponent is at least 2
+ * (pulse.arm_all, sim.c), every event is armed from the start of the
+ * pulse: the rings grow (at root returns,
  * taper_events_fit_rings) to cover every window granule whose event is
  * unknown, so their size is bounded by the window's (7-8 slots each on
  * paper chains), and an event several granules ahead of the lowest unknown
@@ -37,7 +38,13 @@
  * order within 1e-12 t).  With Debian's 6.4.1 (no fix) the rings stay at
  * TAPER_RING_SLOTS (today's behaviour, byte-identical): events beyond the
  * ring are found only as jumps when the ring reaches them (nan, counted in
- * the log).
+ * the log).  So do exponents below 2: their force z^(n-1) is strong at tiny
+ * compressions, and the precursor far ahead overtakes (v_{k+1} > v_k at
+ * velocities above ARM_FRACTION v_ref) and reverses long before the pulse
+ * arrives; a grown ring took that for passes (backward linear S = 0.5,
+ * N = 1000, n = 3/2: 7-9 pass times nan), and the pass time of such chains
+ * is defined by the ring of 3 (the first crossing once the granule is
+ * within 3 of the lowest unknown).
  *
  * Either way a granule at rest is unarmed: its functions would be exactly
  * zero, which CVODE takes for a root at every step.

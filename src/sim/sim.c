@@ -157,7 +157,10 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
     p->events[0] |= TAPER_EV_PEAK;
     p->pass_slots = TAPER_RING_SLOTS;
     p->peak_slots = TAPER_RING_SLOTS;
-    p->arm_all = taper_sundials_roots_see_tiny_values();
+    /* Rings that grow need a precursor without crossings, as the Hertzian
+     * one (events.c); below n = 2 the force z^(n-1) is strong at tiny
+     * compressions and the precursor overtakes long before the pulse. */
+    p->arm_all = sim->exponent >= 2.0 && taper_sundials_roots_see_tiny_values();
     taper_ok(err);
     return sim;
 }
