@@ -11,7 +11,8 @@
  * Exit status: 0 complete; 1 library or output failure; 2 bad input
  * (scene, command line, output directory); 3 partial result (solver failure,
  * Ctrl-C, t_max or max_steps reached: granules.partial.tsv is written and no
- * granules.tsv exists).
+ * granules.tsv exists; an interrupted sweep); 4 a sweep whose runs all ran,
+ * some of them failing (sweep.tsv and runs.tsv name them; run/sweep.h).
  */
 #include "run/run.h"
 #include "scene/scene.h"
@@ -39,7 +40,8 @@ static const char usage[] =
     "  --defaults  print a complete scene with every default, documented\n"
     "  --doc       print the scene reference (Markdown)\n"
     "\n"
-    "Exit status: 0 complete, 1 failure, 2 bad input, 3 partial result.\n";
+    "Exit status: 0 complete, 1 failure, 2 bad input, 3 partial result,\n"
+    "4 some runs of a sweep failed (DIR/runs.tsv names them).\n";
 
 typedef struct options {
     const char *path;

@@ -542,11 +542,15 @@ static int table_read(const char *dir, table_data *t, char **msg)
     return rc;
 }
 
-/* The first line of a run's messages, for sweep.tsv and runs.tsv. */
-static char *first_line(const sweep_item *it)
+/* The first line of a run's messages, for sweep.tsv and runs.tsv, without
+ * the "SCENE: run NAME: " that names it there already. */
+static char *first_line(const sweep *sw, const sweep_item *it)
 {
     const char *log = it->outcome.log;
     if (!log || !log[0]) return text_dup(it->outcome.rc == RUN_PARTIAL ? "partial result" : "failed");
+    char *label = text_printf("%s: run %s: ", scene_path(sw->sc), it->name);
+    if (label && strncmp(log, label, strlen(label)) == 0) log += strlen(label);
+    free(label);
     const char *nl = strchr(log, '\n');
     char *s = text_printf("%.*s", nl ? (int)(nl - log) : (int)strlen(log), log);
     for (char *c = s; c && *c; c++)
@@ -592,7 +596,7 @@ static int write_sweep_tsv(sweep *sw, table_data *keep)
     for (size_t i = 0; i < sw->n; i++) {
         const sweep_item *it = &sw->items[i];
         if (it->outcome.rc == RUN_COMPLETE) continue;
-        char *why = first_line(it);
+        char *why = first_line(sw, it);
         fprintf(fp, "# %s run %s: no rows (%s)\n", status_name(it->outcome.rc), it->name,
                 why ? why : "");
         free(why);
@@ -651,7 +655,7 @@ static int write_runs_tsv(sweep *sw)
         const sweep_item *it = &sw->items[i];
         fprintf(f->fp, "%s\t", it->name);
         for (size_t k = 0; k < cfg->runs.n_swept; k++) out_cell(f->fp, scene_swept_value(cfg, i, k), 0);
-        char *why = it->outcome.rc == RUN_COMPLETE ? text_dup("") : first_line(it);
+        char *why = it->outcome.rc == RUN_COMPLETE ? text_dup("") : first_line(sw, it);
         fprintf(f->fp, "%s\t%s\n", status_name(it->outcome.rc), why ? why : "");
         free(why);
     }
