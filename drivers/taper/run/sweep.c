@@ -331,6 +331,21 @@ static int remove_run_dir(const char *dir)
     return only_ours && rmdir(dir) == 0;
 }
 
+/* Temporaries a killed run left in its directory (.granules.tsv.XXXXXX). */
+static void remove_temporaries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d) return;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        if (e->d_name[0] != '.' || !run_file(e->d_name)) continue;
+        char *p = text_printf("%s/%s", dir, e->d_name);
+        if (p) unlink(p);
+        free(p);
+    }
+    closedir(d);
+}
+
 static int is_run_of(const sweep *sw, const char *name)
 {
     for (size_t i = 0; sw && i < sw->n; i++)
@@ -724,6 +739,7 @@ static int prepare(const scene *sc, sweep *sw)
             printf("! sweep %s -> %s\n", it->name, it->dir);
         }
         sw->cost_todo += it->cost;
+        remove_temporaries(it->dir);
         if (reusable(sw, i)) {
             sw->items[i].reused = 1;
             sw->items[i].state = DONE;
@@ -800,8 +816,19 @@ int sweep_run(const scene *sc)
     clear_progress(&p);
 
     if (sw->done < sw->n || run_interrupted()) {
-        fprintf(stderr, "%s: interrupted: %zu of %zu runs done; run the same command to resume "
-                "(complete runs are reused)\n", scene_path(sc), sw->done, sw->n);
+        /* What the runs done after the first one missing printed. */
+        for (size_t i = p.committed; i < sw->n; i++) {
+            const sweep_item *it = &sw->items[i];
+            if (it->state != DONE) continue;
+            if (it->outcome.log) fputs(it->outcome.log, stderr);
+            if (it->outcome.out) fputs(it->outcome.out, stdout);
+        }
+        fflush(stdout);
+        size_t complete = 0;
+        for (size_t i = 0; i < sw->n; i++)
+            complete += sw->items[i].state == DONE && sw->items[i].outcome.rc == RUN_COMPLETE;
+        fprintf(stderr, "%s: interrupted: %zu of %zu runs complete; run the same command to "
+                "resume (complete runs are reused)\n", scene_path(sc), complete, sw->n);
         sweep_close(sw);
         return RUN_PARTIAL;
     }
