@@ -22,6 +22,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef TAPER_MPI
+#include "run/mpi.h" /* mpirun -np K taper SCENE.nml: a sweep's runs on K ranks */
+#endif
+
 static const char usage[] =
     "usage: taper SCENE.nml [-o DIR] [--set GROUP.KEY=VALUE]... [--get GROUP.KEY]\n"
     "       taper --defaults | --doc | --help | --version\n"
@@ -73,6 +77,13 @@ static scene *load_scene(const options *o)
 static int run(const options *o)
 {
     scene *sc = load_scene(o);
+#ifdef TAPER_MPI
+    if (mpi_rank() > 0) { /* the runs rank 0 hands out, nothing printed */
+        int worker_rc = mpi_worker(o->get ? NULL : sc);
+        scene_free(sc);
+        return sc ? RUN_COMPLETE : worker_rc;
+    }
+#endif
     if (!sc) return RUN_INPUT;
     int rc;
     if (o->get) {
@@ -114,6 +125,9 @@ int main(int argc, char **argv)
 {
     options o = {0};
     int rc = -1;
+#ifdef TAPER_MPI
+    mpi_start(&argc, &argv);
+#endif
     if (!(o.sets = calloc((size_t)argc, sizeof *o.sets))) return RUN_FAILED;
     for (int i = 1; rc < 0 && i < argc; i++) {
         const char *a = argv[i];
@@ -144,5 +158,8 @@ int main(int argc, char **argv)
     }
     if (rc < 0) rc = run(&o);
     free(o.sets);
+#ifdef TAPER_MPI
+    rc = mpi_stop(rc);
+#endif
     return rc;
 }

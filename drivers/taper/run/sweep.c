@@ -767,7 +767,7 @@ int sweep_run(const scene *sc)
     }
     int rc = prepare(sc, sw);
     if (rc != RUN_COMPLETE) {
-        if (remote) remote->finish(sw, remote->ctx);
+        if (remote) remote->finish(NULL, remote->ctx); /* nothing to hand out */
         sweep_close(sw);
         return rc;
     }

@@ -38,13 +38,11 @@ int sweep_clean_single(const scene *sc);
 /* ---- for run/mpi.c ------------------------------------------------------ */
 
 /* Other ranks that compute runs (MPI).  Rank 0 calls serve() between waits
- * (answer requests, deliver results with sweep_done; never blocks),
- * in_flight() for the runs out on other ranks, finish() once the sweep
- * hands out nothing more (releases every worker; blocks until they have
- * all said goodbye). */
+ * (answer requests with sweep_next, deliver results with sweep_done; never
+ * blocks), finish() once the sweep hands out nothing more (releases every
+ * worker; blocks until they have all said goodbye). */
 typedef struct sweep_remote {
     void (*serve)(sweep *sw, void *ctx);
-    size_t (*in_flight)(void *ctx);
     void (*finish)(sweep *sw, void *ctx);
     unsigned ranks;        /* processes in all, this one included         */
     unsigned threads;      /* threads of a rank for &output threads = 0    */
