@@ -412,6 +412,9 @@ int sweep_clean_single(const scene *sc) { return clean_dir(sc, NULL); }
 typedef struct printer {
     size_t committed;    /* runs 0..committed-1 printed                    */
     int show;            /* a progress line on a terminal                  */
+    double every;        /* seconds between lines: 0.25 on a terminal;
+                            under mpirun, which hides the terminal from
+                            the ranks, a line of its own every 10 s         */
     int on_screen;
     double start, last;
     unsigned ranks, threads;
@@ -427,7 +430,7 @@ static void show_progress(printer *p, sweep *sw, int force)
 {
     if (!p->show) return;
     double now = wall_seconds();
-    if (!force && now - p->last < 0.25) return;
+    if (!force && now - p->last < p->every) return;
     p->last = now;
     pthread_mutex_lock(&sw->lock);
     size_t done = sw->done, reused = sw->reused, failed = sw->failed, computed = sw->computed;
@@ -435,7 +438,7 @@ static void show_progress(printer *p, sweep *sw, int force)
     pthread_mutex_unlock(&sw->lock);
     double elapsed = now - p->start;
     double rate = computed ? (double)computed / fmax(elapsed, 1e-9) : 0;
-    fprintf(stderr, "\r\033[Ktaper: runs %zu/%zu", done, sw->n);
+    fprintf(stderr, "%staper: runs %zu/%zu", p->every > 1 ? "" : "\r\033[K", done, sw->n);
     if (reused) fprintf(stderr, " (%zu reused)", reused);
     if (failed) fprintf(stderr, " %zu failed", failed);
     if (computed) {
@@ -446,8 +449,12 @@ static void show_progress(printer *p, sweep *sw, int force)
     }
     fprintf(stderr, "  [%u rank%s x %u thread%s]", p->ranks, p->ranks == 1 ? "" : "s", p->threads,
             p->threads == 1 ? "" : "s");
+    if (p->every > 1) {
+        fputc('\n', stderr); /* a log line */
+    } else {
+        p->on_screen = 1;
+    }
     fflush(stderr);
-    p->on_screen = 1;
 }
 
 /* Prints the runs that are done and have every earlier run done. */
@@ -777,9 +784,11 @@ int sweep_run(const scene *sc)
     if (threads > 256) threads = 256;
     size_t todo = sw->n - sw->reused;
     if (!remote && threads > todo) threads = todo ? (unsigned)todo : 1;
-    printer p = {.show = cfg->output.progress && isatty(STDERR_FILENO),
+    int tty = isatty(STDERR_FILENO);
+    printer p = {.show = cfg->output.progress && (tty || remote), .every = tty ? 0.25 : 10,
                  .start = wall_seconds(), .ranks = remote ? remote->ranks : 1,
                  .threads = threads};
+    p.last = tty ? 0 : p.start;
     pthread_t tid[256];
     unsigned started = 0;
     for (; started < threads; started++)
