@@ -15,6 +15,7 @@
  * some of them failing (sweep.tsv and runs.tsv name them; run/sweep.h).
  */
 #include "run/run.h"
+#include "run/sweep.h"
 #include "scene/scene.h"
 #include "taper.h"
 
@@ -28,6 +29,7 @@
 
 static const char usage[] =
     "usage: taper SCENE.nml [-o DIR] [--set GROUP.KEY=VALUE]... [--get GROUP.KEY]\n"
+    "                   [--part I/N]\n"
     "       taper --defaults | --doc | --help | --version\n"
     "\n"
     "Runs the scene (Fortran namelist, see docs/scene.md): builds the chain,\n"
@@ -41,6 +43,9 @@ static const char usage[] =
     "              'bdf', .false., 0.1, 0.2); may be repeated\n"
     "  --get GROUP.KEY\n"
     "              print the resolved value of one variable and exit\n"
+    "  --part I/N  a sweep's runs split in N parts: compute part I only (a job\n"
+    "              array); then the same command without --part merges them\n"
+    "              (reuses every run on disk, writes sweep.tsv; docs/cluster.md)\n"
     "  --defaults  print a complete scene with every default, documented\n"
     "  --doc       print the scene reference (Markdown)\n"
     "\n"
@@ -53,6 +58,7 @@ typedef struct options {
     const char *get;
     const char **sets;
     size_t n_sets;
+    size_t part, parts;   /* --part part/parts; 0: the whole sweep */
 } options;
 
 /* Reads, overrides and validates the scene; NULL (after printing why) if
@@ -85,6 +91,13 @@ static int run(const options *o)
     }
 #endif
     if (!sc) return RUN_INPUT;
+    if (o->parts && !scene_cfg(sc)->runs.swept) {
+        fprintf(stderr, "taper: --part %zu/%zu: %s is not a sweep (no variable takes a list)\n",
+                o->part, o->parts, o->path);
+        scene_free(sc);
+        return RUN_INPUT;
+    }
+    sweep_set_part(o->part, o->parts);
     int rc;
     if (o->get) {
         rc = scene_print_value(sc, o->get, stdout) == 0 ? RUN_COMPLETE : RUN_INPUT;
@@ -146,6 +159,23 @@ int main(int argc, char **argv)
             o.sets[o.n_sets++] = argv[++i];
         } else if (strcmp(a, "--get") == 0 && has_value) {
             o.get = argv[++i];
+        } else if (strcmp(a, "--part") == 0 && has_value) {
+            const char *v = argv[++i];
+            char *end = NULL;
+            unsigned long long part = strtoull(v, &end, 10), parts = 0;
+            if (end != v && *end == '/') {
+                const char *q = end + 1;
+                parts = strtoull(q, &end, 10);
+                if (end == q) parts = 0;
+            }
+            if (parts == 0 || part == 0 || part > parts || *end != '\0' || v[0] == '-') {
+                fprintf(stderr, "taper: --part %s: write I/N with 1 <= I <= N (e.g. --part 3/8)\n",
+                        v);
+                rc = RUN_INPUT;
+            } else {
+                o.part = (size_t)part;
+                o.parts = (size_t)parts;
+            }
         } else if (a[0] == '-' || o.path) {
             rc = bad_argument(a);
         } else {

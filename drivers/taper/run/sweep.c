@@ -39,6 +39,7 @@ typedef struct sweep_item {
     double cost;         /* estimate: the granules the pulse crosses    */
     int state;
     int reused;          /* its result was on disk                      */
+    int elsewhere;       /* another part's run (--part)                 */
     run_outcome outcome; /* rc, and the text it printed                 */
 } sweep_item;
 
@@ -56,8 +57,15 @@ struct sweep {
 };
 
 static const sweep_remote *remote;
+static size_t only_part, n_parts; /* --part only_part/n_parts; 0: all */
 
 void sweep_set_remote(const sweep_remote *r) { remote = r; }
+
+void sweep_set_part(size_t part, size_t parts)
+{
+    only_part = part;
+    n_parts = parts;
+}
 
 static double wall_seconds(void)
 {
@@ -470,6 +478,7 @@ static void commit(printer *p, sweep *sw)
         if (it->outcome.log) fputs(it->outcome.log, stderr);
         if (it->outcome.out) fputs(it->outcome.out, stdout);
         if (it->reused) printf("! reused %s/granules.tsv\n", it->dir);
+        if (it->elsewhere) continue;
         fflush(stdout);
         fflush(stderr);
     }
@@ -746,6 +755,18 @@ static int prepare(const scene *sc, sweep *sw)
             printf("! sweep %s -> %s\n", it->name, it->dir);
         }
         sw->cost_todo += it->cost;
+        if (n_parts > 1) {
+            /* Part k of n: positions k-1, k-1+n, ... of the dearest-first order. */
+            size_t pos = 0;
+            while (sw->order[pos] != i) pos++;
+            if (pos % n_parts != only_part - 1) {
+                sw->items[i].elsewhere = 1;
+                sw->items[i].state = DONE;
+                sw->done++;
+                sw->cost_todo -= it->cost;
+                continue;
+            }
+        }
         remove_temporaries(it->dir);
         if (reusable(sw, i)) {
             sw->items[i].reused = 1;
@@ -756,9 +777,13 @@ static int prepare(const scene *sc, sweep *sw)
             sw->cost_todo -= it->cost;
         }
     }
+    size_t mine = sw->n;
+    for (size_t i = 0; i < sw->n; i++) mine -= sw->items[i].elsewhere;
+    if (n_parts > 1)
+        printf("! part %zu/%zu: %zu of the %zu runs\n", only_part, n_parts, mine, sw->n);
     if (sw->reused)
         printf("! resuming: %zu of %zu runs reused (their results are on disk, from the same "
-               "scene), %zu to compute\n", sw->reused, sw->n, sw->n - sw->reused);
+               "scene), %zu to compute\n", sw->reused, mine, mine - sw->reused);
     fflush(stdout);
     return RUN_COMPLETE;
 }
@@ -840,6 +865,19 @@ int sweep_run(const scene *sc)
                 "resume (complete runs are reused)\n", scene_path(sc), complete, sw->n);
         sweep_close(sw);
         return RUN_PARTIAL;
+    }
+    if (n_parts > 1) {
+        size_t complete = 0, mine = 0;
+        for (size_t i = 0; i < sw->n; i++) {
+            if (sw->items[i].elsewhere) continue;
+            mine++;
+            complete += sw->items[i].outcome.rc == RUN_COMPLETE;
+        }
+        printf("! part %zu/%zu done: %zu of its %zu runs complete; once every part is done, "
+               "`taper %s` (without --part) merges them: it reuses their runs and writes "
+               "sweep.tsv\n", only_part, n_parts, complete, mine, scene_path(sc));
+        sweep_close(sw);
+        return complete == mine ? RUN_COMPLETE : RUN_SOME_FAILED;
     }
     rc = RUN_COMPLETE;
     int reports = cfg->runs.fit || cfg->runs.table || cfg->runs.figure;

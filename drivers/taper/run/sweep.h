@@ -31,6 +31,15 @@ typedef struct sweep sweep;
  * Returns a run_status. */
 int sweep_run(const scene *sc);
 
+/* Only part `part` of `parts` (1 <= part <= parts) of the sweep's runs:
+ * the runs in the order of their estimated cost, dealt out in turn, so
+ * that every part gets a share of the dear ones (taper --part I/N; a job
+ * array without MPI, docs/cluster.md).  A part writes its runs'
+ * directories, not sweep.tsv; the same command without --part then
+ * reuses every run the parts completed and writes sweep.tsv, fits, table
+ * and figure (the merge).  Call before sweep_run. */
+void sweep_set_part(size_t part, size_t parts);
+
 /* A scene of one run writes into DIR itself: the files and run
  * directories of an earlier sweep there are removed.  A run_status. */
 int sweep_clean_single(const scene *sc);
