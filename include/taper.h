@@ -109,7 +109,10 @@ TAPER_API const char *taper_strerror(taper_status status);
 #define TAPER_S_MAX 1e3                    /* 0 <= s <= TAPER_S_MAX            */
 #define TAPER_Q_MAX 1e3                    /* 0 <= q <= TAPER_Q_MAX (backward
                                               exponential: q < 1)              */
-#define TAPER_EXPONENT_MIN 1.0             /* exclusive: n > 1                 */
+#define TAPER_EXPONENT_MIN 1.5             /* inclusive: n >= 3/2 (below, the
+                                              force's unbounded slope at
+                                              contact onset stalls CVODE:
+                                              chain_spec.c)                    */
 #define TAPER_EXPONENT_MAX 20.0
 #define TAPER_RTOL_MIN 1e-14               /* double precision cannot follow
                                               tighter tolerances               */
@@ -247,6 +250,13 @@ typedef enum taper_theory_quantity {
 } taper_theory_quantity;
 #define TAPER_N_THEORY_QUANTITIES 4
 
+/* "v", "mu", "T", "t": the names of taper_theory_compute's arrays (the
+ * spelling of the paper's symbols).  granules.tsv writes three of them as
+ * the columns "theory_v", "theory_T", "theory_t" (mu has no column).  NULL
+ * outside the enum, so that `for (i = 0; taper_theory_quantity_name(i); i++)`
+ * walks them. */
+TAPER_API const char *taper_theory_quantity_name(taper_theory_quantity which);
+
 /* Fills caller-owned arrays of length N, each optional (NULL to skip), with
  * the columns above.  Entries that do not exist are NaN.  TAPER_EINVAL for
  * a NULL chain; TAPER_ERANGE if a time overflows (the arrays are then
@@ -350,6 +360,12 @@ typedef enum taper_observable {
 } taper_observable;
 #define TAPER_N_OBSERVABLES 5
 
+/* "t_pass", "T_res", "v_peak", "t_peak", "X_pass": the column names of
+ * granules.tsv (the driver and the bindings take them from here).  NULL
+ * outside the enum, so that `for (i = 0; taper_observable_name(i); i++)`
+ * walks them. */
+TAPER_API const char *taper_observable_name(taper_observable which);
+
 /* Statistics of a run, read one at a time with taper_sim_statistic (all
  * values are doubles; counts are exact integers). */
 typedef enum taper_statistic {
@@ -449,6 +465,13 @@ typedef enum taper_law {
     TAPER_LAW_FWD_T_OF_K = 8,  /* C - t_k ~ (1 - b k)^(beta+1), eq. (51)   23/10 */
     TAPER_LAW_FWD_V_OF_T = 9   /* v ~ (1 - t/C)^(-3/2/(beta+1)), eq. (53) -15/23 */
 } taper_law;
+#define TAPER_N_LAWS 10
+
+/* "v_of_k", "t_res_of_k", "t_of_k", "k_of_t", "v_of_t", "x_of_t", "c_of_t",
+ * "fwd_v_of_k", "fwd_t_of_k", "fwd_v_of_t": each enum constant's suffix in
+ * lower case.  NULL outside the enum, so that
+ * `for (i = 0; taper_law_name(i); i++)` walks them. */
+TAPER_API const char *taper_law_name(taper_law law);
 
 /* The exponent p of `law` (a taper_law) for contact exponent n. */
 TAPER_API double taper_asymptotic_exponent(taper_law law, double n);

@@ -19,7 +19,7 @@ build_dir=${BUILD_DIR:-build}
 
 # Build tools, the three libraries we link (SUNDIALS CVODE, GSL, cmocka for
 # the tests), gfortran for the Fortran module, gnuplot for the figures,
-# python3 for the ctypes binding's test; dpkg-dev and patch to unpack and
+# python3 with its headers and venv for the Python package and its tests; dpkg-dev and patch to unpack and
 # patch SUNDIALS' source package (libsundials-dev stays: the fallback, and the
 # -Dsundials=system build); Open MPI for sweeps on MPI ranks (-Dmpi,
 # docs/cluster.md).

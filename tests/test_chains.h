@@ -20,8 +20,9 @@ static inline void test_chain_ok(taper_status status, const taper_error *err)
 
 /* A chain of `profile` with tapering s or q and contact exponent n (radii:
  * n_granules of them for TAPER_CUSTOM, else NULL); fails the test if it
- * cannot be built.  Both s and q are set whatever the profile: the profile
- * reads the one it uses. */
+ * cannot be built.  Only the profile's own parameter is set (s for the
+ * linear profiles, q for the exponential ones): the library refuses the
+ * other one when it is not 0, so callers may pass one value for both. */
 static inline taper_chain *test_chain(taper_profile profile, size_t n_granules, double s, double q,
                                       double exponent, const double *radii)
 {
@@ -30,8 +31,10 @@ static inline taper_chain *test_chain(taper_profile profile, size_t n_granules, 
     assert_non_null(spec);
     test_chain_ok(taper_chain_spec_set_profile(spec, profile, &err), &err);
     test_chain_ok(taper_chain_spec_set_n_granules(spec, n_granules, &err), &err);
-    test_chain_ok(taper_chain_spec_set_s(spec, s, &err), &err);
-    test_chain_ok(taper_chain_spec_set_q(spec, q, &err), &err);
+    if (profile == TAPER_BACKWARD_LINEAR || profile == TAPER_FORWARD_LINEAR)
+        test_chain_ok(taper_chain_spec_set_s(spec, s, &err), &err);
+    if (profile == TAPER_BACKWARD_EXPONENTIAL || profile == TAPER_FORWARD_EXPONENTIAL)
+        test_chain_ok(taper_chain_spec_set_q(spec, q, &err), &err);
     test_chain_ok(taper_chain_spec_set_exponent(spec, exponent, &err), &err);
     if (radii) test_chain_ok(taper_chain_spec_set_radii(spec, radii, n_granules, &err), &err);
     taper_chain *c = taper_chain_alloc(spec, &err);

@@ -3,22 +3,31 @@
  * and run it (run/run.c); or print the defaults, the reference, or one
  * resolved value.
  *
- *   taper SCENE.nml [-o DIR] [--set GROUP.KEY=VALUE]...   run a scene
- *   taper SCENE.nml [--set ...] --get GROUP.KEY           print one value
- *   taper --defaults                                      every default
- *   taper --doc                                           the reference
+ *   taper SCENE.nml... [-o DIR] [GROUP.KEY=VALUE]...      run scenes
+ *   taper SCENE.nml [--set GROUP.KEY=VALUE]... --get GROUP.KEY
+ *   taper --defaults | --doc
  *
- * Exit status: 0 complete; 1 library or output failure; 2 bad input
- * (scene, command line, output directory); 3 partial result (solver failure,
- * Ctrl-C, t_max or max_steps reached: granules.partial.tsv is written and no
- * granules.tsv exists; an interrupted sweep); 4 a sweep whose runs all ran,
- * some of them failing (sweep.tsv and runs.tsv name them; run/sweep.h).
+ * Exit status (docs/scene.md, "Exit status"): 0 complete; 1 library or
+ * output failure (standard output included); 2 bad input (scene, command
+ * line, output directory); 3 partial result (solver failure, a signal,
+ * t_max or max_steps: granules.partial.tsv is written and no granules.tsv
+ * exists); 4 complete but UNTRUSTED (conservation errors beyond &output
+ * max_energy_error / max_momentum_error); 5 a sweep whose runs all ran, some
+ * of them failing (sweep.tsv and runs.tsv name them; run/sweep.h).  With
+ * several scenes, the gravest.
+ *
+ * Sweeps: `--part I/N` computes part I of N of a sweep's runs (a job array;
+ * the same command without it merges them), and `mpirun -np K taper ...`
+ * spreads the runs over K ranks when taper is built with MPI (run/mpi.h,
+ * docs/cluster.md).
  */
 #include "run/run.h"
 #include "run/sweep.h"
 #include "scene/scene.h"
 #include "taper.h"
 
+#include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,19 +37,22 @@
 #endif
 
 static const char usage[] =
-    "usage: taper SCENE.nml [-o DIR] [--set GROUP.KEY=VALUE]... [--get GROUP.KEY]\n"
-    "                   [--part I/N]\n"
+    "usage: taper SCENE.nml... [-o DIR] [GROUP.KEY=VALUE]... [--get GROUP.KEY]\n"
+    "                          [--part I/N]\n"
     "       taper --defaults | --doc | --help | --version\n"
     "\n"
-    "Runs the scene (Fortran namelist, see docs/scene.md): builds the chain,\n"
-    "computes the binary-collision theory and integrates the dynamics, echoes the\n"
-    "resolved scene on stdout and writes DIR/granules.tsv (DIR: &output dir, or\n"
-    "-o DIR).  A run that ends early writes DIR/granules.partial.tsv instead.\n"
+    "Runs each scene (Fortran namelist, see docs/scene.md; - reads standard input):\n"
+    "builds the chain, computes the binary-collision theory and integrates the\n"
+    "dynamics, echoes the resolved scene on stdout and writes DIR/granules.tsv\n"
+    "(DIR: &output dir, or -o DIR).  A run that ends early writes\n"
+    "DIR/granules.partial.tsv instead.\n"
     "\n"
-    "  -o DIR      output directory (overrides &output dir; created if missing)\n"
-    "  --set GROUP.KEY=VALUE\n"
-    "              override one variable (VALUE in namelist syntax: 12, 1d-9,\n"
-    "              'bdf', .false., 0.1, 0.2); may be repeated\n"
+    "  -o DIR      output directory (overrides &output dir; created if missing;\n"
+    "              one scene only)\n"
+    "  GROUP.KEY=VALUE, --set GROUP.KEY=VALUE\n"
+    "              override one variable of every scene (VALUE in namelist syntax:\n"
+    "              chain.n_granules=1000, solver.method='bdf', chain.s=0.1,0.2);\n"
+    "              may be repeated\n"
     "  --get GROUP.KEY\n"
     "              print the resolved value of one variable and exit\n"
     "  --part I/N  a sweep's runs split in N parts: compute part I only (a job\n"
@@ -50,10 +62,12 @@ static const char usage[] =
     "  --doc       print the scene reference (Markdown)\n"
     "\n"
     "Exit status: 0 complete, 1 failure, 2 bad input, 3 partial result,\n"
-    "4 some runs of a sweep failed (DIR/runs.tsv names them).\n";
+    "4 untrusted result (conservation errors beyond the scene's bounds),\n"
+    "5 some runs of a sweep failed (DIR/runs.tsv names them).\n";
 
 typedef struct options {
-    const char *path;
+    const char **paths;
+    size_t n_paths;
     const char *out_dir;
     const char *get;
     const char **sets;
@@ -61,13 +75,32 @@ typedef struct options {
     size_t part, parts;   /* --part part/parts; 0: the whole sweep */
 } options;
 
+/* Standard output: the echo and the "! wrote" lines.  A reader that stops
+ * reading (`taper ... | head -1`) is no failure: SIGPIPE is ignored, EPIPE
+ * ends the output quietly and the runs go on, their files complete.  Any
+ * other write error (`> /dev/full`: ENOSPC) loses the echo: reported, exit
+ * status 1.  0, or -1 after printing why. */
+static int stdout_lost;
+
+static int check_stdout(void)
+{
+    if (stdout_lost) return -1;
+    errno = 0;
+    if (fflush(stdout) == 0 && !ferror(stdout)) return 0;
+    if (errno == EPIPE) return 0;
+    stdout_lost = 1;
+    fprintf(stderr, "taper: cannot write to standard output: %s (the echo of the scene and "
+            "the list of files written are lost)\n", strerror(errno ? errno : EIO));
+    return -1;
+}
+
 /* Reads, overrides and validates the scene; NULL (after printing why) if
  * it is not valid. */
-static scene *load_scene(const options *o)
+static scene *load_scene(const options *o, const char *path)
 {
-    scene *sc = scene_new(o->path);
+    scene *sc = scene_new(path);
     if (!sc) {
-        fprintf(stderr, "%s: out of memory\n", o->path);
+        fprintf(stderr, "%s: out of memory\n", path);
         return NULL;
     }
     size_t errors = scene_load(sc);
@@ -75,14 +108,16 @@ static scene *load_scene(const options *o)
     if (errors == 0) errors = scene_validate(sc);
     if (errors == 0 && (!o->out_dir || scene_set_output_dir(sc, o->out_dir) == 0)) return sc;
     scene_print_diags(sc, stderr);
-    if (scene_error_count(sc) == 0) fprintf(stderr, "%s: out of memory\n", o->path);
+    if (scene_error_count(sc) == 0) fprintf(stderr, "%s: out of memory\n", path);
     scene_free(sc);
     return NULL;
 }
 
-static int run(const options *o)
+static int one_scene(const options *o, scene *sc);
+
+static int run_one(const options *o, const char *path)
 {
-    scene *sc = load_scene(o);
+    scene *sc = load_scene(o, path);
 #ifdef TAPER_MPI
     if (mpi_rank() > 0) { /* the runs rank 0 hands out, nothing printed */
         int worker_rc = mpi_worker(o->get ? NULL : sc);
@@ -90,10 +125,19 @@ static int run(const options *o)
         return sc ? RUN_COMPLETE : worker_rc;
     }
 #endif
+    int rc = one_scene(o, sc);
+#ifdef TAPER_MPI
+    mpi_scene_end(); /* the other ranks are done with this scene too */
+#endif
+    return rc;
+}
+
+static int one_scene(const options *o, scene *sc)
+{
     if (!sc) return RUN_INPUT;
     if (o->parts && !scene_cfg(sc)->runs.swept) {
         fprintf(stderr, "taper: --part %zu/%zu: %s is not a sweep (no variable takes a list)\n",
-                o->part, o->parts, o->path);
+                o->part, o->parts, scene_path(sc));
         scene_free(sc);
         return RUN_INPUT;
     }
@@ -105,12 +149,23 @@ static int run(const options *o)
             fprintf(stderr, "taper: --get %s: no such variable (write GROUP.KEY, e.g. "
                     "chain.n_granules)\n", o->get);
     } else {
-        run_install_sigint();
+        if (o->n_paths > 1) printf("! scene %s\n", scene_path(sc));
         scene_write(sc, stdout, 0);
-        fflush(stdout);
-        rc = run_scene(sc);
+        /* The echo is the record of what ran: without it, nothing runs. */
+        rc = check_stdout() == 0 ? run_scene(sc) : RUN_FAILED;
     }
     scene_free(sc);
+    return rc;
+}
+
+static int run(const options *o)
+{
+    run_install_signals();
+    int rc = RUN_COMPLETE;
+    for (size_t i = 0; i < o->n_paths && !run_interrupted(); i++) {
+        rc = run_worst(rc, run_one(o, o->paths[i]));
+        if (check_stdout() != 0) rc = run_worst(rc, RUN_FAILED);
+    }
     return rc;
 }
 
@@ -125,13 +180,22 @@ static int print_defaults(int markdown)
         scene_write(sc, stdout, 1);
     }
     scene_free(sc);
-    return RUN_COMPLETE;
+    return check_stdout() == 0 ? RUN_COMPLETE : RUN_FAILED;
 }
 
-static int bad_argument(const char *a)
+static int bad_argument(const char *a, const char *why)
 {
-    fprintf(stderr, "taper: unexpected argument '%s'\n%s", a, usage);
+    fprintf(stderr, "taper: %s%s\n%s", a, why, usage);
     return RUN_INPUT;
+}
+
+/* GROUP.KEY=VALUE (a name, '.', a name, '='): an override, not a file. */
+static int is_assignment(const char *a)
+{
+    size_t g = strspn(a, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_0123456789");
+    if (g == 0 || a[g] != '.') return 0;
+    size_t k = strspn(a + g + 1, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_0123456789");
+    return k > 0 && a[g + 1 + k] == '=';
 }
 
 int main(int argc, char **argv)
@@ -141,53 +205,75 @@ int main(int argc, char **argv)
 #ifdef TAPER_MPI
     mpi_start(&argc, &argv);
 #endif
-    if (!(o.sets = calloc((size_t)argc, sizeof *o.sets))) return RUN_FAILED;
+    /* Standard output closed by its reader: EPIPE, not death (check_stdout). */
+    signal(SIGPIPE, SIG_IGN);
+    o.sets = calloc((size_t)argc, sizeof *o.sets);
+    o.paths = calloc((size_t)argc, sizeof *o.paths);
+    if (!o.sets || !o.paths) return RUN_FAILED;
+    int stdin_used = 0;
     for (int i = 1; rc < 0 && i < argc; i++) {
         const char *a = argv[i];
-        int has_value = i + 1 < argc && argv[i + 1][0];
+        const char *value = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             fputs(usage, stdout);
-            rc = RUN_COMPLETE;
+            rc = check_stdout() == 0 ? RUN_COMPLETE : RUN_FAILED;
         } else if (strcmp(a, "--version") == 0) {
             printf("taper %s\n", taper_version());
-            rc = RUN_COMPLETE;
+            rc = check_stdout() == 0 ? RUN_COMPLETE : RUN_FAILED;
         } else if (strcmp(a, "--defaults") == 0 || strcmp(a, "--doc") == 0) {
             rc = print_defaults(strcmp(a, "--doc") == 0);
-        } else if (strcmp(a, "-o") == 0 && has_value) {
-            o.out_dir = argv[++i];
-        } else if (strcmp(a, "--set") == 0 && has_value) {
-            o.sets[o.n_sets++] = argv[++i];
-        } else if (strcmp(a, "--get") == 0 && has_value) {
-            o.get = argv[++i];
-        } else if (strcmp(a, "--part") == 0 && has_value) {
-            const char *v = argv[++i];
+        } else if (strcmp(a, "-o") == 0 || strcmp(a, "--set") == 0 || strcmp(a, "--get") == 0) {
+            if (!value || !value[0]) {
+                rc = bad_argument(a, strcmp(a, "-o") == 0
+                                         ? ": needs a directory (-o DIR)"
+                                         : strcmp(a, "--set") == 0
+                                               ? ": needs GROUP.KEY=VALUE (--set chain.n_granules=1000)"
+                                               : ": needs GROUP.KEY (--get chain.n_granules)");
+            } else if (a[1] == 'o') {
+                if (o.out_dir) rc = bad_argument(a, ": given twice");
+                o.out_dir = value;
+            } else if (a[2] == 's') {
+                o.sets[o.n_sets++] = value;
+            } else {
+                o.get = value;
+            }
+            i++;
+        } else if (strcmp(a, "--part") == 0) {
             char *end = NULL;
-            unsigned long long part = strtoull(v, &end, 10), parts = 0;
-            if (end != v && *end == '/') {
+            unsigned long long part = value ? strtoull(value, &end, 10) : 0, parts = 0;
+            if (value && end != value && *end == '/') {
                 const char *q = end + 1;
                 parts = strtoull(q, &end, 10);
                 if (end == q) parts = 0;
             }
-            if (parts == 0 || part == 0 || part > parts || *end != '\0' || v[0] == '-') {
-                fprintf(stderr, "taper: --part %s: write I/N with 1 <= I <= N (e.g. --part 3/8)\n",
-                        v);
-                rc = RUN_INPUT;
+            if (parts == 0 || part == 0 || part > parts || *end != '\0' || value[0] == '-') {
+                rc = bad_argument(a, ": write I/N with 1 <= I <= N (e.g. --part 3/8)");
             } else {
                 o.part = (size_t)part;
                 o.parts = (size_t)parts;
             }
-        } else if (a[0] == '-' || o.path) {
-            rc = bad_argument(a);
+            i++;
+        } else if (is_assignment(a)) {
+            o.sets[o.n_sets++] = a;
+        } else if (strcmp(a, "-") == 0) {
+            if (stdin_used++) rc = bad_argument(a, ": standard input given twice");
+            o.paths[o.n_paths++] = a;
+        } else if (a[0] == '-') {
+            rc = bad_argument(a, ": unknown option");
         } else {
-            o.path = a;
+            o.paths[o.n_paths++] = a;
         }
     }
-    if (rc < 0 && !o.path) {
+    if (rc < 0 && o.n_paths == 0) {
         fputs(usage, stderr);
         rc = RUN_INPUT;
     }
+    if (rc < 0 && o.out_dir && o.n_paths > 1)
+        rc = bad_argument("-o", ": one directory for one scene (several scenes each write "
+                          "their own &output dir)");
     if (rc < 0) rc = run(&o);
     free(o.sets);
+    free(o.paths);
 #ifdef TAPER_MPI
     rc = mpi_stop(rc);
 #endif

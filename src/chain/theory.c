@@ -78,3 +78,17 @@ taper_status taper_theory_compute(const taper_chain *chain, double *v, double *m
     if (t) t[n - 1] = NAN;
     return taper_ok(err);
 }
+
+static const char *const quantity_names[TAPER_N_THEORY_QUANTITIES] = {
+    [TAPER_THEORY_V] = "v",
+    [TAPER_THEORY_MU] = "mu",
+    [TAPER_THEORY_T_RES] = "T",
+    [TAPER_THEORY_T] = "t",
+};
+
+const char *taper_theory_quantity_name(taper_theory_quantity which)
+{
+    /* Unsigned: a negative value of an int-typed enum is out of range too. */
+    if ((unsigned)which >= TAPER_N_THEORY_QUANTITIES) return NULL;
+    return quantity_names[which];
+}

@@ -13,16 +13,34 @@
  *           departure, a noise-proof threshold after a departure at rest;
  *           see window.c).
  *
- * Only a few root functions follow the front (a ring of slots), never N.
+ * Only a few root functions follow the front (a ring of slots), never N:
+ * granules ahead of the window are at rest and those behind it have every
+ * event known, so only window granules can have an event.
+ *
  * A slot is armed only while its granule moves at a velocity above
- * ARM_FRACTION of the pulse velocity v_ref; otherwise it returns a fixed
- * non-zero value of the "nothing happened yet" sign.  Why: ahead of the
- * front the precursor velocities fall to 1e-300 and below, and SUNDIALS
- * 6.4.1 tests sign changes with glo*ghi < 0, which underflows on such values
- * (fixed upstream in 6.5).  In the precursor v_k > v_{k+1} and the
- * acceleration is positive, so arming late misses no crossing; the pass slot
+ * ARM_FRACTION of the pulse velocity v_ref (arm_velocity); otherwise it
+ * returns a fixed non-zero value of the "nothing happened yet" sign.  Below
+ * that, the precursor's signs are no pulse event, and with SUNDIALS 6.4.1
+ * (glo*ghi < 0, fixed upstream in 6.5) they would also underflow.  In the
+ * precursor of a Hertzian chain v_k > v_{k+1} and the acceleration is
+ * positive, so arming late misses no crossing of the pulse; the pass slot
  * of the next granule the pulse must pass is always armed, because at the
  * event that makes it next its velocity equals the pulse velocity.
+ *
+ * Where CVODE's root finder compares signs (SUNDIALS >= 6.5, or the bundled
+ * 6.4.1 with our backport; pulse.arm_all), every event is armed from the
+ * start of the pulse: the rings grow (at root returns,
+ * taper_events_fit_rings) to cover every window granule whose event is
+ * unknown, so their size is bounded by the window's (7-8 slots each on
+ * paper chains), and an event several granules ahead of the lowest unknown
+ * one is seen (the light granules of steep forward chains, passed out of
+ * order within 1e-12 t).  With Debian's 6.4.1 (no fix) the rings stay at
+ * TAPER_RING_SLOTS (today's behaviour, byte-identical): events beyond the
+ * ring are found only as jumps when the ring reaches them (nan, counted in
+ * the log).
+ *
+ * Either way a granule at rest is unarmed: its functions would be exactly
+ * zero, which CVODE takes for a root at every step.
  */
 #include "sim.h"
 
@@ -31,12 +49,16 @@
 
 #define ARM_FRACTION 1e-6
 
-/* Granule followed by ring slot `slot` when `first` is the lowest unknown. */
-static size_t slot_granule(size_t first, size_t slot, size_t ring)
-{
-    size_t first_slot = (first - 1) % ring;
-    return first + (slot + ring - first_slot) % ring;
-}
+/* Velocity above which a granule's slots are armed, in both modes.  Not
+ * only an underflow guard: ahead of the pulse, v_{k+1} - v_k and the
+ * acceleration can change sign at velocities that are no pulse event.
+ * Backward linear S = 0.5, N = 10 with contact exponent 3/2 (a force
+ * z^(1/2), strong at tiny compressions): the precursor of granule 9
+ * overtakes it at t = 0.004 with v ~ 1e-13, long before the pulse passes
+ * at t = 25; forward exponential q = 0.05, N = 100 at max order 9: a noise
+ * "peak" of granule 6 at v = 2e-38.  Armed at any v > 0 (1559963) these
+ * were taken for the pass and the peak. */
+static double arm_velocity(const taper_sim *sim) { return ARM_FRACTION * sim->pulse.v_ref; }
 
 static double velocity(const taper_sim *sim, const double *y, size_t k)
 {
@@ -55,7 +77,7 @@ static int known(const taper_sim *sim, size_t k, unsigned bit) { return sim->pul
 static int pass_armed(const taper_sim *sim, const double *y, size_t k)
 {
     if (k > sim->pass_limit || k > sim->dyn.hi || known(sim, k, TAPER_EV_PASS)) return 0;
-    return k == sim->pulse.next_pass || velocity(sim, y, k) > ARM_FRACTION * sim->pulse.v_ref;
+    return k == sim->pulse.next_pass || velocity(sim, y, k) > arm_velocity(sim);
 }
 
 static double pass_function(const taper_sim *sim, const double *y, size_t k)
@@ -67,13 +89,47 @@ static double pass_function(const taper_sim *sim, const double *y, size_t k)
 static int peak_armed(const taper_sim *sim, const double *y, size_t k)
 {
     if (k > sim->target || k > sim->dyn.hi || known(sim, k, TAPER_EV_PEAK)) return 0;
-    return velocity(sim, y, k) > ARM_FRACTION * sim->pulse.v_ref;
+    return velocity(sim, y, k) > arm_velocity(sim);
 }
 
 static double peak_function(const taper_sim *sim, const double *y, size_t k)
 {
     if (!peak_armed(sim, y, k)) return 1.0;
     return taper_dyn_peak_function(&sim->dyn, y, k);
+}
+
+/* The rings' values, granule first + j in slot (first - 1 + j) mod ring
+ * (so that a slot keeps its granule while the ring advances): the values of pass_function and peak_function, computed
+ * in one sweep without their per-granule look-ups (CVODE calls the root
+ * function once per step and ~10 times per located root; with every root
+ * armed the rings hold ~15 slots on a monodisperse chain). */
+static void ring_values(const taper_sim *sim, const double *y, double *g_pass, double *g_peak)
+{
+    const taper_dyn *d = &sim->dyn;
+    const taper_pulse *p = &sim->pulse;
+    const size_t begin = taper_dyn_begin(d), hi = d->hi;
+    const double v_pass = arm_velocity(sim), v_peak = v_pass;
+    const size_t np = p->pass_slots, last_pass = hi < sim->pass_limit ? hi : sim->pass_limit;
+    for (size_t j = 0, k = p->next_pass, slot = (k - 1) % np; j < np; j++, k++) {
+        double g = -1.0;
+        if (k <= last_pass && !(p->events[k - 1] & TAPER_EV_PASS)) {
+            const double v = y[taper_idx_v(k) - begin];
+            if (k == p->next_pass || v > v_pass) g = (k < hi ? y[taper_idx_v(k + 1) - begin] : 0.0) - v;
+        }
+        g_pass[slot] = g;
+        if (++slot == np) slot = 0;
+    }
+    const size_t nk = p->peak_slots, last_peak = hi < sim->target ? hi : sim->target;
+    for (size_t j = 0, k = p->next_peak, slot = (k - 1) % nk; j < nk; j++, k++) {
+        double g = 1.0;
+        if (k <= last_peak && !(p->events[k - 1] & TAPER_EV_PEAK) &&
+            y[taper_idx_v(k) - begin] > v_peak) {
+            const double left = k > 1 ? d->rho[k - 2] * y[taper_idx_z(k - 1) - begin] : 0.0;
+            g = left - d->rho[k - 1] * y[taper_idx_z(k) - begin];
+        }
+        g_peak[slot] = g;
+        if (++slot == nk) slot = 0;
+    }
 }
 
 /* CVODE returns a root within 100 uround (|t| + |h|) of the true zero
@@ -116,28 +172,78 @@ int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
     const taper_sim *sim = user;
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, yv);
-    for (size_t i = 0; i < TAPER_PASS_SLOTS; i++)
-        g[i] = pass_function(sim, y, slot_granule(sim->pulse.next_pass, i, TAPER_PASS_SLOTS));
-    for (size_t i = 0; i < TAPER_PEAK_SLOTS; i++)
-        g[TAPER_PASS_SLOTS + i] =
-            peak_function(sim, y, slot_granule(sim->pulse.next_peak, i, TAPER_PEAK_SLOTS));
-    g[TAPER_SLOT_GROW] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1] : -1.0;
-    g[TAPER_SLOT_GAP] = d->lo > 1 ? y[0] - sim->out.gap_watch[d->lo - 2] : -1.0;
+    const size_t np = sim->pulse.pass_slots, nk = sim->pulse.peak_slots;
+    ring_values(sim, y, g, g + np);
+    g[np + nk] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1] : -1.0;
+    g[np + nk + 1] = d->lo > 1 ? y[0] - sim->out.gap_watch[d->lo - 2] : -1.0;
     return 0;
 }
 
-void taper_events_directions(int *directions)
+size_t taper_events_slots(const taper_sim *sim) { return sim->pulse.pass_slots + sim->pulse.peak_slots + 2; }
+
+void taper_events_directions(const taper_sim *sim, int *directions)
 {
-    for (size_t i = 0; i < TAPER_N_SLOTS; i++) directions[i] = 1;
-    for (size_t i = 0; i < TAPER_PEAK_SLOTS; i++) directions[TAPER_PASS_SLOTS + i] = -1;
+    const size_t np = sim->pulse.pass_slots, nk = sim->pulse.peak_slots;
+    for (size_t i = 0; i < taper_events_slots(sim); i++) directions[i] = 1;
+    for (size_t i = 0; i < nk; i++) directions[np + i] = -1;
+}
+
+/* Slots a ring needs so that granules first..last all have one. */
+static size_t ring_needed(size_t first, size_t last) { return last >= first ? last - first + 1 : 1; }
+
+/* A ring grows to what it needs (a handful of re-inits per run: the
+ * window's size settles within the first granules). */
+static int fit_ring(size_t *slots, size_t needed)
+{
+    if (needed <= *slots) return 0;
+    *slots = needed;
+    return 1;
+}
+
+int taper_events_fit_rings(taper_sim *sim)
+{
+    taper_pulse *p = &sim->pulse;
+    if (!p->arm_all) return 0;
+    /* Granules ahead of hi are at rest: no event until a root return grows
+     * the window.  Granule hi keeps its slots (its back contact may open
+     * before the front reaches hi+1: a peak as the contact opens). */
+    const size_t hi = sim->dyn.hi;
+    int changed = fit_ring(&p->pass_slots, ring_needed(p->next_pass, hi < sim->pass_limit ? hi : sim->pass_limit));
+    changed |= fit_ring(&p->peak_slots, ring_needed(p->next_peak, hi < sim->target ? hi : sim->target));
+    return changed;
+}
+
+/* Acceleration of granule k as the equations of motion have it (0 ahead
+ * of the window; the contact (hi, hi+1) is not integrated, dynamics.h). */
+static double acceleration(const taper_sim *sim, const double *y, size_t k)
+{
+    const taper_dyn *d = &sim->dyn;
+    if (k < d->lo || k > d->hi) return 0.0;
+    double left = k > 1 ? taper_dyn_force(d, k - 1, taper_dyn_z(d, y, k - 1)) : 0.0;
+    double right = k < d->hi ? taper_dyn_force(d, k, taper_dyn_z(d, y, k)) : 0.0;
+    return (left - right) * d->inv_mass[k - 1];
+}
+
+/* Whether the pass function's value at a root is a genuine zero: small
+ * against the velocities, or, where every root is armed from the start
+ * (no slot can jump), against what the root's location in time resolves.
+ * The last, lightest granules of steep forward chains are passed within
+ * 1e-12 t of each other: q = 0.3, N = 100, granule 98 at t = 3.47 has
+ * |g| = 1.5e-3 of its velocity 137 at the root CVODE returns, with
+ * dg/dt ~ 1e11. */
+static int genuine_pass_root(const taper_sim *sim, const double *y, size_t k)
+{
+    double g = fabs(velocity(sim, y, k + 1) - velocity(sim, y, k));
+    if (g <= GENUINE_ROOT * fmax(fabs(velocity(sim, y, k)), fabs(velocity(sim, y, k + 1)))) return 1;
+    double rate = acceleration(sim, y, k + 1) - acceleration(sim, y, k);
+    return sim->pulse.arm_all && g <= ROOT_TIME_RESOLUTION * fabs(rate) * fabs(sim->t);
 }
 
 static void record_pass(taper_sim *sim, const double *y, size_t k)
 {
     const taper_dyn *d = &sim->dyn;
     sim->pulse.events[k - 1] |= TAPER_EV_PASS;
-    double g = velocity(sim, y, k + 1) - velocity(sim, y, k);
-    if (fabs(g) > GENUINE_ROOT * fmax(fabs(velocity(sim, y, k)), fabs(velocity(sim, y, k + 1)))) {
+    if (!genuine_pass_root(sim, y, k)) {
         sim->pulse.untimed_passes++; /* passed before its slot was armed */
         return;
     }
@@ -175,13 +281,13 @@ static void advance_rings(taper_sim *sim, const double *y)
             sim->pulse.next_pass++;
         while (sim->pulse.next_peak <= sim->target && known(sim, sim->pulse.next_peak, TAPER_EV_PEAK))
             sim->pulse.next_peak++;
-        for (size_t k = sim->pulse.next_pass; k < sim->pulse.next_pass + TAPER_PASS_SLOTS; k++)
+        for (size_t k = sim->pulse.next_pass; k < sim->pulse.next_pass + sim->pulse.pass_slots; k++)
             if (pass_armed(sim, y, k) && pass_function(sim, y, k) > 0.0) {
                 sim->pulse.events[k - 1] |= TAPER_EV_PASS;
                 sim->pulse.untimed_passes++;
                 moved = 1;
             }
-        for (size_t k = sim->pulse.next_peak; k < sim->pulse.next_peak + TAPER_PEAK_SLOTS; k++)
+        for (size_t k = sim->pulse.next_peak; k < sim->pulse.next_peak + sim->pulse.peak_slots; k++)
             if (peak_armed(sim, y, k) && peak_function(sim, y, k) < 0.0) {
                 sim->pulse.events[k - 1] |= TAPER_EV_PEAK;
                 sim->pulse.untimed_peaks++;
@@ -196,16 +302,15 @@ taper_root_report taper_events_record(taper_sim *sim, const int *roots_found)
     const size_t passed_before = sim->pulse.next_pass;
     /* Granules in increasing order, mapped with the ring as it was when
      * CVODE evaluated the slots. */
-    for (size_t k = sim->pulse.next_pass; k < sim->pulse.next_pass + TAPER_PASS_SLOTS; k++)
-        if (roots_found[(k - 1) % TAPER_PASS_SLOTS] > 0 && k <= sim->pass_limit)
-            record_pass(sim, y, k);
-    for (size_t k = sim->pulse.next_peak; k < sim->pulse.next_peak + TAPER_PEAK_SLOTS; k++)
-        if (roots_found[TAPER_PASS_SLOTS + (k - 1) % TAPER_PEAK_SLOTS] < 0 && k <= sim->target)
-            record_peak(sim, y, k);
+    const size_t np = sim->pulse.pass_slots, nk = sim->pulse.peak_slots;
+    for (size_t k = sim->pulse.next_pass; k < sim->pulse.next_pass + np; k++)
+        if (roots_found[(k - 1) % np] > 0 && k <= sim->pass_limit) record_pass(sim, y, k);
+    for (size_t k = sim->pulse.next_peak; k < sim->pulse.next_peak + nk; k++)
+        if (roots_found[np + (k - 1) % nk] < 0 && k <= sim->target) record_peak(sim, y, k);
     advance_rings(sim, y);
     return (taper_root_report){
-        .grow = roots_found[TAPER_SLOT_GROW] > 0,
-        .gap_closed = roots_found[TAPER_SLOT_GAP] > 0,
+        .grow = roots_found[np + nk] > 0,
+        .gap_closed = roots_found[np + nk + 1] > 0,
         .passed = sim->pulse.next_pass != passed_before,
     };
 }

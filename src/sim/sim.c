@@ -155,6 +155,9 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
     p->v_ref = 1.0;
     p->z_ref = 1.0;
     p->events[0] |= TAPER_EV_PEAK;
+    p->pass_slots = TAPER_RING_SLOTS;
+    p->peak_slots = TAPER_RING_SLOTS;
+    p->arm_all = taper_sundials_roots_see_tiny_values();
     taper_ok(err);
     return sim;
 }
@@ -171,6 +174,7 @@ void taper_sim_free(taper_sim *sim)
     taper_window_free(cv->window);
     taper_sundials_context_free(&cv->ctx);
     free(cv->message);
+    free(cv->roots);
     taper_dyn_release(&sim->dyn);
     for (int i = 0; i < TAPER_N_OBSERVABLES; i++) free(sim->pulse.obs[i]);
     for (int i = 0; i < TAPER_N_THEORY_QUANTITIES; i++) free(sim->theory[i]);

@@ -41,13 +41,12 @@
 #include <sundials/sundials_matrix.h>
 #include <sundials/sundials_nonlinearsolver.h>
 
-/* Root-function slots: a ring of pass slots and of peak slots that follow
- * the front, one slot for growing the window, one for the gap behind it. */
-#define TAPER_PASS_SLOTS 3
-#define TAPER_PEAK_SLOTS 3
-#define TAPER_SLOT_GROW (TAPER_PASS_SLOTS + TAPER_PEAK_SLOTS)
-#define TAPER_SLOT_GAP (TAPER_SLOT_GROW + 1)
-#define TAPER_N_SLOTS (TAPER_SLOT_GAP + 1)
+/* Root-function slots: a ring of pass slots and a ring of peak slots that
+ * follow the front, then one slot for growing the window and one for the
+ * gap behind it (taper_pulse.pass_slots, .peak_slots; events.c).  Rings
+ * start with TAPER_RING_SLOTS each; where every root is armed from the
+ * start they grow to cover every window granule whose event is unknown. */
+#define TAPER_RING_SLOTS 3
 
 /* Event bits of a granule: known (timed, or found to have happened before
  * its root function could see it, "untimed": its value stays NaN). */
@@ -90,6 +89,12 @@ typedef struct taper_pulse {
                                v_k - v_{k+1} = 0 there)                     */
     unsigned char *events;  /* per granule: TAPER_EV_* bits                  */
     size_t untimed_passes, untimed_peaks;
+    /* Root slots: pass ring [0, pass_slots), peak ring [pass_slots,
+     * pass_slots + peak_slots), then grow and gap.  arm_all: every pending
+     * event of the window is armed (taper_sundials_roots_see_tiny_values);
+     * otherwise fixed rings of TAPER_RING_SLOTS armed near the front. */
+    size_t pass_slots, peak_slots;
+    int arm_all;
 } taper_pulse;
 
 /* Granules that left the window: x_j(t) = x_free[j] + v_free[j] t;
@@ -114,6 +119,8 @@ typedef struct taper_cvode {
     taper_solver_messages messages;
     char *message;          /* CVODE's last message (NULL: none yet)        */
     taper_cvode_counters before_restart; /* summed over earlier restarts    */
+    int *roots;             /* CVodeGetRootInfo's answer, roots_size slots  */
+    size_t roots_size;
 } taper_cvode;
 
 struct taper_sim {
@@ -176,7 +183,16 @@ typedef struct taper_root_report {
 } taper_root_report;
 
 int taper_events_root_function(double t, N_Vector y, double *g, void *user);
-void taper_events_directions(int *directions);
+/* Slots in all: the two rings, grow and gap. */
+size_t taper_events_slots(const taper_sim *sim);
+/* CVodeSetRootDirection's array for taper_events_slots(sim) slots. */
+void taper_events_directions(const taper_sim *sim, int *directions);
+/* Where every root is armed: enlarges the rings to cover every window
+ * granule whose event is unknown, after a root return (CVODE then
+ * re-evaluates every root function before it looks for the next root, so
+ * slots may be re-mapped).  1 if the slot count changed (the caller calls
+ * CVodeRootInit again), else 0. */
+int taper_events_fit_rings(taper_sim *sim);
 /* Records the events of one CVODE root return at the current state. */
 taper_root_report taper_events_record(taper_sim *sim, const int *roots_found);
 int taper_events_complete(const taper_sim *sim);

@@ -29,6 +29,10 @@
  * absent. */
 #define PEAK_GRACE 20.0
 #define INITIAL_STEP 1e-4
+/* Adams' default maximum order, and the growth below which the step is
+ * kept fixed (see setup_cvode). */
+#define ADAMS_ORDER 8
+#define ADAMS_ETA_FIXED 1.2
 /* The end of time when no t_max is given (pass times of exponential chains
  * grow like e^{eta k}: 1e30 is reached within a few hundred granules). */
 #define NO_TIME_LIMIT 1e300
@@ -157,6 +161,27 @@ static int attach_solvers(taper_sim *sim, taper_error *err)
     return check(CVodeSetJacFn(cv->mem, jacobian), "CVodeSetJacFn", sim, err);
 }
 
+/* (Re-)declares the root functions to CVODE: their number changes when
+ * events.c enlarges its rings.  Called at the start and after a root
+ * return, where CVODE re-evaluates every root function before it looks for
+ * the next root (cvRcheck2), so none is compared with a stale value. */
+static int init_roots(taper_sim *sim, taper_error *err)
+{
+    taper_cvode *cv = &sim->cv;
+    const size_t slots = taper_events_slots(sim);
+    if (slots > cv->roots_size) {
+        int *roots = realloc(cv->roots, 2 * slots * sizeof *roots);
+        if (!roots) return taper_fail(err, TAPER_ENOMEM, "cannot allocate %zu root slots", slots);
+        cv->roots = roots;
+        cv->roots_size = 2 * slots;
+    }
+    taper_events_directions(sim, cv->roots);
+    int status = check(CVodeRootInit(cv->mem, (int)slots, taper_events_root_function), "CVodeRootInit", sim, err);
+    if (!status) status = check(CVodeSetRootDirection(cv->mem, cv->roots), "CVodeSetRootDirection", sim, err);
+    if (!status) status = check(CVodeSetNoInactiveRootWarn(cv->mem), "CVodeSetNoInactiveRootWarn", sim, err);
+    return status;
+}
+
 static int setup_cvode(taper_sim *sim, taper_error *err)
 {
     taper_cvode *cv = &sim->cv;
@@ -169,8 +194,6 @@ static int setup_cvode(taper_sim *sim, taper_error *err)
     void *mem = cv->mem;
     cv->messages.fn = keep_solver_message;
     cv->messages.user = sim;
-    int directions[TAPER_N_SLOTS];
-    taper_events_directions(directions);
     int status = TAPER_OK;
     if (!status) status = check(taper_sundials_capture_errors(mem, &cv->messages), "error handler", sim, err);
     if (!status) status = check(CVodeInit(mem, rhs, 0.0, cv->y), "CVodeInit", sim, err);
@@ -179,18 +202,25 @@ static int setup_cvode(taper_sim *sim, taper_error *err)
     if (!status) status = check(CVodeSetMaxNumSteps(mem, STEPS_PER_CALL), "CVodeSetMaxNumSteps", sim, err);
     /* An explicit first step: CVODE's estimate would use the (unbounded) tout. */
     if (!status) status = check(CVodeSetInitStep(mem, INITIAL_STEP), "CVodeSetInitStep", sim, err);
-    if (!status) status = check(CVodeRootInit(mem, TAPER_N_SLOTS, taper_events_root_function), "CVodeRootInit", sim, err);
-    if (!status) status = check(CVodeSetRootDirection(mem, directions), "CVodeSetRootDirection", sim, err);
-    if (!status) status = check(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn", sim, err);
+    if (!status) status = init_roots(sim, err);
     /* "t + h = t": the pulse of a steep forward chain crosses its last,
      * lightest granules faster than double precision resolves t (finding C,
      * docs/robustness.md; the affected values end up nan and are counted in
      * the log).  Once says it; CVODE's default repeated it ten times. */
     if (!status) status = check(CVodeSetMaxHnilWarns(mem, 1), "CVodeSetMaxHnilWarns", sim, err);
-    /* Adams above order 6 buys few steps here (the force is only C^1 at
-     * contact onset) and each step costs O(q^2) vector operations. */
-    int order = sim->spec.max_order ? sim->spec.max_order : (sim->spec.method == TAPER_ADAMS ? 6 : 5);
+    /* Adams: max order 8 and a step that changes once it may grow by 1.2
+     * (CVODE's default keeps h until it may grow by 1.5).  At order q the
+     * error goes like h^(q+1): a 1.5x growth needs an error 1.5^(q+1)
+     * times below the tolerance (38x at q = 8), so with the default band
+     * a higher order buys no longer steps; together they take monodisperse
+     * chains from 63 to 31 steps per granule at rtol 1e-10 (errors 3.6e-10
+     * instead of 7.1e-10), backward linear from 86 to 75 (contact openings:
+     * 12-23 % of steps fail the error test there).  docs/benchmarks.md,
+     * "Steps per granule". */
+    int order = sim->spec.max_order ? sim->spec.max_order : (sim->spec.method == TAPER_ADAMS ? ADAMS_ORDER : 5);
     if (!status) status = check(CVodeSetMaxOrd(mem, order), "CVodeSetMaxOrd", sim, err);
+    if (!status && sim->spec.method == TAPER_ADAMS)
+        status = check(CVodeSetEtaFixedStepBounds(mem, 0.0, ADAMS_ETA_FIXED), "CVodeSetEtaFixedStepBounds", sim, err);
     if (!status) status = attach_solvers(sim, err);
     return status;
 }
@@ -356,13 +386,13 @@ static int call_monitor(const taper_sim *sim)
 
 static taper_status handle_roots(taper_sim *sim, taper_error *err)
 {
-    int roots[TAPER_N_SLOTS];
-    if (CVodeGetRootInfo(sim->cv.mem, roots) < 0) return stop(sim, err, STOP_ROOT_INFO, 0);
-    const taper_root_report report = taper_events_record(sim, roots);
+    if (CVodeGetRootInfo(sim->cv.mem, sim->cv.roots) < 0) return stop(sim, err, STOP_ROOT_INFO, 0);
+    const taper_root_report report = taper_events_record(sim, sim->cv.roots);
     const taper_window_plan plan = taper_window_plan_for(sim, report);
     taper_status status = TAPER_OK;
     if (plan.take_back) status = take_back(sim, err);
     if (!status && plan.grow) status = grow(sim, err);
+    if (!status && taper_events_fit_rings(sim)) status = (taper_status)init_roots(sim, err);
     if (!status && report.passed) {
         if (plan.shrink) shrink(sim);
         if (call_monitor(sim)) status = stop(sim, err, STOP_INTERRUPTED, 0);

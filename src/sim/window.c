@@ -34,13 +34,21 @@
  * window would span the whole chain behind the front (O(N^2) cost).  Granule
  * lo may leave, flying ballistically at its velocity, when
  *     |v_lo - v_{lo-1}| <= v_eps  (|v_1| <= v_eps for lo = 1),
+ *       or, where the gap behind is open and not closing (z_{lo-1} < 0,
+ *       v_{lo-1} <= v_lo), |v_lo - v_{lo+1}| <= v_eps,
  *     z_lo <= z_eps,  z_{lo-1} <= z_eps,
  * i.e. when it is at rest within REST_FACTOR error units relative to the
  * granule behind it, which already flies freely (Galilean invariance: a
  * backward linear chain, S = 0.5, leaves its granules beyond k ~ 4e5 drifting
  * back together at 2.8e-14 with relative velocities of 1e-20 and either sign,
  * and with rest as the reference the window grew by one granule per granule
- * from there on), and its contacts are open or compressed by less than
+ * from there on), or relative to the granule ahead when the one behind flies
+ * away from it and can never touch it again (behind a pulse of a high
+ * exponent granule 1 recoils at a real velocity, -2.9e-7 for monodisperse
+ * n = 12, far beyond v_eps, while granule 2 rests with the chain: compared
+ * with granule 1 it never left, and the window spanned the chain, 296 to
+ * 299 of 300 granules for n = 8 and 11 to 15, at O(N^2) cost), and its contacts are open or
+ * compressed by less than
  * REST_FACTOR error units (an open gap exerts no force, whatever its size;
  * requiring |z| small would strand granules whose gaps open at noise-level
  * speed).  Why this is
@@ -69,6 +77,8 @@
 /* ... and leave compressions whose force is below this fraction of rtol
  * times the pulse force (resting_compression). */
 #define FORCE_FRACTION 0.01
+/* The smallest growth threshold: root values stay clear of underflow. */
+#define GROW_FLOOR 1e-290
 
 /* z_k at which granule k+1 joins the window (k = hi).  Two bounds on the
  * neglected force r_k z^(n-1), the smaller threshold wins:
@@ -96,8 +106,21 @@ void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
         double v = fmin(sim->v_scale[k - 1], sim->v_scale[k]);
         double per_time = pow(1e-40 * m * v / sim->contact[k - 1], power);
         double per_collision = fraction * sim->z_scale[k - 1];
-        grow_z[k - 1] = fmax(fmin(per_time, per_collision), 1e-290);
+        grow_z[k - 1] = fmax(fmin(per_time, per_collision), GROW_FLOOR);
     }
+    /* The first contact joins at the first root evaluation.  Until then
+     * granule 1 flies alone at constant velocity, CVODE's error estimate is
+     * zero and its step grows 10^4-fold after the first one (INITIAL_STEP,
+     * 1e-4): a threshold beyond z_1 = 1e-4 was crossed inside a step to
+     * t = 1.0001, and granule 2 joined there, at CVODE's internal time, with
+     * its contact compressed to 1 and a zero history.  That is n >= 12,
+     * whose threshold 1e-40^(1/(n-1)) z_scale is 2.3e-4 (n = 12) to 8e-3
+     * (n = 20): CVODE failed at t = 1.0001 (flag -4, energy error 0.17) on
+     * every profile.  At the floor the root lies in the first step, whose
+     * neglected impulse r h^n / n is at most 1e-48 for n >= 12; for
+     * n <= 11 the threshold was within the first step already, and the
+     * integration is unchanged (test window/high_exponents). */
+    if (sim->n > 1) grow_z[0] = GROW_FLOOR;
     grow_z[sim->n - 1] = INFINITY; /* nothing beyond the last granule */
 }
 
@@ -153,13 +176,17 @@ taper_departure taper_window_departure(const taper_sim *sim)
     if (z < -z_eps && v <= v_next && z_back < -z_eps_back && v_back <= v)
         return (taper_departure){TAPER_LEAVES_FREE, 0.0};
     /* Criterion 2: at rest within the tolerance, relative to the granule
-     * behind (which left before and flies freely; rest itself for j = 1);
+     * behind (which left before and flies freely; rest itself for j = 1),
+     * or relative to the granule ahead where the one behind flies away and
+     * the two never meet again (a recoil far above v_eps, then rest);
      * open gaps of any size are harmless (no force), only compressions are
      * bounded, so that the one-sided force they leave is below the
      * tolerance. */
     const double v_rest = j > 1 ? v_back : 0.0;
+    const int behind_apart = j > 1 && z_back < 0.0 && v_back <= v;
+    const int resting = fabs(v - v_rest) <= v_eps || (behind_apart && fabs(v - v_next) <= v_eps);
     const double z_rest = resting_compression(sim, j, z_eps);
-    if (fabs(v - v_rest) <= v_eps && z <= z_rest && z_back <= z_rest)
+    if (resting && z <= z_rest && z_back <= z_rest)
         return (taper_departure){TAPER_LEAVES_AT_REST, WATCH_FACTOR / REST_FACTOR * z_rest};
     return stays;
 }

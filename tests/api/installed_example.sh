@@ -42,16 +42,40 @@ soname=$(objdump -p "$libdir/libtaper.so" | awk '$1 == "SONAME" { print $2 }')
     { echo "soname is '$soname', expected libtaper.so.$soversion" >&2; fail=1; }
 [ $fail -eq 0 ] || exit 1
 
+# Scenes, docs and the example are installed (docs/api.md).
+datadir=$root$prefix/share/taper
+for f in scenes/default.nml scenes/paper docs/scene.md docs/api.md examples/pulse.c; do
+    [ -e "$datadir/$f" ] || { echo "$datadir/$f not installed" >&2; fail=1; }
+done
+# libtaper finds the SUNDIALS it was built with: the bundled build is
+# installed next to it and named by its RUNPATH (a destdir install keeps the
+# final path: checked as text, the files under the staging root).
+runpath=$(objdump -p "$libdir/libtaper.so" | awk '$1 == "RUNPATH" { print $2 }')
+if [ -d "$build/sundials/lib" ] && [ ! -f "$build/sundials/fallback" ] &&
+   grep -q "sundials: bundled" "$build/meson-logs/meson-log.txt" 2> /dev/null; then
+    case $runpath in
+        "$prefix"/*/taper/sundials) ;;
+        *) echo "libtaper's RUNPATH is '$runpath', not PREFIX/LIBDIR/taper/sundials" >&2; fail=1 ;;
+    esac
+    for need in $(objdump -p "$libdir/libtaper.so" | awk '$1 == "NEEDED" && $2 ~ /sundials/ { print $2 }'); do
+        [ -f "$root$runpath/$need" ] || { echo "$need not installed in $runpath" >&2; fail=1; }
+    done
+fi
+[ $fail -eq 0 ] || exit 1
+
+# The example as docs/api.md builds it: with an rpath, it runs without
+# LD_LIBRARY_PATH (the staging root's libdir stands for the prefix's).
 # shellcheck disable=SC2046
 "$CC" -std=c11 -Wall -Wextra -Werror -o "$tmp/pulse" "$src/share/examples/pulse.c" \
-    $($PC --cflags taper) $($PC --libs taper) -lm
-LD_LIBRARY_PATH=$libdir "$tmp/pulse" >"$tmp/out"
+    $($PC --cflags taper) $($PC --libs taper) -Wl,-rpath,"$libdir" -lm
+sundials_path=${runpath:+$root$runpath}
+env -u LD_LIBRARY_PATH ${sundials_path:+LD_LIBRARY_PATH=$sundials_path} "$tmp/pulse" >"$tmp/out"
 cat "$tmp/out"
 
 # It ran against the installed library...
-LD_LIBRARY_PATH=$libdir ldd "$tmp/pulse" | grep -q "$libdir/libtaper.so.$soversion" || {
+env -u LD_LIBRARY_PATH ldd "$tmp/pulse" | grep -q "$libdir/libtaper.so.$soversion" || {
     echo "pulse did not load $libdir/libtaper.so.$soversion:" >&2
-    LD_LIBRARY_PATH=$libdir ldd "$tmp/pulse" >&2
+    ldd "$tmp/pulse" >&2
     exit 1
 }
 # ...and printed the whole table with numerics close to the theory, and the

@@ -182,7 +182,7 @@ static void setter_refusals(void)
     REFUSE(taper_chain_spec_set_s(cs, TAPER_S_MAX * 2, &err), "s", taper_chain_spec_s(cs), 0.0);
     REFUSE(taper_chain_spec_set_q(cs, -0.1, &err), "q", taper_chain_spec_q(cs), 0.0);
     REFUSE(taper_chain_spec_set_q(cs, INFINITY, &err), "q", taper_chain_spec_q(cs), 0.0);
-    REFUSE(taper_chain_spec_set_exponent(cs, TAPER_EXPONENT_MIN, &err), "exponent",
+    REFUSE(taper_chain_spec_set_exponent(cs, nextafter(TAPER_EXPONENT_MIN, 0.0), &err), "exponent",
            taper_chain_spec_exponent(cs), 2.5);
     REFUSE(taper_chain_spec_set_exponent(cs, TAPER_EXPONENT_MAX * 2, &err), "exponent",
            taper_chain_spec_exponent(cs), 2.5);
@@ -289,7 +289,14 @@ static void relation_refusals(void)
     taper_chain_spec_set_n_granules(cs, 2, NULL);
     CHECK(taper_chain_spec_check(cs, &err) == TAPER_OK && cleared(&err), "forward_linear N = 2");
 
+    /* s with a profile that does not read it, and a tapered profile
+     * without its parameter, are refused naming the parameter. */
     taper_chain_spec_set_profile(cs, TAPER_BACKWARD_EXPONENTIAL, NULL);
+    CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "s"),
+          "s with backward_exponential: field %s", FIELD(err));
+    taper_chain_spec_set_s(cs, 0.0, NULL);
+    CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "q"),
+          "backward_exponential without q: field %s", FIELD(err));
     taper_chain_spec_set_q(cs, 1.5, NULL);
     CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "q"),
           "backward_exponential q >= 1: field %s", FIELD(err));
@@ -300,6 +307,7 @@ static void relation_refusals(void)
           "overflow: %d field %s '%s'", err.status, FIELD(err), err.message);
 
     taper_chain_spec_set_profile(cs, TAPER_CUSTOM, NULL);
+    taper_chain_spec_set_q(cs, 0.0, NULL);
     taper_chain_spec_set_n_granules(cs, 3, NULL);
     CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "radii"),
           "custom without radii: field %s", FIELD(err));

@@ -24,7 +24,9 @@
  *
  *   test_stress             the quick matrix (suite 'stress', < 60 s)
  *   test_stress --full      the long matrix of docs/robustness.md
- *                           (N up to 1e5; add --nmax N to cap it)
+ *                           (N up to 1e5; add --nmax N to cap it): the
+ *                           documented range of every variable first
+ *                           (full_ranges), then the older matrix
  *
  * Prints one line per run and closes with "N passed, N failed".
  */
@@ -52,6 +54,9 @@ static double energy_bound(double rtol, double n, long steps)
     return (1e3 + 0.01 * (double)steps) * rtol + floor;
 }
 
+/* Pass times of a complete run lie within this factor of the theory's. */
+#define THEORY_FACTOR 10.0
+
 /* Pass times converge: the error against a reference at 1e-3 of the
  * tolerance is below CONV_FACTOR * rtol. */
 #define CONV_FACTOR 1e2
@@ -71,6 +76,7 @@ typedef struct stress_case {
     double rtol, atol; /* atol 0: rtol * 1e-3                              */
     taper_method method;
     const char *known; /* non-NULL: a known limitation, why                */
+    int whole_chain;   /* 1: window off (the whole chain integrated)       */
 } stress_case;
 
 /* The statistics the contract reads (taper_sim_statistic). */
@@ -84,10 +90,12 @@ typedef struct run_stats {
 typedef struct outcome {
     taper_status status;
     char message[TAPER_MESSAGE_SIZE];
+    char field[32];    /* the setting a refusal names ("" if none)        */
     run_stats stats;
     double seconds;
     double *t_pass;    /* copy, length n (NULL if the chain was rejected)  */
     double *v_peak;
+    double *theory_t;  /* binary-collision theory's t_k (NULL: none)     */
     size_t n;
     size_t untimed_passes; /* pass times the run's log reported as untimed  */
 } outcome;
@@ -141,6 +149,34 @@ static int is_exponential(taper_profile profile)
 /* The chain of case c, or NULL with the reason in err: the profile's
  * tapering parameter (s for linear profiles, q for exponential ones) is
  * c->param. */
+static int is_linear(taper_profile profile)
+{
+    return profile == TAPER_BACKWARD_LINEAR || profile == TAPER_FORWARD_LINEAR;
+}
+
+/* The custom chain of the matrix: a dimer chain, radii 1, param, 1, param,
+ * ... (param: the second radius). */
+static taper_status set_dimer_radii(taper_chain_spec *cs, const stress_case *c, taper_error *err)
+{
+    double *radii = malloc(c->n * sizeof *radii);
+    if (!radii) return TAPER_ENOMEM;
+    for (size_t k = 0; k < c->n; k++) radii[k] = k % 2 ? c->param : 1.0;
+    taper_status status = taper_chain_spec_set_radii(cs, radii, c->n, err);
+    free(radii);
+    return status;
+}
+
+/* The case's tapering: s for the linear profiles, q for the exponential
+ * ones, the dimer's radii for custom; monodisperse has none (the library
+ * refuses a parameter on a profile that does not read it). */
+static taper_status set_param(taper_chain_spec *cs, const stress_case *c, taper_error *err)
+{
+    if (is_linear(c->profile)) return taper_chain_spec_set_s(cs, c->param, err);
+    if (is_exponential(c->profile)) return taper_chain_spec_set_q(cs, c->param, err);
+    if (c->profile == TAPER_CUSTOM) return set_dimer_radii(cs, c, err);
+    return TAPER_OK;
+}
+
 static taper_chain *build_chain(const stress_case *c, taper_error *err)
 {
     taper_chain *chain = NULL;
@@ -148,9 +184,7 @@ static taper_chain *build_chain(const stress_case *c, taper_error *err)
     if (cs && taper_chain_spec_set_profile(cs, c->profile, err) == TAPER_OK &&
         taper_chain_spec_set_n_granules(cs, c->n, err) == TAPER_OK &&
         taper_chain_spec_set_exponent(cs, c->exponent, err) == TAPER_OK &&
-        (c->profile == TAPER_MONODISPERSE ||
-         (is_exponential(c->profile) ? taper_chain_spec_set_q(cs, c->param, err)
-                                     : taper_chain_spec_set_s(cs, c->param, err)) == TAPER_OK))
+        set_param(cs, c, err) == TAPER_OK)
         chain = taper_chain_alloc(cs, err);
     taper_chain_spec_free(cs);
     return chain;
@@ -169,6 +203,7 @@ static void outcome_free(outcome *o)
 {
     free(o->t_pass);
     free(o->v_peak);
+    free(o->theory_t);
     memset(o, 0, sizeof *o);
 }
 
@@ -182,6 +217,7 @@ static void run_case(const stress_case *c, double rtol, outcome *o)
     if (!chain) {
         o->status = err.status;
         snprintf(o->message, sizeof o->message, "%s", err.message);
+        snprintf(o->field, sizeof o->field, "%s", err.field ? err.field : "");
         o->seconds = now() - t0;
         return;
     }
@@ -189,9 +225,14 @@ static void run_case(const stress_case *c, double rtol, outcome *o)
      * is within a factor ~2 of the dynamics on every profile). */
     double *T = malloc(c->n * sizeof *T);
     double t_max = 0.0;
-    if (T && taper_theory_compute(chain, NULL, NULL, NULL, T, NULL) == TAPER_OK && c->n >= 2)
+    if (T && taper_theory_compute(chain, NULL, NULL, NULL, T, NULL) == TAPER_OK && c->n >= 2) {
         t_max = 1e3 * T[c->n - 2];
-    free(T);
+        /* kept for the contract's check of the pass times; not for the
+         * custom dimer, where the binary-collision theory does not hold
+         * (the light granule rattles: t_pass 0.09 of the theory's at n = 12) */
+        if (c->profile != TAPER_CUSTOM) o->theory_t = T;
+    }
+    if (!o->theory_t) free(T);
     if (!(t_max > 0.0) || !isfinite(t_max) || t_max > 1e300) t_max = 0.0;
 
     double atol = c->atol > 0.0 ? c->atol * (rtol / c->rtol) : rtol * 1e-3;
@@ -203,7 +244,8 @@ static void run_case(const stress_case *c, double rtol, outcome *o)
         taper_solver_spec_set_rtol(ss, rtol, &err) == TAPER_OK &&
         taper_solver_spec_set_atol(ss, atol, &err) == TAPER_OK &&
         taper_solver_spec_set_t_max(ss, t_max, &err) == TAPER_OK &&
-        taper_solver_spec_set_max_steps(ss, g_max_steps, &err) == TAPER_OK) {
+        taper_solver_spec_set_max_steps(ss, g_max_steps, &err) == TAPER_OK &&
+        taper_solver_spec_set_window(ss, !c->whole_chain, &err) == TAPER_OK) {
         taper_solver_spec_set_monitor(ss, wall_monitor, &w);
         taper_solver_spec_set_log(ss, count_untimed, o);
         sim = taper_sim_alloc(chain, ss, &err);
@@ -212,6 +254,7 @@ static void run_case(const stress_case *c, double rtol, outcome *o)
     if (!sim) {
         o->status = err.status;
         snprintf(o->message, sizeof o->message, "%s", err.message);
+        snprintf(o->field, sizeof o->field, "%s", err.field ? err.field : "");
         taper_chain_free(chain);
         o->seconds = now() - t0;
         return;
@@ -237,8 +280,13 @@ static const char *contract(const outcome *o, double rtol, double exponent, int 
 {
     static char why[TAPER_MESSAGE_SIZE + 128];
     *ok_run = 0;
-    if (o->status == TAPER_EINVAL || o->status == TAPER_ERANGE)
-        return o->message[0] ? NULL : "rejected without a message";
+    /* Refused before the run: the message says what to change, and the
+     * setting to change is named (taper_error.field). */
+    if (o->status == TAPER_EINVAL || o->status == TAPER_ERANGE) {
+        if (!o->message[0]) return "rejected without a message";
+        if (!o->field[0]) return "rejected without naming the setting to change";
+        return NULL;
+    }
     if (!o->t_pass || !o->v_peak) return "out of memory in the test";
     size_t n = o->n;
     if (o->status == TAPER_OK) {
@@ -266,6 +314,18 @@ static const char *contract(const outcome *o, double rtol, double exponent, int 
                 snprintf(why, sizeof why, "v_peak(%zu) = %g", k + 1, o->v_peak[k]);
                 return why;
             }
+        /* Pass times are the pulse's: within a factor THEORY_FACTOR of the
+         * binary-collision theory (within ~2 on every profile).  Catches
+         * passes recorded in the precursor ahead of the pulse, which are
+         * increasing and finite but not the pulse's. */
+        for (size_t k = 0; o->theory_t && k + 1 < n; k++) {
+            double r = o->t_pass[k] / o->theory_t[k];
+            if (isfinite(r) && !(r >= 1.0 / THEORY_FACTOR && r <= THEORY_FACTOR)) {
+                snprintf(why, sizeof why, "t_pass(%zu) = %.3g, %.2g times the theory's %.3g", k + 1,
+                         o->t_pass[k], r, o->theory_t[k]);
+                return why;
+            }
+        }
         if (!isfinite(o->stats.energy_error)) return "energy error is not finite";
         *ok_run = 1;
         double bound = energy_bound(rtol, exponent, o->stats.steps);
@@ -323,9 +383,10 @@ static int is_forward(const stress_case *c)
 
 static void case_label(const stress_case *c, double rtol, char *buf, size_t size)
 {
-    snprintf(buf, size, "%-6s %s=%-8.3g N=%-6zu n=%-4.3g rtol=%-7.1e %s", profile_label(c->profile),
-             is_exponential(c->profile) ? "q" : "S", c->param, c->n, c->exponent, rtol,
-             taper_method_name(c->method));
+    const char *param = is_exponential(c->profile) ? "q" : c->profile == TAPER_CUSTOM ? "R2" : "S";
+    snprintf(buf, size, "%-6s %s=%-8.3g N=%-6zu n=%-4.3g rtol=%-7.1e %s%s", profile_label(c->profile),
+             param, c->param, c->n, c->exponent, rtol, taper_method_name(c->method),
+             c->whole_chain ? " whole" : "");
 }
 
 static void verdict(const stress_case *c, double rtol, const outcome *o, const char *problem,
@@ -378,10 +439,17 @@ static size_t theory_limit(const stress_case *c, double v_limit)
     return limit;
 }
 
+static const char *const KNOWN_PRECURSOR_PASS =
+    "reported to the owner of src/sim/events.c (issue 18 helper H18l): for n < 2 the last "
+    "granules' passes are recorded in the precursor, ahead of the pulse (monodisperse N = 100, "
+    "n = 1.5: t_pass(98) = 0.998, t_pass(99) = 1.0003 instead of 61.92, 61.97; correct at "
+    "f72f424, before the roots were armed from the start)";
+
 /* The case with its known limitation, if any, found from the theory. */
 static stress_case with_known(const stress_case *in)
 {
     stress_case copy = *in;
+    if (!copy.known && copy.exponent < 2.0) copy.known = KNOWN_PRECURSOR_PASS;
     if (!copy.known && is_forward(&copy) && theory_limit(&copy, 0.0)) copy.known = KNOWN_RESOLUTION;
     /* Known issue (1) wherever the pulse velocity falls below atol. */
     double atol = copy.atol > 0.0 ? copy.atol : copy.rtol * 1e-3;
@@ -465,6 +533,78 @@ static const char *known_for(taper_profile profile, double param, size_t n)
     return NULL;
 }
 
+/* A case that must be refused before the run, naming `field`. */
+static void check_refused(const stress_case *c, const char *field)
+{
+    outcome o;
+    run_case(c, c->rtol, &o);
+    const char *problem = NULL;
+    static char why[TAPER_MESSAGE_SIZE + 64];
+    if (o.status != TAPER_EINVAL && o.status != TAPER_ERANGE) {
+        snprintf(why, sizeof why, "not refused before the run (status %d)", o.status);
+        problem = why;
+    } else if (strcmp(o.field, field) != 0 || !o.message[0]) {
+        snprintf(why, sizeof why, "refused naming '%s', not '%s'", o.field, field);
+        problem = why;
+    }
+    char extra[96];
+    snprintf(extra, sizeof extra, "refused before the run (n = %.17g)", c->exponent);
+    verdict(c, c->rtol, &o, problem, extra);
+    outcome_free(&o);
+}
+
+/* The lowest contact exponent the library accepts (TAPER_EXPONENT_MIN if
+ * the bound is inclusive, else the next double above it), and a value just
+ * below that it must refuse. */
+static double lowest_exponent(void)
+{
+    taper_chain_spec *cs = taper_chain_spec_alloc(NULL);
+    double n = TAPER_EXPONENT_MIN;
+    if (cs && taper_chain_spec_set_exponent(cs, n, NULL) != TAPER_OK) n = nextafter(n, 2.0 * n);
+    taper_chain_spec_free(cs);
+    return n;
+}
+
+static double below_lowest_exponent(void)
+{
+    double n = lowest_exponent();
+    return n > TAPER_EXPONENT_MIN ? TAPER_EXPONENT_MIN : nextafter(n, 0.0);
+}
+
+/* Every profile at contact exponent n (the tapering of each: S = 0.5,
+ * forward S at half its last valid value, q = 0.05 backward, q = 0.1
+ * forward, a dimer 1, 0.7 for custom). */
+static void every_profile(size_t n_granules, double n, taper_method method, int whole_chain)
+{
+    const double rtol = 2e-11, atol = 1e-14;
+    const stress_case cases[] = {
+        {TAPER_MONODISPERSE, 0.0, n_granules, n, rtol, atol, method, NULL, whole_chain},
+        {TAPER_BACKWARD_LINEAR, 0.5, n_granules, n, rtol, atol, method, NULL, whole_chain},
+        {TAPER_FORWARD_LINEAR, 0.5 / (double)(n_granules - 1), n_granules, n, rtol, atol, method, NULL,
+         whole_chain},
+        {TAPER_BACKWARD_EXPONENTIAL, 0.05, n_granules, n, rtol, atol, method, NULL, whole_chain},
+        {TAPER_FORWARD_EXPONENTIAL, 0.1, n_granules, n, rtol, atol, method, NULL, whole_chain},
+        {TAPER_CUSTOM, 0.7, n_granules, n, rtol, atol, method, NULL, whole_chain},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) check_case(&cases[i]);
+}
+
+/* The settings the library refuses before running, each naming what to
+ * change: a tapered profile without its parameter, a parameter on a
+ * profile that does not read it, an exponent below the lowest allowed. */
+static void refusals(void)
+{
+    const taper_method A = TAPER_ADAMS;
+    check_refused(&(stress_case){TAPER_BACKWARD_LINEAR, 0.0, 50, 2.5, 2e-11, 1e-14, A, NULL, 0}, "s");
+    check_refused(&(stress_case){TAPER_FORWARD_LINEAR, 0.0, 50, 2.5, 2e-11, 1e-14, A, NULL, 0}, "s");
+    check_refused(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 0.0, 50, 2.5, 2e-11, 1e-14, A, NULL, 0}, "q");
+    check_refused(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.0, 50, 2.5, 2e-11, 1e-14, A, NULL, 0}, "q");
+    check_refused(&(stress_case){TAPER_MONODISPERSE, 0.0, 50, below_lowest_exponent(), 2e-11, 1e-14, A,
+                                 NULL, 0}, "exponent");
+    check_refused(&(stress_case){TAPER_MONODISPERSE, 0.0, 50, nextafter(TAPER_EXPONENT_MAX, 100.0), 2e-11,
+                                 1e-14, A, NULL, 0}, "exponent");
+}
+
 static void quick_matrix(void)
 {
     const taper_method A = TAPER_ADAMS;
@@ -472,54 +612,61 @@ static void quick_matrix(void)
     const double S_values[] = {1e-4, 0.1, 1.0, 10.0};
     const double q_values[] = {1e-4, 0.1, 0.5};
     for (size_t i = 0; i < sizeof S_values / sizeof *S_values; i++)
-        check_case(&(stress_case){TAPER_BACKWARD_LINEAR, S_values[i], 100, 2.5, 2e-11, 1e-14, A, NULL});
+        check_case(&(stress_case){TAPER_BACKWARD_LINEAR, S_values[i], 100, 2.5, 2e-11, 1e-14, A, NULL, 0});
     for (size_t i = 0; i < sizeof q_values / sizeof *q_values; i++) {
         double q = q_values[i];
         check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, q, 60, 2.5, 2e-11, 1e-14, A,
-                                  known_for(TAPER_BACKWARD_EXPONENTIAL, q, 60)});
+                                  known_for(TAPER_BACKWARD_EXPONENTIAL, q, 60), 0});
         size_t n_fe = q >= 0.3 ? 30 : 60;
         check_case(&(stress_case){TAPER_FORWARD_EXPONENTIAL, q, n_fe, 2.5, 2e-11, 1e-14, A,
-                                  known_for(TAPER_FORWARD_EXPONENTIAL, q, n_fe)});
+                                  known_for(TAPER_FORWARD_EXPONENTIAL, q, n_fe), 0});
         if (q >= 0.3) /* what known issue (4) suggests */
             check_case(&(stress_case){TAPER_FORWARD_EXPONENTIAL, q, n_fe, 2.5, 2e-11, 1e-14, TAPER_BDF,
-                                      known_for(TAPER_FORWARD_EXPONENTIAL, q, n_fe)});
+                                      known_for(TAPER_FORWARD_EXPONENTIAL, q, n_fe), 0});
     }
     /* Forward linear up to the last valid S. */
     const size_t fl_n[] = {2, 10, 50};
     for (size_t i = 0; i < sizeof fl_n / sizeof *fl_n; i++) {
-        check_case(&(stress_case){TAPER_FORWARD_LINEAR, 0.5 / (double)(fl_n[i] - 1), fl_n[i], 2.5, 2e-11, 1e-14, A, NULL});
+        check_case(&(stress_case){TAPER_FORWARD_LINEAR, 0.5 / (double)(fl_n[i] - 1), fl_n[i], 2.5, 2e-11, 1e-14, A, NULL, 0});
         check_case(&(stress_case){TAPER_FORWARD_LINEAR, last_valid_s(fl_n[i]), fl_n[i], 2.5, 2e-11, 1e-14, A,
-                                  known_for(TAPER_FORWARD_LINEAR, last_valid_s(fl_n[i]), fl_n[i])});
+                                  known_for(TAPER_FORWARD_LINEAR, last_valid_s(fl_n[i]), fl_n[i]), 0});
     }
     /* Beyond the last valid S: rejected with a message. */
-    check_case(&(stress_case){TAPER_FORWARD_LINEAR, 1.0 / 9.0, 10, 2.5, 2e-11, 1e-14, A, NULL});
-    check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 1.0, 10, 2.5, 2e-11, 1e-14, A, NULL});
+    check_case(&(stress_case){TAPER_FORWARD_LINEAR, 1.0 / 9.0, 10, 2.5, 2e-11, 1e-14, A, NULL, 0});
+    check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 1.0, 10, 2.5, 2e-11, 1e-14, A, NULL, 0});
     /* Chain lengths. */
     const size_t ns[] = {2, 3, 10, 1000};
     for (size_t i = 0; i < sizeof ns / sizeof *ns; i++) {
-        check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, ns[i], 2.5, 2e-11, 1e-14, A, NULL});
-        check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, ns[i], 2.5, 2e-11, 1e-14, A, NULL});
+        check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, ns[i], 2.5, 2e-11, 1e-14, A, NULL, 0});
+        check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, ns[i], 2.5, 2e-11, 1e-14, A, NULL, 0});
     }
     /* Contact exponents. */
     const double exps[] = {1.5, 2.0, 3.0, 4.0};
     for (size_t i = 0; i < sizeof exps / sizeof *exps; i++) {
-        check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, 50, exps[i], 2e-11, 1e-14, A, NULL});
-        check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 50, exps[i], 2e-11, 1e-14, A, NULL});
-        check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 0.1, 50, exps[i], 2e-11, 1e-14, A, NULL});
+        check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, 50, exps[i], 2e-11, 1e-14, A, NULL, 0});
+        check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 50, exps[i], 2e-11, 1e-14, A, NULL, 0});
+        check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 0.1, 50, exps[i], 2e-11, 1e-14, A, NULL, 0});
     }
+    /* The exponent's range on every profile: its lowest allowed value,
+     * and 12 to 20 (issue 18, item 1: CVODE failed at t = 1.0001 on every
+     * profile with the window); refusals at the edges. */
+    every_profile(50, lowest_exponent(), A, 0);
+    every_profile(50, 12.0, A, 0);
+    every_profile(50, 20.0, A, 0);
+    refusals();
     /* Tolerances from 1e-3 to 1e-13: the contract, and convergence. */
     const double tols[] = {1e-3, 1e-6, 1e-9};
     for (size_t i = 0; i < sizeof tols / sizeof *tols; i++) {
-        check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 40, 2.5, tols[i], 0.0, A, NULL});
-        check_convergence(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, 40, 2.5, tols[i], 0.0, A, NULL});
-        check_convergence(&(stress_case){TAPER_MONODISPERSE, 0.0, 40, 2.5, tols[i], 0.0, TAPER_BDF, NULL});
+        check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 40, 2.5, tols[i], 0.0, A, NULL, 0});
+        check_convergence(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, 40, 2.5, tols[i], 0.0, A, NULL, 0});
+        check_convergence(&(stress_case){TAPER_MONODISPERSE, 0.0, 40, 2.5, tols[i], 0.0, TAPER_BDF, NULL, 0});
     }
-    check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 100, 2.5, 1e-13, 1e-16, A, NULL});
-    check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 40, 1.5, 1e-6, 0.0, A, NULL});
-    check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 40, 4.0, 1e-6, 0.0, A, NULL});
+    check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 100, 2.5, 1e-13, 1e-16, A, NULL, 0});
+    check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 40, 1.5, 1e-6, 0.0, A, NULL, 0});
+    check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, 40, 4.0, 1e-6, 0.0, A, NULL, 0});
     /* Guards: a step limit and a time limit stop cleanly, nothing passed off. */
     {
-        stress_case c = {TAPER_BACKWARD_LINEAR, 0.5, 200, 2.5, 2e-11, 1e-14, A, NULL};
+        stress_case c = {TAPER_BACKWARD_LINEAR, 0.5, 200, 2.5, 2e-11, 1e-14, A, NULL, 0};
         long saved = g_max_steps;
         g_max_steps = 500;
         check_case(&c);
@@ -527,8 +674,46 @@ static void quick_matrix(void)
     }
 }
 
+/* The documented range of every variable (include/taper.h): the exponent
+ * from its lowest allowed value to 20 on every profile (window on; the
+ * whole chain and BDF at N <= 100), the tapering parameters at their
+ * edges, the tolerances at theirs, and the refusals. */
+static void full_ranges(size_t n_max)
+{
+    const taper_method A = TAPER_ADAMS, B = TAPER_BDF;
+    const double exps[] = {lowest_exponent(), 1.75, 2.0, 2.5, 3.0, 4.0, 6.0, 8.0, 10.0, 12.0,
+                           14.0, 16.0, 18.0, 20.0};
+    const size_t ns[] = {10, 100, 1000};
+    for (size_t a = 0; a < sizeof ns / sizeof *ns; a++) {
+        size_t n = ns[a];
+        if (n > n_max) continue;
+        for (size_t i = 0; i < sizeof exps / sizeof *exps; i++) {
+            every_profile(n, exps[i], A, 0);
+            if (n <= 100) every_profile(n, exps[i], A, 1);
+            if (n <= 100 && (i == 0 || exps[i] == 2.5 || exps[i] == 20.0)) every_profile(n, exps[i], B, 0);
+        }
+        /* Tapering at the edges of its range (beyond double precision:
+         * refused with the granule and the count that fits). */
+        check_case(&(stress_case){TAPER_BACKWARD_LINEAR, TAPER_S_MAX, n, 2.5, 2e-11, 1e-14, A, NULL, 0});
+        check_case(&(stress_case){TAPER_FORWARD_EXPONENTIAL, TAPER_Q_MAX, n, 2.5, 2e-11, 1e-14, A,
+                                  known_for(TAPER_FORWARD_EXPONENTIAL, TAPER_Q_MAX, n), 0});
+        check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 0.999, n, 2.5, 2e-11, 1e-14, A,
+                                  known_for(TAPER_BACKWARD_EXPONENTIAL, 0.999, n), 0});
+        check_case(&(stress_case){TAPER_CUSTOM, 0.01, n, 2.5, 2e-11, 1e-14, A, NULL, 0});
+        /* Tolerances at the edges of theirs. */
+        const double rtols[] = {TAPER_RTOL_MIN, TAPER_RTOL_MAX};
+        for (size_t i = 0; i < 2; i++) {
+            check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, n, 2.5, rtols[i], 0.0, A, NULL, 0});
+            check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, n, 2.5, rtols[i], 0.0, A, NULL, 0});
+        }
+        check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, n, 2.5, 1e-6, TAPER_ATOL_MAX, A, NULL, 0});
+    }
+    refusals();
+}
+
 static void full_matrix(size_t n_max)
 {
+    full_ranges(n_max);
     const taper_method A = TAPER_ADAMS;
     const size_t ns[] = {2, 10, 100, 1000, 10000, 100000};
     const double S_values[] = {1e-4, 1e-2, 0.1, 0.5, 1.0, 3.0, 10.0};
@@ -538,33 +723,33 @@ static void full_matrix(size_t n_max)
     for (size_t a = 0; a < sizeof ns / sizeof *ns; a++) {
         size_t n = ns[a];
         if (n > n_max) continue;
-        check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, n, 2.5, 2e-11, 1e-14, A, NULL});
+        check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, n, 2.5, 2e-11, 1e-14, A, NULL, 0});
         for (size_t i = 0; i < sizeof S_values / sizeof *S_values; i++)
-            check_case(&(stress_case){TAPER_BACKWARD_LINEAR, S_values[i], n, 2.5, 2e-11, 1e-14, A, NULL});
+            check_case(&(stress_case){TAPER_BACKWARD_LINEAR, S_values[i], n, 2.5, 2e-11, 1e-14, A, NULL, 0});
         for (size_t i = 0; i < sizeof q_values / sizeof *q_values; i++) {
             double q = q_values[i];
             check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, q, n, 2.5, 2e-11, 1e-14, A,
-                                      known_for(TAPER_BACKWARD_EXPONENTIAL, q, n)});
+                                      known_for(TAPER_BACKWARD_EXPONENTIAL, q, n), 0});
             check_case(&(stress_case){TAPER_FORWARD_EXPONENTIAL, q, n, 2.5, 2e-11, 1e-14, A,
-                                      known_for(TAPER_FORWARD_EXPONENTIAL, q, n)});
+                                      known_for(TAPER_FORWARD_EXPONENTIAL, q, n), 0});
         }
         if (n >= 2) {
-            check_case(&(stress_case){TAPER_FORWARD_LINEAR, 0.5 / (double)(n - 1), n, 2.5, 2e-11, 1e-14, A, NULL});
+            check_case(&(stress_case){TAPER_FORWARD_LINEAR, 0.5 / (double)(n - 1), n, 2.5, 2e-11, 1e-14, A, NULL, 0});
             check_case(&(stress_case){TAPER_FORWARD_LINEAR, 0.9 / (double)(n - 1), n, 2.5, 2e-11, 1e-14, A,
-                                      known_for(TAPER_FORWARD_LINEAR, 0.9 / (double)(n - 1), n)});
+                                      known_for(TAPER_FORWARD_LINEAR, 0.9 / (double)(n - 1), n), 0});
             check_case(&(stress_case){TAPER_FORWARD_LINEAR, last_valid_s(n), n, 2.5, 2e-11, 1e-14, A,
-                                      known_for(TAPER_FORWARD_LINEAR, last_valid_s(n), n)});
+                                      known_for(TAPER_FORWARD_LINEAR, last_valid_s(n), n), 0});
         }
         if (n <= 1000)
             for (size_t i = 0; i < sizeof exps / sizeof *exps; i++) {
-                check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, n, exps[i], 2e-11, 1e-14, A, NULL});
-                check_case(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, n, exps[i], 2e-11, 1e-14, A, NULL});
+                check_case(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, n, exps[i], 2e-11, 1e-14, A, NULL, 0});
+                check_case(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, n, exps[i], 2e-11, 1e-14, A, NULL, 0});
             }
         if (n <= 1000)
             for (size_t i = 0; i < sizeof tols / sizeof *tols; i++) {
-                check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, n, 2.5, tols[i], 0.0, A, NULL});
-                check_convergence(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 0.1, n, 2.5, tols[i], 0.0, A, NULL});
-                check_convergence(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, n, 2.5, tols[i], 0.0, A, NULL});
+                check_convergence(&(stress_case){TAPER_BACKWARD_LINEAR, 0.5, n, 2.5, tols[i], 0.0, A, NULL, 0});
+                check_convergence(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 0.1, n, 2.5, tols[i], 0.0, A, NULL, 0});
+                check_convergence(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, n, 2.5, tols[i], 0.0, A, NULL, 0});
             }
     }
 }

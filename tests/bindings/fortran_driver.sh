@@ -2,7 +2,9 @@
 # fortran_driver.sh TAPER_NML TAPER SCENE -- the Fortran driver (namelist
 # READ + iso_c_binding) and the C driver run the same scene through the
 # same library: the t_pass and v_peak the Fortran driver prints (8 digits)
-# match the C driver's granules.tsv.
+# match the C driver's granules.tsv.  Then the inputs both must refuse
+# (exit 2, a message, no gfortran backtrace): binary garbage, an empty file,
+# s = nan, a misspelt key.
 set -eu
 fortran=$1
 driver=$2
@@ -24,3 +26,33 @@ awk -F'\t' '
     END { if (rows < 5) { print "only " rows " rows from taper_nml"; bad = 1 } exit bad }
 ' "$tmp/out/granules.tsv" "$tmp/f" >&2
 echo "taper_nml and taper agree on t_pass and v_peak for $(basename "$scene")"
+
+bad=0
+refuse() { # NAME WORDS: both drivers exit 2 on $tmp/NAME.nml; taper_nml says WORDS
+    for prog in "$driver" "$fortran"; do   # taper_nml's stderr is kept
+        status=0
+        "$prog" "$tmp/$1.nml" > "$tmp/$1.out" 2> "$tmp/$1.err" || status=$?
+        if [ "$status" -ne 2 ]; then
+            echo "FAIL: $(basename "$prog") $1.nml: exit status $status, wanted 2" >&2
+            bad=1
+        fi
+    done
+    if ! grep -q -- "$2" "$tmp/$1.err" || grep -q 'Backtrace\|ERROR STOP' "$tmp/$1.err"; then
+        echo "FAIL: taper_nml $1.nml: stderr '$(cat "$tmp/$1.err")' lacks '$2' or has a backtrace" >&2
+        bad=1
+    fi
+}
+printf '\033\001\377garbage\000\n' > "$tmp/garbage.nml"
+refuse garbage "binary data"
+: > "$tmp/empty.nml"
+refuse empty "empty scene"
+printf '! only a comment\n' > "$tmp/comments.nml"
+refuse comments "empty scene"
+printf "&chain profile = 'backward_linear', s = nan, n_granules = 10 /\n" > "$tmp/nan.nml"
+refuse nan "&chain s: .*not a finite number"
+printf "&solver rtol = inf /\n" > "$tmp/inf.nml"
+refuse inf "&solver rtol: .*not a finite number"
+printf "&chain n_granule = 10 /\n" > "$tmp/misspelt.nml"
+refuse misspelt "n_granule"
+[ "$bad" -eq 0 ] || exit 1
+echo "taper_nml refuses garbage, empty files, nan, inf and misspelt keys like taper"

@@ -469,7 +469,7 @@ static const bad_case bad_cases[] = {
     {"&chain n_granules = 1 /", 1, "chain", "n_granules", "[2, 1e+07]"},
     {"&chain n_granules = -5 /", 1, "chain", "n_granules", "out of range"},
     {"&chain n_granules = 0 /", 1, "chain", "n_granules", "out of range"},
-    {"&chain exponent = 1 /", 1, "chain", "exponent", "(1, 20]"},
+    {"&chain exponent = 1 /", 1, "chain", "exponent", "[1.5, 20]"},
     {"&chain\n profile = 'backward_linear'\n s = -0.5 /", 3, "chain", "s", "out of range"},
     {"&chain profile='backward_linear' s = 0.1, 1e9 /", 1, "chain", "s", "1e+09 is out of range"},
     {"&solver rtol = 1 /", 1, "solver", "rtol", "must lie in [1e-14, 0.1]"},
@@ -499,7 +499,7 @@ static const bad_case bad_cases[] = {
      "3 radii but n_granules = 4"},
     /* the library's refusals, each at its key */
     {"&solver\n rtol = 1e-20 /", 2, "solver", "rtol", "1e-20"},
-    {"&chain\n\n exponent = 25 /", 3, "chain", "exponent", "(1, 20]"},
+    {"&chain\n\n exponent = 25 /", 3, "chain", "exponent", "[1.5, 20]"},
     {"&chain profile = 'backward_exponential'\n q = 1.5 /", 2, "chain", "q", "q < 1"},
     {"&chain profile = 'backward_exponential'\n q = 0.5, 0.9, 1.5, 2 /", 2, "chain", "q",
      "q = 1.5"},
@@ -834,13 +834,42 @@ static void test_table_output(void **state)
     char *text = NULL;
     size_t len = 0;
     FILE *fp = open_memstream(&text, &len);
-    out_write_table(fp, &cols);
+    out_write_header(fp, &cols, NULL);
+    out_write_rows(fp, &cols, NULL, 0);
     fclose(fp);
     assert_string_equal(text,
                         "k\tR\tm\tX0\tt_pass\tT_res\tv_peak\tt_peak\tX_pass\ttheory_v\ttheory_T\ttheory_t\n"
                         "1\t1\tnan\tnan\t0.10000000000000001\tnan\tnan\tnan\tnan\tnan\tnan\tnan\n"
                         "2\t2\tnan\tnan\tnan\tnan\tnan\tnan\tnan\tnan\tnan\tnan\n");
     free(text);
+}
+
+/* &output columns and every: the chosen columns (k always), rows 1, 1 +
+ * every, ... and the last. */
+static void test_table_columns_every(void **state)
+{
+    (void)state;
+    double a[] = {1, 2, 3, 4, 5, 6}, b[] = {10, 20, 30, 40, 50, 60};
+    out_columns cols = {.n = 6, .every = 4};
+    cols.col[1] = a;
+    cols.col[6] = b;
+    cols.set = 1u << 0 | 1u << 6;
+    char *text = NULL;
+    size_t len = 0;
+    FILE *fp = open_memstream(&text, &len);
+    out_write_header(fp, &cols, "s");
+    out_write_rows(fp, &cols, "s", 0.5);
+    fclose(fp);
+    assert_string_equal(text, "s\tk\tv_peak\n0.5\t1\t10\n0.5\t5\t50\n0.5\t6\t60\n");
+    free(text);
+
+    scene *sc = load_ok("&output columns = 'v_peak, theory_v' every = 10 /");
+    assert_int_equal(cfg_of(sc)->output.column_set, 1u << 0 | 1u << 6 | 1u << 9);
+    assert_int_equal(cfg_of(sc)->output.every, 10);
+    scene_free(sc);
+    sc = load_ok("&solver numerics = .false. /");
+    assert_int_equal(cfg_of(sc)->output.column_set, 0xfu | 0xeu << 8);
+    scene_free(sc);
 }
 
 int main(void)
@@ -864,6 +893,7 @@ int main(void)
         cmocka_unit_test(test_library_refusals),
         cmocka_unit_test(test_library_error_without_key),
         cmocka_unit_test(test_long_line),
+        cmocka_unit_test(test_table_columns_every),
         cmocka_unit_test(test_validation_reports_all),
         cmocka_unit_test(test_two_sweeps_rejected),
         cmocka_unit_test(test_missing_file),

@@ -3,7 +3,7 @@
 # a grid with points the library refuses (forward_linear needs N < 1 + 1/s)
 # and runs that stop at max_steps (partial).  Every other run completes;
 # sweep.tsv has their rows and a comment line per failed run, runs.tsv a
-# status per run, fits.tsv nan for the failed point; exit status 4.
+# status per run, fits.tsv nan for the failed point; exit status 5.
 set -u
 TAPER=$1
 case $TAPER in /*) ;; *) TAPER=$(pwd)/$TAPER ;; esac
@@ -22,7 +22,7 @@ cat > fault.nml <<'NML'
 NML
 "$TAPER" fault.nml -o out > out.txt 2> err.txt
 status=$?
-[ $status -eq 4 ] || fail "exit status $status, wanted 4 (some runs failed): $(cat err.txt)"
+[ $status -eq 5 ] || fail "exit status $status, wanted 5 (some runs failed): $(cat err.txt)"
 grep -q "fault.nml: 5 of 8 runs failed" err.txt || fail "no summary: $(cat err.txt)"
 # The refusal names the scene's line, the variable and the run.
 grep -q "^fault.nml:2: &chain n_granules: .*(run n_granules=200,s=0.01,max_steps=0)$" err.txt ||
@@ -59,5 +59,5 @@ printf "&chain profile = 'forward_linear', n_granules = 50, s = 0.001, 0.01 /\n"
 "$TAPER" good.nml -o good > /dev/null 2>&1 || fail "good sweep: exit status $?"
 [ "$(grep -c '^#' good/sweep.tsv)" -eq 1 ] || fail "good sweep: comment lines in sweep.tsv"
 
-[ $failures -eq 0 ] && echo "failing runs: marked, the others complete, exit status 4"
+[ $failures -eq 0 ] && echo "failing runs: marked, the others complete, exit status 5"
 [ $failures -eq 0 ]

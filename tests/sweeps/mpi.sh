@@ -25,8 +25,8 @@ cat > grid.nml <<'NML'
 &fit model = 'exponential', y = 'v', k_min = 10, factor = -1, label = 'rate' /
 NML
 same_as_serial() { # DIR: every file as in serial/out
-    (cd serial/out && find . -type f | LC_ALL=C sort) > files.serial
-    (cd "$1/out" && find . -type f | LC_ALL=C sort) > "files.$1"
+    (cd serial/out && find . -type f ! -name .taper.lock | LC_ALL=C sort) > files.serial
+    (cd "$1/out" && find . -type f ! -name .taper.lock | LC_ALL=C sort) > "files.$1"
     diff files.serial "files.$1" >&2 || { fail "$1: not the serial sweep's files"; return; }
     while IFS= read -r f; do
         cmp -s "serial/out/$f" "$1/out/$f" || fail "$1: $f differs from the serial sweep's"

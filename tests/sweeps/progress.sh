@@ -18,7 +18,10 @@ cat > warn.nml <<'NML'
 &solver atol = 0.1 /
 &output threads = 2 /
 NML
-"$TAPER" warn.nml -o out > out.txt 2> err.txt || fail "exit status $?: $(cat err.txt)"
+"$TAPER" warn.nml -o out > out.txt 2> err.txt
+status=$?
+# 4: the energy error makes the runs UNTRUSTED, which they say too.
+[ $status -eq 0 ] || [ $status -eq 4 ] || fail "exit status $status: $(cat err.txt)"
 grep -q '^warn.nml: run n_granules=1500: warning: energy error' err.txt ||
     fail "warnings do not name their run: $(cat err.txt)"
 grep -q '^warn.nml: run n_granules=1600: warning: energy error' err.txt || fail "second run's warning"
@@ -26,8 +29,7 @@ grep -q '^warn.nml: run n_granules=1600: warning: energy error' err.txt || fail 
 
 if command -v script > /dev/null 2>&1; then
     rm -rf out
-    script -qec "'$TAPER' warn.nml -o out > /dev/null" /dev/null > tty.txt 2>&1 ||
-        fail "under script: $(cat tty.txt)"
+    script -qc "'$TAPER' warn.nml -o out > /dev/null" /dev/null > tty.txt 2>&1
     tr '\r' '\n' < tty.txt > lines.txt
     grep -aq 'taper: runs 2/2  [0-9.e+]* runs/s  [0-9]* s left  \[1 rank x 2 threads\]' lines.txt ||
         fail "no progress line on a terminal: $(cat lines.txt)"

@@ -11,7 +11,7 @@ set -u
 TAPER=$1
 case $TAPER in /*) ;; *) TAPER=$(pwd)/$TAPER ;; esac
 tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+trap '[ -n "${KEEP:-}" ] || rm -rf "$tmp"' EXIT
 cd "$tmp" || exit 1
 failures=0
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
@@ -44,8 +44,8 @@ reused=$(sed -n 's/^! resuming: \([0-9]*\) of 8 runs reused.*/\1/p' run/out2.txt
 [ -n "$reused" ] && [ "$reused" -ge 2 ] && [ "$reused" -ge "$done_before" ] ||
     fail "resume reused '${reused}' runs, $done_before were complete: $(cat run/out2.txt | grep '^!')"
 [ "$(grep -c '^! reused ' run/out2.txt)" = "${reused:-x}" ] || fail "reused runs not listed"
-(cd ref/out && find . -type f | LC_ALL=C sort) > files.ref
-(cd run/out && find . -type f | LC_ALL=C sort) > files.run
+(cd ref/out && find . -type f ! -name .taper.lock | LC_ALL=C sort) > files.ref
+(cd run/out && find . -type f ! -name .taper.lock | LC_ALL=C sort) > files.run
 diff files.ref files.run >&2 || fail "the resumed sweep's files differ from the uninterrupted one's"
 while IFS= read -r f; do
     cmp -s "ref/out/$f" "run/out/$f" || fail "$f differs after resume"
@@ -74,7 +74,7 @@ fi
 while IFS= read -r f; do
     cmp -s "ref/out/$f" "int/out/$f" || fail "$f differs after SIGINT and resume"
 done < files.ref
-[ "$(cd int/out && find . -type f | LC_ALL=C sort)" = "$(cat files.ref)" ] || fail "SIGINT: files differ"
+[ "$(cd int/out && find . -type f ! -name .taper.lock | LC_ALL=C sort)" = "$(cat files.ref)" ] || fail "SIGINT: files differ"
 
 # Another sweep in the same directory (the scene edited: a run's hash
 # covers the scene file's name, which its granules.tsv echoes): shared runs

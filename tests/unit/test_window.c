@@ -30,9 +30,14 @@
 #define AGREE 300.0
 #define SLACK 20.0
 
+static taper_chain *make_chain_n(taper_profile profile, size_t n, double param, double exponent)
+{
+    return test_chain(profile, n, param, param, exponent, NULL);
+}
+
 static taper_chain *make_chain(taper_profile profile, size_t n, double param)
 {
-    return test_chain(profile, n, param, param, 2.5, NULL);
+    return make_chain_n(profile, n, param, 2.5);
 }
 
 /* The default tolerances (taper.h: rtol 1e-10, atol 1e-13). */
@@ -96,21 +101,26 @@ static double error_units(const taper_sim *a, const taper_sim *b, size_t i, size
     return worst;
 }
 
-static void same_trajectory(taper_profile profile, size_t n, double param)
+/* within_agree: the window's error against the reference is bounded by
+ * AGREE units rather than by the whole chain's plus SLACK (see
+ * high_exponents). */
+static void same_trajectory_n(taper_profile profile, size_t n, double param, double exponent,
+                              int within_agree)
 {
-    taper_chain *c = make_chain(profile, n, param);
+    taper_chain *c = make_chain_n(profile, n, param, exponent);
     taper_sim *w = run(c, 1, 1.0), *full = run(c, 0, 1.0), *ref = run(c, 1, 100.0);
     for (size_t i = 0; i < sizeof observables / sizeof observables[0]; i++) {
         size_t at1 = 0, at2 = 0, at3 = 0;
         double agree = error_units(w, full, i, n, &at1);
         double err_w = error_units(w, ref, i, n, &at2);
         double err_full = error_units(full, ref, i, n, &at3);
-        if (!(agree <= AGREE && err_w <= err_full + SLACK))
-            print_error("%s %s: window vs whole chain %.1f units (granule %zu); error vs reference: "
+        const double bound = within_agree ? AGREE : err_full + SLACK;
+        if (getenv("TEST_WINDOW_VERBOSE") || !(agree <= AGREE && err_w <= bound))
+            print_error("n = %g, %s %s: window vs whole chain %.1f units (granule %zu); error vs reference: "
                         "window %.1f (granule %zu), whole chain %.1f (granule %zu)\n",
-                        taper_profile_name(profile), names[i], agree, at1, err_w, at2, err_full, at3);
+                        exponent, taper_profile_name(profile), names[i], agree, at1, err_w, at2, err_full, at3);
         assert_true(agree <= AGREE);
-        assert_true(err_w <= err_full + SLACK);
+        assert_true(err_w <= bound);
     }
 
     /* The dropped granules: the final state agrees with the 100x tighter
@@ -152,6 +162,11 @@ static void same_trajectory(taper_profile profile, size_t n, double param)
     taper_chain_free(c);
 }
 
+static void same_trajectory(taper_profile profile, size_t n, double param)
+{
+    same_trajectory_n(profile, n, param, 2.5, 0);
+}
+
 static void monodisperse(void **state) { (void)state, same_trajectory(TAPER_MONODISPERSE, 200, 0.0); }
 static void backward_linear(void **state) { (void)state, same_trajectory(TAPER_BACKWARD_LINEAR, 200, 0.5); }
 static void forward_linear(void **state) { (void)state, same_trajectory(TAPER_FORWARD_LINEAR, 100, 0.009); }
@@ -162,6 +177,44 @@ static void backward_exponential(void **state)
 static void forward_exponential(void **state)
 {
     (void)state, same_trajectory(TAPER_FORWARD_EXPONENTIAL, 150, 0.05);
+}
+
+/* Contact exponents 12 to 20, every profile: the first contact's growth
+ * threshold (2.3e-4 to 8e-3) lay beyond CVODE's first step, the second step
+ * of the lone ballistic granule 1 went to t = 1.0001, and granule 2 joined
+ * there with its contact compressed to 1: CVODE failed (flag -4) on every
+ * profile, while the whole chain ran.  Now the same trajectory as the whole
+ * chain, within the bounds above, and a window of a few granules. */
+static void high_exponents(void **state)
+{
+    (void)state;
+    const double exponents[] = {12.0, 16.0, 20.0};
+    for (size_t i = 0; i < sizeof exponents / sizeof *exponents; i++) {
+        same_trajectory_n(TAPER_MONODISPERSE, 60, 0.0, exponents[i], 1);
+        same_trajectory_n(TAPER_BACKWARD_LINEAR, 60, 0.5, exponents[i], 1);
+        same_trajectory_n(TAPER_FORWARD_LINEAR, 60, 0.009, exponents[i], 1);
+        same_trajectory_n(TAPER_BACKWARD_EXPONENTIAL, 60, 0.05, exponents[i], 1);
+        same_trajectory_n(TAPER_FORWARD_EXPONENTIAL, 60, 0.05, exponents[i], 1);
+    }
+}
+
+/* Behind a pulse of a high exponent the first granule recoils at a real
+ * velocity (-2.9e-7 for n = 12, far beyond the rest threshold v_eps) while
+ * the granules after it rest with the chain.  Compared with the granule
+ * behind, granule 2 was never at rest, and the window spanned the chain:
+ * 296 of 300 granules at n = 8 (and 299 at n = 11 to 15), O(N^2).  Where
+ * the gap behind opens for ever, rest is relative to the granule ahead. */
+static void recoil_then_rest_leaves_window(void **state)
+{
+    (void)state;
+    taper_chain *c = make_chain_n(TAPER_MONODISPERSE, 300, 0.0, 8.0);
+    taper_sim *sim = run(c, 1, 1.0);
+    assert_true(stat(sim, TAPER_STAT_COMPLETE) == 1.0);
+    if (stat(sim, TAPER_STAT_MAX_WINDOW) > 16) print_error("window %g\n", stat(sim, TAPER_STAT_MAX_WINDOW));
+    assert_true(stat(sim, TAPER_STAT_MAX_WINDOW) <= 16);
+    assert_true(stat(sim, TAPER_STAT_ENERGY_ERROR) <= 1e-7 && stat(sim, TAPER_STAT_MOMENTUM_ERROR) <= 1e-7);
+    taper_sim_free(sim);
+    taper_chain_free(c);
 }
 
 /* A long backward exponential chain reaches time scales of 1e58 and masses
@@ -268,6 +321,8 @@ int main(void)
         cmocka_unit_test(forward_linear),
         cmocka_unit_test(backward_exponential),
         cmocka_unit_test(forward_exponential),
+        cmocka_unit_test(high_exponents),
+        cmocka_unit_test(recoil_then_rest_leaves_window),
         cmocka_unit_test(long_backward_exponential),
         cmocka_unit_test(recoil_drift_leaves_window),
         cmocka_unit_test(loose_tolerance_keeps_momentum),

@@ -49,10 +49,15 @@ static void write_stats_comment(const granules_run *r, FILE *fp)
     }
 }
 
+_Static_assert(OUT_N_COLUMNS == SCENE_N_COLUMNS, "granules.tsv columns");
+
 static void run_columns(const granules_run *r, out_columns *cols)
 {
+    const scene_output_config *o = &scene_cfg(r->sc)->output;
     memset(cols, 0, sizeof *cols);
     cols->n = taper_chain_size(r->chain);
+    cols->set = o->column_set;
+    cols->every = (size_t)o->every;
     cols->col[1] = taper_chain_radius(r->chain);
     cols->col[2] = taper_chain_mass(r->chain);
     cols->col[3] = taper_chain_rest_position(r->chain);
@@ -64,20 +69,27 @@ static void run_columns(const granules_run *r, out_columns *cols)
     cols->col[11] = r->theory[TAPER_THEORY_T];
 }
 
+/* The column names first, as a line of their own, then the '#' block,
+ * then the rows: numpy.genfromtxt(names=True) and pandas.read_csv(sep='\t',
+ * comment='#') take their names from the first line, numpy.loadtxt skips
+ * exactly one line (skiprows=1) and every comment, gnuplot reads the names
+ * with `set datafile columnheaders` (or skips the line as non-numeric). */
 static void write_granules(const granules_run *r, FILE *fp, int partial)
 {
+    out_columns cols;
+    run_columns(r, &cols);
+    out_write_header(fp, &cols, NULL);
     fprintf(fp, "# taper %s granules: per-granule pulse observables and binary-collision theory\n",
             taper_version());
     if (partial)
         fprintf(fp, "# PARTIAL result (%s): %s\n", taper_strerror(r->status), r->message);
     else
         fputs("# complete\n", fp);
+    if (r->untrusted) fprintf(fp, "# UNTRUSTED: %s\n", r->untrusted);
     fprintf(fp, "# scene file: %s\n", scene_path(r->sc));
     write_scene_comment(r, fp);
     write_stats_comment(r, fp);
-    out_columns cols;
-    run_columns(r, &cols);
-    out_write_table(fp, &cols);
+    out_write_rows(fp, &cols, NULL, 0);
 }
 
 int granules_save(const char *dir, const granules_run *run, int partial, char **msg)
@@ -103,12 +115,15 @@ int granules_write_sweep(const char *dir, const granules_run *runs, size_t n, co
 {
     out_file *f = out_open(dir, "sweep.tsv", msg);
     if (!f) return -1;
-    fprintf(f->fp, "# taper %s sweep over %s: the rows of every %s=VALUE/granules.tsv\n",
-            taper_version(), name, name);
     for (size_t i = 0; i < n; i++) {
         out_columns cols;
         run_columns(&runs[i], &cols);
-        out_write_rows(f->fp, &cols, name, values[i], i == 0);
+        if (i == 0) {
+            out_write_header(f->fp, &cols, name);
+            fprintf(f->fp, "# taper %s sweep over %s: the rows of every %s=VALUE/granules.tsv\n",
+                    taper_version(), name, name);
+        }
+        out_write_rows(f->fp, &cols, name, values[i]);
     }
     if (out_commit(f, msg) != 0) return -1;
     printf("! wrote %s/sweep.tsv\n", dir);

@@ -22,6 +22,7 @@ typedef struct granules_run {
     const double *theory[TAPER_N_THEORY_QUANTITIES]; /* by TAPER_THEORY_*  */
     taper_status status;        /* of taper_sim_run (TAPER_OK without)     */
     const char *message;        /* its message, for a partial result       */
+    const char *untrusted;      /* why it is not to be trusted, or NULL    */
 } granules_run;
 
 /* Writes DIR/granules.tsv (partial: DIR/granules.partial.tsv), removing

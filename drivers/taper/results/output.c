@@ -7,8 +7,10 @@
 
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <pthread.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -16,6 +18,30 @@ const char *const out_column_names[OUT_N_COLUMNS] = {
     "k", "R", "m", "X0", "t_pass", "T_res", "v_peak", "t_peak", "X_pass",
     "theory_v", "theory_T", "theory_t",
 };
+
+/* The temporary file being written, for out_signal_cleanup: set and
+ * cleared with the termination signals blocked, read by a signal handler.
+ * Result files are written from one thread (the driver's main thread). */
+static char *volatile pending_tmp;
+
+static void block_signals(sigset_t *old)
+{
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    sigaddset(&set, SIGHUP);
+    sigaddset(&set, SIGXCPU);
+    pthread_sigmask(SIG_BLOCK, &set, old);
+}
+
+static void restore_signals(const sigset_t *old) { pthread_sigmask(SIG_SETMASK, old, NULL); }
+
+void out_signal_cleanup(void)
+{
+    char *p = pending_tmp;
+    if (p) unlink(p); /* async-signal-safe */
+}
 
 static char *join(const char *dir, const char *name)
 {
@@ -72,7 +98,11 @@ out_file *out_open(const char *dir, const char *name, char **msg)
     free(tmpl);
     tmpl = NULL;
     if (!f->tmp_path || !f->final_path) goto nomem;
+    sigset_t old;
+    block_signals(&old);
     int fd = mkstemp(f->tmp_path);
+    if (fd >= 0) pending_tmp = f->tmp_path;
+    restore_signals(&old);
     if (fd < 0) {
         *msg = text_printf("cannot write in output directory %s: %s", dir, strerror(errno));
         free(f->tmp_path);
@@ -102,7 +132,11 @@ void out_discard(out_file *f)
 {
     if (!f) return;
     if (f->fp) fclose(f->fp);
+    sigset_t old;
+    block_signals(&old);
     if (f->tmp_path) unlink(f->tmp_path);
+    if (pending_tmp == f->tmp_path) pending_tmp = NULL;
+    restore_signals(&old);
     free(f->tmp_path);
     free(f->final_path);
     free(f);
@@ -120,11 +154,19 @@ int out_commit(out_file *f, char **msg)
         out_discard(f);
         return -1;
     }
+    /* The rename and forgetting the temporary name happen with the signals
+     * blocked: a handler sees either the temporary file or none. */
+    sigset_t old;
+    block_signals(&old);
     if (rename(f->tmp_path, f->final_path) != 0) {
-        *msg = text_printf("cannot rename to %s: %s", f->final_path, strerror(errno));
+        int e = errno;
+        restore_signals(&old);
+        *msg = text_printf("cannot rename to %s: %s", f->final_path, strerror(e));
         out_discard(f);
         return -1;
     }
+    pending_tmp = NULL;
+    restore_signals(&old);
     free(f->tmp_path);
     f->tmp_path = NULL; /* renamed: nothing to remove */
     out_discard(f);
@@ -157,20 +199,36 @@ void out_cell(FILE *fp, double x, int last)
     fputc(last ? '\n' : '\t', fp);
 }
 
-void out_write_rows(FILE *fp, const out_columns *cols, const char *lead_name, double lead,
-                    int header)
+static int column_on(const out_columns *cols, size_t c)
 {
-    if (header) {
-        if (lead_name) fprintf(fp, "%s\t", lead_name);
-        for (size_t c = 0; c < OUT_N_COLUMNS; c++)
-            fprintf(fp, "%s%c", out_column_names[c], c + 1 < OUT_N_COLUMNS ? '\t' : '\n');
-    }
-    for (size_t k = 1; k <= cols->n; k++) {
-        if (lead_name) out_cell(fp, lead, 0);
-        fprintf(fp, "%zu\t", k);
-        for (size_t c = 1; c < OUT_N_COLUMNS; c++)
-            out_cell(fp, cols->col[c] ? cols->col[c][k - 1] : NAN, c + 1 == OUT_N_COLUMNS);
-    }
+    return cols->set == 0 || (cols->set >> c & 1u);
 }
 
-void out_write_table(FILE *fp, const out_columns *cols) { out_write_rows(fp, cols, NULL, 0, 1); }
+void out_write_header(FILE *fp, const out_columns *cols, const char *lead_name)
+{
+    if (lead_name) fprintf(fp, "%s\t", lead_name);
+    fputs(out_column_names[0], fp);
+    for (size_t c = 1; c < OUT_N_COLUMNS; c++)
+        if (column_on(cols, c)) fprintf(fp, "\t%s", out_column_names[c]);
+    fputc('\n', fp);
+}
+
+void out_write_rows(FILE *fp, const out_columns *cols, const char *lead_name, double lead)
+{
+    size_t every = cols->every ? cols->every : 1;
+    for (size_t k = 1; k <= cols->n; k++) {
+        if ((k - 1) % every != 0 && k != cols->n) continue;
+        if (lead_name) out_cell(fp, lead, 0);
+        fprintf(fp, "%zu", k);
+        for (size_t c = 1; c < OUT_N_COLUMNS; c++) {
+            if (!column_on(cols, c)) continue;
+            fputc('\t', fp);
+            double x = cols->col[c] ? cols->col[c][k - 1] : NAN;
+            if (isnan(x))
+                fputs("nan", fp);
+            else
+                fprintf(fp, "%.17g", x);
+        }
+        fputc('\n', fp);
+    }
+}

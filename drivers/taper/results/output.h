@@ -34,6 +34,13 @@ int out_commit(out_file *f, char **msg);
 /* Closes and removes the temporary file.  Frees f.  NULL is a no-op. */
 void out_discard(out_file *f);
 
+/* From a signal handler (async-signal-safe): removes the temporary file
+ * being written, if any, so that a process killed while writing leaves
+ * nothing hidden behind.  The rename of out_commit runs with SIGINT,
+ * SIGTERM, SIGHUP and SIGXCPU blocked: a file is either still temporary
+ * (removed here) or complete under its name. */
+void out_signal_cleanup(void);
+
 /* Removes DIR/NAME if present (a stale result from an earlier run).
  * 0 when absent afterwards, -1 with *msg otherwise. */
 int out_remove(const char *dir, const char *name, char **msg);
@@ -49,14 +56,16 @@ typedef struct out_columns {
     size_t n;
     const double *col[OUT_N_COLUMNS]; /* in the order of out_column_names;
                                          col[0] (k) is ignored: k = 1..n */
+    unsigned set;                     /* bit c: column c written (k always);
+                                         0: every column                  */
+    size_t every;                     /* rows k = 1, 1 + every, ..., and n;
+                                         0 or 1: every row                */
 } out_columns;
 
-/* Writes the header line and the rows. */
-void out_write_table(FILE *fp, const out_columns *cols);
-/* The same rows with a leading column lead_name = lead (the swept value of
- * a combined sweep table; lead_name NULL: none), the header line only when
- * header != 0. */
-void out_write_rows(FILE *fp, const out_columns *cols, const char *lead_name, double lead,
-                    int header);
+/* The header line: the column names (after lead_name, unless NULL). */
+void out_write_header(FILE *fp, const out_columns *cols, const char *lead_name);
+/* The rows, each with a leading cell `lead` when lead_name is not NULL (the
+ * swept value of a combined sweep table). */
+void out_write_rows(FILE *fp, const out_columns *cols, const char *lead_name, double lead);
 
 #endif

@@ -109,16 +109,16 @@ static const char *label_or(const char *label, scene_quantity quantity)
     return label[0] ? label : series_label(quantity);
 }
 
-static void script_head(const report *r, FILE *fp, int inset)
+static void script_head(const report *r, FILE *fp)
 {
     fprintf(fp, "# taper %s: %s (scene %s)\n", taper_version(), r->cfg->figure.name,
             r->scene_path);
     fputs("# Render: gnuplot figure.gp (in this directory) -> figure.png\n", fp);
-    fprintf(fp, "if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
-                "    set terminal pngcairo size %d,660 enhanced font \"Sans,12\"\n"
-                "} else {\n"
-                "    set terminal png size %d,660\n"
-                "}\n", inset ? 1300 : 900, inset ? 1300 : 900);
+    fputs("if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
+          "    set terminal pngcairo size 900,660 enhanced font \"Sans,12\"\n"
+          "} else {\n"
+          "    set terminal png size 900,660\n"
+          "}\n", fp);
     fputs("set output \"figure.png\"\nset datafile missing \"nan\"\n"
           "set border lw 1.2\nset tics scale 1.2\n", fp);
     /* Ten distinguishable colours, none black (black is the key's
@@ -130,11 +130,21 @@ static void script_head(const report *r, FILE *fp, int inset)
     fputs("set linetype cycle 10\n", fp);
 }
 
-static void main_panel(const report *r, FILE *fp, int inset)
+/* The main panel's frame on the canvas (screen coordinates), fixed so that
+ * the inset can be placed inside it; the key sits right of it. */
+#define FRAME_L 0.10
+#define FRAME_R 0.78
+#define FRAME_B 0.11
+#define FRAME_T 0.92
+
+static void main_panel(const report *r, FILE *fp, int inset, double y_lo, double y_hi)
 {
     const scene_figure_config *fig = &r->cfg->figure;
     int th = fig->curves != SCENE_CURVES_NUMERICS, nu = fig->curves != SCENE_CURVES_THEORY;
-    if (inset) fputs("set multiplot\nset origin 0, 0\nset size 0.66, 1\n", fp);
+    if (inset) fputs("set multiplot\n", fp);
+    fprintf(fp, "set lmargin at screen %g\nset rmargin at screen %g\n"
+                "set bmargin at screen %g\nset tmargin at screen %g\n",
+            FRAME_L, FRAME_R, FRAME_B, FRAME_T);
     fputs("set title ", fp);
     char *title = text_printf("%s  %s", fig->name, fig->title);
     gp_string(fp, title ? title : fig->name);
@@ -146,6 +156,7 @@ static void main_panel(const report *r, FILE *fp, int inset)
     fputc('\n', fp);
     if (fig->log_x) fputs("set logscale x\nset format x \"10^{%L}\"\n", fp);
     if (fig->log_y) fputs("set logscale y\nset format y \"10^{%L}\"\n", fp);
+    if (!isnan(y_lo)) fprintf(fp, "set yrange [%.17g:%.17g] # room for the inset\n", y_lo, y_hi);
     fputs("set key outside right top spacing 1.1\nset mxtics\nset mytics\n", fp);
     fprintf(fp, "n = %zu\ntitles = \"", r->n);
     for (size_t i = 0; i < r->n; i++)
@@ -176,18 +187,150 @@ static double tic_step(const report *r)
     return unit * (step < 1.5 ? 1.0 : step < 3.5 ? 2.0 : 5.0);
 }
 
-static void inset_panel(const report *r, FILE *fp)
+/* The inset, as in the paper: a small plot inside the main panel, in the
+ * corner where the main panel draws the fewest points.  Corners, as
+ * fractions of the main frame: the inset's own frame (width and height
+ * INSET_W) with room for its tic labels and axis titles left of and below it
+ * (INSET_PAD_L, INSET_PAD_B), INSET_GAP from the main frame. */
+#define INSET_W 0.36
+#define INSET_PAD_L 0.14
+#define INSET_PAD_B 0.15
+#define INSET_GAP 0.03
+
+typedef struct inset_box { double u0, v0; } inset_box; /* lower left of the inset's frame */
+
+static const inset_box inset_corners[4] = {
+    {1 - INSET_GAP - INSET_W, 1 - INSET_GAP - INSET_W},         /* upper right */
+    {INSET_GAP + INSET_PAD_L, 1 - INSET_GAP - INSET_W},         /* upper left  */
+    {1 - INSET_GAP - INSET_W, INSET_GAP + INSET_PAD_B},         /* lower right */
+    {INSET_GAP + INSET_PAD_L, INSET_GAP + INSET_PAD_B},         /* lower left  */
+};
+
+/* The range gnuplot's autoscale draws for data in [lo, hi] (in log10 on a
+ * logarithmic axis): out to whole decades, or to the next tic of a step of 1,
+ * 2 or 5 times a power of ten. */
+static void autoscale(double *lo, double *hi, int logarithmic)
+{
+    if (!(*hi > *lo)) return;
+    if (logarithmic) {
+        *lo = floor(*lo);
+        *hi = ceil(*hi);
+        return;
+    }
+    double span = *hi - *lo, unit = pow(10.0, floor(log10(span)));
+    double step = span / unit > 5 ? unit : span / unit > 2 ? unit / 2 : unit / 5;
+    *lo = floor(*lo / step) * step;
+    *hi = ceil(*hi / step) * step;
+}
+
+/* Where the inset goes.  The drawn points (the rows figure.tsv holds) as
+ * fractions u, v of the axes' autoscaled range (logarithmic where the axis
+ * is); for each corner, the factor by which the y range must grow, away from
+ * the corner, for the inset and its labels to cover no point (1: none
+ * covered as it is).  The corner needing the least growth wins; *y_lo,
+ * *y_hi: the y range to set (data units), or NaN to leave gnuplot's. */
+static int inset_corner(const report *r, double *y_lo, double *y_hi)
+{
+    const scene_figure_config *fig = &r->cfg->figure;
+    *y_lo = *y_hi = NAN;
+    size_t n = 0;
+    for (size_t i = 0; i < r->n; i++)
+        if (r->points[i].src.n > n) n = r->points[i].src.n;
+    double *buf[4] = {0};
+    int ok = n > 0;
+    for (int c = 0; c < 4; c++)
+        if (!(buf[c] = malloc((n ? n : 1) * sizeof(double)))) ok = 0;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    double need[4] = {0, 0, 1, 1}; /* upper corners: highest v; lower: lowest v */
+    const int lg[2] = {fig->log_x, fig->log_y};
+    for (int pass = 0; ok && pass < 2; pass++) {
+        if (pass == 1) {
+            if (!(hi[0] > lo[0]) || !(hi[1] > lo[1])) break;
+            for (int a = 0; a < 2; a++) autoscale(&lo[a], &hi[a], lg[a]);
+        }
+        for (size_t i = 0; i < r->n; i++) {
+            const report_point *p = &r->points[i];
+            int have[2];
+            have[0] = fig->curves != SCENE_CURVES_NUMERICS &&
+                      series_fill(&p->src, SERIES_THEORY, fig->x, buf[0]) == 0 &&
+                      series_fill(&p->src, SERIES_THEORY, fig->y, buf[1]) == 0;
+            have[1] = fig->curves != SCENE_CURVES_THEORY &&
+                      series_fill(&p->src, SERIES_NUMERICS, fig->x, buf[2]) == 0 &&
+                      series_fill(&p->src, SERIES_NUMERICS, fig->y, buf[3]) == 0;
+            size_t last = (size_t)fig->k_max;
+            if (last == 0 || last > p->src.n) last = p->src.n;
+            for (size_t k = 0; k < last; k++)
+                for (int s = 0; s < 2; s++) {
+                    if (!have[s]) continue;
+                    double xy[2] = {buf[2 * s][k], buf[2 * s + 1][k]};
+                    int good = 1;
+                    for (int a = 0; a < 2; a++) {
+                        if (lg[a]) xy[a] = xy[a] > 0 ? log10(xy[a]) : NAN;
+                        if (!isfinite(xy[a])) good = 0;
+                    }
+                    if (!good) continue;
+                    if (pass == 0) {
+                        for (int a = 0; a < 2; a++) {
+                            lo[a] = fmin(lo[a], xy[a]);
+                            hi[a] = fmax(hi[a], xy[a]);
+                        }
+                        continue;
+                    }
+                    double u = (xy[0] - lo[0]) / (hi[0] - lo[0]);
+                    double v = (xy[1] - lo[1]) / (hi[1] - lo[1]);
+                    for (int c = 0; c < 4; c++) {
+                        const inset_box *b = &inset_corners[c];
+                        if (u < b->u0 - INSET_PAD_L - INSET_GAP || u > b->u0 + INSET_W + INSET_GAP)
+                            continue;
+                        need[c] = c < 2 ? fmax(need[c], v) : fmin(need[c], v);
+                    }
+                }
+        }
+    }
+    for (int c = 0; c < 4; c++) free(buf[c]);
+    if (!ok || !(hi[0] > lo[0]) || !(hi[1] > lo[1])) return 0;
+    double grow[4];
+    for (int c = 0; c < 4; c++) {
+        const inset_box *b = &inset_corners[c];
+        double edge = c < 2 ? b->v0 - INSET_PAD_B - INSET_GAP : b->v0 + INSET_W + INSET_GAP;
+        grow[c] = c < 2 ? fmax(1.0, need[c] / edge)
+                        : fmax(1.0, 1.0 + (edge - need[c]) / (1.0 - edge));
+    }
+    int best = 0;
+    for (int c = 1; c < 4; c++)
+        if (grow[c] < grow[best] - 1e-9) best = c;
+    if (grow[best] > 1.0) {
+        double span = hi[1] - lo[1], l = lo[1], h = hi[1];
+        if (best < 2) h = l + grow[best] * span;
+        else l = h - grow[best] * span;
+        autoscale(&l, &h, lg[1]);
+        *y_lo = lg[1] ? pow(10.0, l) : l;
+        *y_hi = lg[1] ? pow(10.0, h) : h;
+    }
+    return best;
+}
+
+static void inset_panel(const report *r, FILE *fp, int corner)
 {
     double ref = r->cfg->figure.inset_reference; /* NaN: none */
-    fputs("unset logscale\nunset title\nset format x \"% g\"\nset format y \"% g\"\n", fp);
+    const inset_box *b = &inset_corners[corner];
+    double w = FRAME_R - FRAME_L, h = FRAME_T - FRAME_B;
+    double x0 = FRAME_L + b->u0 * w, y0 = FRAME_B + b->v0 * h;
+    fputs("set autoscale\nunset logscale\nunset title\nunset mxtics\nunset mytics\n"
+          "set format x \"% g\"\nset format y \"% g\"\nset tics font \",9\" scale 0.8\n", fp);
     fprintf(fp, "set xtics %.17g\n", tic_step(r));
-    fputs("set origin 0.67, 0.2\nset size 0.33, 0.66\n"
-          "set key inside bottom right spacing 1.0 font \",10\"\nset mxtics\nset mytics\n", fp);
-    fprintf(fp, "set xlabel \"%s\"\nset ylabel ", display_name(r));
+    fprintf(fp, "set lmargin at screen %.4f\nset rmargin at screen %.4f\n"
+                "set bmargin at screen %.4f\nset tmargin at screen %.4f\n",
+            x0, x0 + INSET_W * w, y0, y0 + INSET_W * h);
+    fputs("set object 1 rectangle from graph 0, graph 0 to graph 1, graph 1 behind "
+          "fillcolor rgb \"white\" fillstyle solid 1.0 noborder\n", fp);
+    fputs("set key inside bottom right spacing 0.9 font \",9\" samplen 1 opaque\n", fp);
+    fprintf(fp, "set xlabel \"%s\" font \",10\" offset 0, 0.6\nset ylabel ", display_name(r));
     gp_string(fp, analysis_label(r->cfg));
-    fputs("\nset offsets graph 0.08, graph 0.08, graph 0.15, graph 0.15\n", fp);
-    fputs("plot \"inset.tsv\" using 1:2 with points pt 6 ps 1.3 lc rgb \"black\" title \"theory\", \\\n"
-          "     \"inset.tsv\" using 1:5:6 with yerrorbars pt 7 ps 0.9 lc rgb \"black\" title \"numerics\"",
+    fputs(" font \",10\" offset 1.5, 0\n", fp);
+    fputs("set offsets graph 0.08, graph 0.08, graph 0.15, graph 0.15\n", fp);
+    fputs("plot \"inset.tsv\" using 1:2 with points pt 6 ps 1.1 lc rgb \"black\" title \"theory\", \\\n"
+          "     \"inset.tsv\" using 1:5:6 with yerrorbars pt 7 ps 0.8 lc rgb \"black\" title \"numerics\"",
           fp);
     if (!isnan(ref))
         fprintf(fp, ", \\\n     %.17g with lines dt 2 lc rgb \"gray40\" title \"%.4g\"", ref, ref);
@@ -198,9 +341,11 @@ static int write_script(const report *r, int inset, char **msg)
 {
     out_file *f = out_open(r->dir, "figure.gp", msg);
     if (!f) return -1;
-    script_head(r, f->fp, inset);
-    main_panel(r, f->fp, inset);
-    if (inset) inset_panel(r, f->fp);
+    double y_lo = NAN, y_hi = NAN;
+    int corner = inset ? inset_corner(r, &y_lo, &y_hi) : 0;
+    script_head(r, f->fp);
+    main_panel(r, f->fp, inset, y_lo, y_hi);
+    if (inset) inset_panel(r, f->fp, corner);
     return out_commit(f, msg);
 }
 

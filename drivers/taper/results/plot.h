@@ -2,8 +2,9 @@
  * plot.h -- a scene's figure: DIR/figure.tsv (per-granule data, one gnuplot
  * data block per run), DIR/inset.tsv (the fitted value against the swept
  * variable), DIR/figure.gp (a gnuplot script in the paper's style: theory
- * open circles, numerics filled circles, the inset as a second panel) and,
- * with gnuplot installed, DIR/figure.png.
+ * open circles, numerics filled circles, the inset drawn inside the main
+ * panel, in the corner where the main panel has the fewest points, as the
+ * paper draws its insets) and, with gnuplot installed, DIR/figure.png.
  *
  * Not part of libtaper.
  */

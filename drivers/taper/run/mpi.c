@@ -6,7 +6,9 @@
  *   0 -> worker  TAG_RUN      int64: the run to compute, or -1: stop
  *   worker -> 0  TAG_RESULT   int64 run, int32 status, int32 + int32 text
  *                             lengths, then the run's stdout and stderr text
- *   worker -> 0  TAG_BYE      all its threads have stopped
+ *   worker -> 0  TAG_BYE      all its threads have stopped: done with this
+ *                             scene (every rank reads the scenes of the
+ *                             command line in turn, one goodbye each)
  * Rank 0 serves these from its main thread without blocking (sweep.c polls
  * it every millisecond) while its own threads compute runs; it hands runs
  * out in the order of sweep_next, the dearest first, so a slow run starts
@@ -34,8 +36,7 @@ enum { TAG_REQUEST = 1, TAG_RUN = 2, TAG_RESULT = 3, TAG_BYE = 4 };
 
 static int rank, size = 1, active, finished;
 static unsigned threads_per_rank = 1;
-static int byes;     /* rank 0: workers that said goodbye */
-static int bye_sent; /* a worker: it said goodbye           */
+static int byes; /* rank 0: workers that said goodbye to this scene */
 
 /* Launched by an MPI launcher: Open MPI, MPICH/Hydra, PMIx, Slurm's PMI. */
 static int launched(void)
@@ -200,7 +201,6 @@ int mpi_worker(const scene *sc)
     }
     char none = 0;
     MPI_Send(&none, 0, MPI_BYTE, 0, TAG_BYE, MPI_COMM_WORLD);
-    bye_sent = 1;
     return rc;
 }
 
@@ -244,14 +244,17 @@ int mpi_start(int *argc, char ***argv)
     return rank;
 }
 
+void mpi_scene_end(void)
+{
+    if (!active || rank != 0 || size < 2) return;
+    if (!finished) finish(NULL, NULL); /* not a sweep: the workers' goodbyes */
+    finished = 0;
+    byes = 0;
+}
+
 int mpi_stop(int rc)
 {
     if (!active) return rc;
-    if (rank == 0 && size > 1 && !finished) finish(NULL, NULL);
-    if (rank > 0 && !bye_sent) { /* --help, --doc, ...: no scene was run */
-        char none = 0;
-        MPI_Send(&none, 0, MPI_BYTE, 0, TAG_BYE, MPI_COMM_WORLD);
-    }
     sweep_set_remote(NULL);
     MPI_Finalize();
     return rc;

@@ -21,12 +21,15 @@
 int mpi_start(int *argc, char ***argv);
 /* This rank (0 without MPI). */
 int mpi_rank(void);
-/* The work of a rank other than 0: computes the runs rank 0 hands out,
- * until it says stop.  sc NULL (the scene did not load) or a scene that
- * is not a sweep: nothing to do.  Returns a run_status. */
+/* The work of a rank other than 0 on one scene: computes the runs rank 0
+ * hands out, until it says stop, then says goodbye.  sc NULL (the scene
+ * did not load) or a scene that is not a sweep: nothing to do but that.
+ * Returns a run_status. */
 int mpi_worker(const scene *sc);
-/* Releases the other ranks if rank 0 never ran a sweep, and finalises MPI.
- * Returns rc. */
+/* Rank 0, after each scene of the command line: waits for every worker to
+ * be done with it (a scene that was no sweep, or did not load, included). */
+void mpi_scene_end(void);
+/* Finalises MPI.  Returns rc. */
 int mpi_stop(int rc);
 
 #endif

@@ -25,34 +25,71 @@
 #include "run/sweep.h"
 #include "util/text.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <time.h>
 #include <unistd.h>
 
 /* ---- interruption and progress ------------------------------------------ */
 
-static volatile sig_atomic_t interrupted;
+static volatile sig_atomic_t interrupted; /* the first signal's number */
 
-static void on_sigint(int sig)
+/* The signals that end a run with its partial result: Ctrl-C (SIGINT), and
+ * what `timeout`, batch queues and a closed terminal send (SIGTERM, SIGHUP,
+ * SIGXCPU at a CPU-time limit).  The first asks the runs to stop (they keep
+ * what was found and write it); a second one while the result is written
+ * removes the temporary file being written (results/output.h) and ends the
+ * process by the signal's default action. */
+static const int stop_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGXCPU};
+#define N_STOP_SIGNALS (sizeof stop_signals / sizeof stop_signals[0])
+
+static void on_signal(int sig)
 {
-    (void)sig;
-    interrupted = 1;
+    if (!interrupted) {
+        interrupted = sig;
+        return;
+    }
+    out_signal_cleanup();
+    signal(sig, SIG_DFL);
+    raise(sig);
 }
 
-int run_interrupted(void) { return interrupted != 0; }
-
-void run_install_sigint(void)
+void run_install_signals(void)
 {
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_sigint;
+    sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND;
-    sigaction(SIGINT, &sa, NULL);
+    for (size_t i = 0; i < N_STOP_SIGNALS; i++) sigaddset(&sa.sa_mask, stop_signals[i]);
+    for (size_t i = 0; i < N_STOP_SIGNALS; i++) {
+        struct sigaction old;
+        /* SIGHUP ignored by the parent (nohup) stays ignored.  SIGINT is
+         * ignored in the background jobs of a shell script, yet `kill -INT`
+         * there is meant: it is handled all the same. */
+        if (stop_signals[i] == SIGHUP && sigaction(SIGHUP, NULL, &old) == 0 &&
+            old.sa_handler == SIG_IGN)
+            continue;
+        sigaction(stop_signals[i], &sa, NULL);
+    }
+}
+
+int run_interrupted(void) { return interrupted; }
+
+static const char *signal_name(int sig)
+{
+    switch (sig) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+    case SIGXCPU: return "SIGXCPU";
+    default: return "a signal";
+    }
 }
 
 typedef struct progress_state {
@@ -68,6 +105,8 @@ static double wall_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* "granule 1234/100000  t = 567.8  2.3e+04 granules/s  4.3 s left": the
+ * time left only once there is a rate to estimate it from. */
 static int monitor(const taper_progress *p, void *user)
 {
     progress_state *ps = user;
@@ -76,9 +115,12 @@ static int monitor(const taper_progress *p, void *user)
         if (now - ps->last >= 0.2 || p->granule >= p->target) {
             double rate = (double)p->granule / fmax(now - ps->start, 1e-9);
             size_t todo = p->granule < p->target ? p->target - p->granule : 0;
-            double left = rate > 0 ? (double)todo / rate : NAN;
-            fprintf(stderr, "\rtaper: granule %zu/%zu  %.3g granules/s  %.1f s left   ",
-                    p->granule, p->target, rate, left);
+            fprintf(stderr, "\rtaper: granule %zu/%zu  t = %.6g  %.3g granules/s", p->granule,
+                    p->target, p->t, rate);
+            if (rate > 0 && isfinite(rate))
+                fprintf(stderr, "  %.1f s left   ", (double)todo / rate);
+            else
+                fputs("                ", stderr);
             ps->last = now;
             ps->printed = 1;
         }
@@ -220,12 +262,49 @@ static int prepare_dir(const run *r)
 }
 
 /* Before any computation: the chain and sim (a scene the library rejects
- * leaves no empty directory), then the directory. */
+ * leaves no empty directory); the directories come after (prepare_dirs). */
 static void prepare_run(run *r)
 {
     r->rc = build_chain(r);
     if (r->rc == RUN_COMPLETE && r->cfg->solver.numerics) r->rc = build_sim(r);
-    if (r->rc == RUN_COMPLETE && prepare_dir(r) != 0) r->rc = RUN_INPUT;
+}
+
+/* &output dir, created and locked for this process (flock on DIR/.taper.lock,
+ * held until exit): a second run into the same directory is refused while
+ * the first runs, instead of both writing and the last one winning.  The
+ * descriptor is left open (close-on-exec) and released by the kernel at
+ * exit, however the process ends.  0, or -1 after printing why. */
+int run_lock_dir(const scene *sc, const char *dir, int shared)
+{
+    char *msg = NULL;
+    if (out_mkdir_p(dir, &msg) != 0) {
+        scene_print_output_error(sc, msg ? msg : "out of memory", stderr);
+        free(msg);
+        return -1;
+    }
+    char *path = text_printf("%s/.taper.lock", dir);
+    int fd = path ? open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0666) : -1;
+    if (fd < 0) {
+        msg = path ? text_printf("output directory %s is not writable: %s", dir, strerror(errno))
+                   : NULL;
+    } else if (flock(fd, (shared ? LOCK_SH : LOCK_EX) | LOCK_NB) != 0) {
+        msg = errno == EWOULDBLOCK
+                  ? text_printf("output directory %s is in use by another taper run (it holds "
+                                "%s): wait for it to end, or write elsewhere with -o DIR", dir, path)
+                  : text_printf("cannot lock %s: %s", path, strerror(errno));
+        close(fd);
+        fd = -1;
+    } else if (!shared) {
+        /* The lock file says who holds it, for a person looking. */
+        char pid[32];
+        int n = snprintf(pid, sizeof pid, "%ld\n", (long)getpid());
+        if (ftruncate(fd, 0) == 0 && write(fd, pid, (size_t)n) < 0) { /* informative only */ }
+    }
+    free(path);
+    if (fd >= 0) return 0;
+    scene_print_output_error(sc, msg ? msg : "out of memory", stderr);
+    free(msg);
+    return -1;
 }
 
 /* Without numerics: the theory alone. */
@@ -255,6 +334,16 @@ static int simulate(run *r)
     ps->start = ps->last = wall_seconds();
     r->status = taper_sim_run(r->sim, &r->err);
     progress_done(ps);
+    if (r->status == TAPER_EINTERRUPTED && interrupted) {
+        /* Name the signal, in the message and the partial file's header. */
+        static const char word[] = "interrupted";
+        char rest[sizeof r->err.message];
+        const char *m = r->err.message;
+        int lead = strncmp(m, word, sizeof word - 1) == 0;
+        snprintf(rest, sizeof rest, "%s", lead ? m + sizeof word - 1 : m);
+        snprintf(r->err.message, sizeof r->err.message, "interrupted by %s%s%.400s",
+                 signal_name(interrupted), lead ? "" : ": ", rest);
+    }
     if (r->status == TAPER_OK) return RUN_COMPLETE;
     set_message(r, r->err.message);
     if (r->status == TAPER_ESOLVER || r->status == TAPER_EINTERRUPTED || r->status == TAPER_ELIMIT)
@@ -284,12 +373,73 @@ static granules_run result_of(const run *r)
     return g;
 }
 
+/* Conservation beyond the scene's bounds (&output max_energy_error,
+ * max_momentum_error): the run is not to be trusted.  Text for the header
+ * line and stderr (malloc'd), or NULL. */
+static char *distrust(const run *r)
+{
+    if (!r->sim) return NULL;
+    const scene_output_config *o = &r->cfg->output;
+    double e = taper_sim_statistic(r->sim, TAPER_STAT_ENERGY_ERROR);
+    double p = taper_sim_statistic(r->sim, TAPER_STAT_MOMENTUM_ERROR);
+    /* NaN (no energy to compare with) is not trusted either. */
+    int bad_e = !(e <= o->max_energy_error), bad_p = !(p <= o->max_momentum_error);
+    if (!bad_e && !bad_p) return NULL;
+    char be[SCENE_REAL_TEXT], bp[SCENE_REAL_TEXT];
+    scene_format_real(o->max_energy_error, be);
+    scene_format_real(o->max_momentum_error, bp);
+    if (bad_e && bad_p)
+        return text_printf("energy error %.2e exceeds %s and momentum error %.2e exceeds %s "
+                           "(&output max_energy_error, max_momentum_error)", e, be, p, bp);
+    if (bad_e)
+        return text_printf("energy error %.2e exceeds %s (&output max_energy_error)", e, be);
+    return text_printf("momentum error %.2e exceeds %s (&output max_momentum_error)", p, bp);
+}
+
+/* Every row and column of a run whose granules.tsv leaves some out (&output
+ * every, columns), for the fits, table and figure of a sweep, which read
+ * their runs back from files (run/sweep.c): DIR/report.tsv. */
+static int write_report_data(const run *r, char **msg)
+{
+    const scene_config *cfg = r->cfg;
+    if (!(cfg->runs.fit || cfg->runs.table || cfg->runs.figure)) return 0;
+    unsigned needed = 1u << 9 | 1u << 10 | 1u << 11; /* the theory's columns */
+    if (cfg->solver.numerics) needed |= 0x1fu << 4;  /* and the observables    */
+    if (cfg->output.every <= 1 && (cfg->output.column_set & needed) == needed) return 0;
+    out_columns cols;
+    memset(&cols, 0, sizeof cols);
+    cols.n = taper_chain_size(r->chain);
+    cols.col[1] = taper_chain_radius(r->chain);
+    cols.col[2] = taper_chain_mass(r->chain);
+    cols.col[3] = taper_chain_rest_position(r->chain);
+    if (r->sim)
+        for (int o = 0; o < TAPER_N_OBSERVABLES; o++)
+            cols.col[4 + o] = taper_sim_observable(r->sim, (taper_observable)o);
+    cols.col[9] = r->theory[TAPER_THEORY_V];
+    cols.col[10] = r->theory[TAPER_THEORY_T_RES];
+    cols.col[11] = r->theory[TAPER_THEORY_T];
+    out_file *f = out_open(r->dir, "report.tsv", msg);
+    if (!f) return -1;
+    out_write_header(f->fp, &cols, NULL);
+    fputs("# every granule and column of this run, for the sweep's fits, table and figure\n",
+          f->fp);
+    out_write_rows(f->fp, &cols, NULL, 0);
+    return out_commit(f, msg);
+}
+
 /* After the computation, in the order of the sweep. */
 static void finish_run(run *r)
 {
     if (r->message) fprintf(r->log, "%s\n", r->message);
     if (!r->computed || (r->rc != RUN_COMPLETE && r->rc != RUN_PARTIAL)) return;
     granules_run g = result_of(r);
+    char *untrusted = distrust(r);
+    if (untrusted) {
+        fprintf(r->log, "%s: UNTRUSTED result: %s; a smaller rtol (and atol) keeps the "
+                "conservation errors small\n", r->label, untrusted);
+        if (r->rc == RUN_COMPLETE) r->rc = RUN_UNTRUSTED;
+    }
+    g.untrusted = untrusted;
     char *msg = NULL;
     int partial = r->rc == RUN_PARTIAL;
     if (granules_save(r->dir, &g, partial, &msg) != 0) {
@@ -297,8 +447,13 @@ static void finish_run(run *r)
         r->rc = RUN_FAILED;
     } else {
         fprintf(r->out, "! wrote %s/%s\n", r->dir, partial ? "granules.partial.tsv" : "granules.tsv");
+        if (r->name && !partial && write_report_data(r, &msg) != 0) {
+            fprintf(r->log, "%s: %s\n", r->label, msg ? msg : "out of memory");
+            r->rc = RUN_FAILED;
+        }
     }
     free(msg);
+    free(untrusted);
 }
 
 /* A run at its point: the scene's configuration there, its messages to out
@@ -329,6 +484,7 @@ void run_point(const scene *sc, size_t point, const char *dir, const char *name,
         o->rc = RUN_FAILED;
     } else {
         prepare_run(&r);
+        if (r.rc == RUN_COMPLETE && prepare_dir(&r) != 0) r.rc = RUN_INPUT;
         compute_run(0, &r);
         finish_run(&r);
         o->rc = r.rc;
@@ -353,9 +509,9 @@ void run_outcome_free(run_outcome *o)
 
 int run_worst(int a, int b)
 {
-    /* Order of gravity: input error > failure > partial > some failed >
-     * complete. */
-    static const int rank[] = {0, 3, 4, 2, 1};
+    /* Order of gravity: input error > failure > partial > some runs of a
+     * sweep failed > untrusted > complete. */
+    static const int rank[] = {0, 4, 5, 3, 1, 2};
     return rank[b] > rank[a] ? b : a;
 }
 
@@ -420,6 +576,7 @@ int run_scene(const scene *sc)
     run *runs = calloc(n, sizeof *runs);
     if (!runs) return RUN_FAILED;
     int rc = RUN_COMPLETE;
+    int ready = 0;
     for (size_t i = 0; i < n; i++) {
         if (run_init(&runs[i], sc, i, cfg->output.dir, NULL, stdout, stderr) != 0) {
             fprintf(stderr, "%s: out of memory\n", scene_path(sc));
@@ -428,16 +585,25 @@ int run_scene(const scene *sc)
         }
         runs[i].show_progress = n == 1;
         prepare_run(&runs[i]);
+        ready |= runs[i].rc == RUN_COMPLETE;
     }
-    /* One run: earlier sweeps' results in its directory go (run/sweep.c). */
-    if (runs[0].rc == RUN_COMPLETE) rc = sweep_clean_single(sc);
-    if (rc == RUN_COMPLETE) parallel_for(n, (unsigned)cfg->output.threads, compute_run, runs);
+    /* The directories once a run is known to start: none for a scene the
+     * library rejects.  An earlier sweep's files there go (run/sweep.c). */
+    if (ready && (run_lock_dir(sc, cfg->output.dir, 0) != 0 ||
+                  sweep_clean_single(sc) != RUN_COMPLETE))
+        for (size_t i = 0; i < n; i++) runs[i].rc = RUN_INPUT;
+    for (size_t i = 0; i < n; i++)
+        if (runs[i].rc == RUN_COMPLETE && prepare_dir(&runs[i]) != 0) runs[i].rc = RUN_INPUT;
+    parallel_for(n, (unsigned)cfg->output.threads, compute_run, runs);
     for (size_t i = 0; i < n; i++) {
         finish_run(&runs[i]);
         rc = run_worst(rc, runs[i].rc);
     }
     if (interrupted) rc = run_worst(rc, RUN_PARTIAL);
-    if (rc == RUN_COMPLETE) rc = write_reports(sc, runs);
+    /* Untrusted runs still get their tables: the status and each file's
+     * header say what they are worth. */
+    int whole = rc == RUN_COMPLETE || rc == RUN_UNTRUSTED;
+    if (whole) rc = run_worst(rc, write_reports(sc, runs));
 out:
     for (size_t i = 0; i < n; i++) run_free(&runs[i]);
     free(runs);

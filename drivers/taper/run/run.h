@@ -14,32 +14,43 @@
 #include "scene/scene.h"
 
 /* Exit status of the driver, in order of gravity: input error > failure >
- * partial > complete. */
+ * partial > some runs failed > untrusted > complete (docs/scene.md, "Exit
+ * status"). */
 enum run_status {
     RUN_COMPLETE = 0, /* every result written                                  */
     RUN_FAILED = 1,   /* library or output failure                             */
     RUN_INPUT = 2,    /* bad input: scene, command line, output directory      */
-    RUN_PARTIAL = 3,  /* a run ended early (solver failure, Ctrl-C, t_max,
+    RUN_PARTIAL = 3,  /* a run ended early (solver failure, a signal, t_max,
                          max_steps): granules.partial.tsv, no granules.tsv     */
-    RUN_SOME_FAILED = 4 /* a sweep ran every run, but some failed (solver
+    RUN_UNTRUSTED = 4, /* complete, but energy or momentum conservation worse
+                         than &output max_energy_error / max_momentum_error:
+                         granules.tsv says "# UNTRUSTED: ..."                  */
+    RUN_SOME_FAILED = 5 /* a sweep ran every run, but some failed (solver
                          failure, a value the library refused, t_max, ...):
                          sweep.tsv and runs.tsv name them (run/sweep.c)        */
 };
 
-/* Order of gravity: input error > failure > partial > some failed >
- * complete.  The graver of a and b. */
+/* The graver of two run_status values. */
 int run_worst(int a, int b);
 
-/* Ctrl-C ends the runs partial, keeping what was found; a second Ctrl-C
- * kills the process as usual. */
-void run_install_sigint(void);
+/* SIGINT, SIGTERM, SIGHUP and SIGXCPU end the runs partial, keeping what
+ * was found; a second one while results are written removes the temporary
+ * file and kills the process by that signal.  SIGHUP ignored by the parent
+ * (nohup) stays ignored. */
+void run_install_signals(void);
+/* The number of the first such signal received, 0 if none. */
+int run_interrupted(void);
 
 /* Runs every point of the scene into &output dir.  Returns a run_status.
- * A sweep (runs.n > 1) is run by run/sweep.c. */
+ * A sweep (runs.swept) is run by run/sweep.c. */
 int run_scene(const scene *sc);
 
-/* 1 once Ctrl-C (or another stop signal) asked the runs to stop. */
-int run_interrupted(void);
+/* &output dir created and locked for this process (flock on
+ * DIR/.taper.lock, held until exit): exclusive (shared != 0: shared, the
+ * parts of a sweep computed at once, --part) so that a second run into the
+ * same directory is refused while the first runs.  0, or -1 after printing
+ * why. */
+int run_lock_dir(const scene *sc, const char *dir, int shared);
 
 /* What one run of a sweep printed: stdout and stderr text (malloc'd, may be
  * NULL), and its run_status. */
@@ -50,9 +61,10 @@ typedef struct run_outcome {
 } run_outcome;
 
 /* Computes run `point` of the scene into dir (granules.tsv, or
- * granules.partial.tsv): chain, sim, result file.  Prints nothing; its
- * messages name the run (`name`, e.g. "q=0.05,exponent=2.5").  Thread-safe.
- * Free the outcome with run_outcome_free. */
+ * granules.partial.tsv; report.tsv when the scene's fits, table or figure
+ * need rows or columns its granules.tsv leaves out): chain, sim, result
+ * files.  Prints nothing; its messages name the run (`name`, e.g.
+ * "q=0.05,exponent=2.5").  Thread-safe.  Free with run_outcome_free. */
 void run_point(const scene *sc, size_t point, const char *dir, const char *name,
                run_outcome *o);
 void run_outcome_free(run_outcome *o);

@@ -52,9 +52,12 @@ struct sweep {
     size_t next;         /* into order                                  */
     pthread_mutex_t lock;
     pthread_cond_t cond;
-    size_t done, reused, failed, computed;
+    size_t done, reused, failed, untrusted, computed;
     double cost_done, cost_todo;
 };
+
+/* A run whose rows are in sweep.tsv: complete, trusted or not. */
+static int has_rows(int rc) { return rc == RUN_COMPLETE || rc == RUN_UNTRUSTED; }
 
 static const sweep_remote *remote;
 static size_t only_part, n_parts; /* --part only_part/n_parts; 0: all */
@@ -169,7 +172,8 @@ void sweep_done(sweep *sw, size_t i, run_outcome *o)
     sw->done++;
     sw->computed++;
     sw->cost_done += it->cost;
-    if (it->outcome.rc != RUN_COMPLETE) sw->failed++;
+    if (!has_rows(it->outcome.rc)) sw->failed++;
+    if (it->outcome.rc == RUN_UNTRUSTED) sw->untrusted++;
     pthread_cond_broadcast(&sw->cond);
     pthread_mutex_unlock(&sw->lock);
 }
@@ -227,6 +231,25 @@ static int file_exists(const char *dir, const char *name)
     return ok;
 }
 
+/* 1: DIR/granules.tsv says "# UNTRUSTED: ..." in its comment block. */
+static int untrusted_file(const char *dir)
+{
+    char *path = text_printf("%s/granules.tsv", dir);
+    FILE *fp = path ? fopen(path, "r") : NULL;
+    free(path);
+    if (!fp) return 0;
+    char *line = NULL;
+    size_t cap = 0;
+    int found = 0, lines = 0;
+    while (!found && getline(&line, &cap, fp) >= 0) {
+        if (lines++ > 0 && line[0] != '#') break; /* the rows: the block is over */
+        found = strncmp(line, "# UNTRUSTED:", 12) == 0;
+    }
+    free(line);
+    fclose(fp);
+    return found;
+}
+
 /* 1: run i's complete result is on disk, made from this scene. */
 static int reusable(const sweep *sw, size_t i)
 {
@@ -274,7 +297,7 @@ void sweep_compute(sweep *sw, size_t i, run_outcome *o)
     if (stamp) unlink(stamp);
     free(stamp);
     run_point(sw->sc, i, it->dir, it->name, o);
-    if (o->rc == RUN_COMPLETE && write_stamp(sw, i, &msg) != 0) {
+    if (has_rows(o->rc) && write_stamp(sw, i, &msg) != 0) {
         append_log(o, scene_path(sw->sc), msg ? msg : "out of memory");
         o->rc = RUN_FAILED;
     }
@@ -505,10 +528,10 @@ static unsigned online_cpus(void)
 
 /* ---- results back from the files --------------------------------------------- */
 
-/* The columns of a granules.tsv (out_column_names), k = 1..n. */
+/* The columns of a granules.tsv (out_column_names), granule k at k-1. */
 typedef struct table_data {
     size_t n;
-    double *col[OUT_N_COLUMNS]; /* col[0] unused */
+    double *col[OUT_N_COLUMNS]; /* col[0] unused; NULL: not in the file */
 } table_data;
 
 static void table_free(table_data *t)
@@ -517,12 +540,19 @@ static void table_free(table_data *t)
     memset(t, 0, sizeof *t);
 }
 
-/* Reads DIR/granules.tsv back: every number as it was computed (%.17g). */
+/* Reads the numbers of a run back, every one as computed (%.17g), for the
+ * reports: DIR/report.tsv when the run wrote one (its granules.tsv leaves
+ * rows or columns out), else DIR/granules.tsv.  Columns by their names. */
 static int table_read(const char *dir, table_data *t, char **msg)
 {
     memset(t, 0, sizeof *t);
-    char *path = text_printf("%s/granules.tsv", dir);
+    char *path = text_printf("%s/report.tsv", dir);
     FILE *fp = path ? fopen(path, "r") : NULL;
+    if (!fp) {
+        free(path);
+        path = text_printf("%s/granules.tsv", dir);
+        fp = path ? fopen(path, "r") : NULL;
+    }
     if (!fp) {
         *msg = text_printf("cannot read %s: %s", path ? path : dir, strerror(errno));
         free(path);
@@ -530,47 +560,94 @@ static int table_read(const char *dir, table_data *t, char **msg)
     }
     char *line = NULL;
     size_t cap = 0, alloc = 0;
-    int header = 0, rc = 0;
+    int map[OUT_N_COLUMNS + 1], n_fields = 0, rc = 0;
     ssize_t len;
     while (rc == 0 && (len = getline(&line, &cap, fp)) >= 0) {
         if (line[0] == '#') continue;
-        if (!header) {
-            header = 1;
+        if (len > 0 && line[len - 1] == '\n') line[--len] = '\0';
+        if (n_fields == 0) { /* the header line: which column is which */
+            for (char *f = strtok(line, "\t"); f && n_fields <= OUT_N_COLUMNS; f = strtok(NULL, "\t")) {
+                map[n_fields] = -1;
+                for (int c = 0; c < OUT_N_COLUMNS; c++)
+                    if (strcmp(f, out_column_names[c]) == 0) map[n_fields] = c;
+                n_fields++;
+            }
+            if (n_fields == 0 || map[0] != 0) rc = -1;
             continue;
         }
-        if (t->n == alloc) {
-            alloc = alloc ? 2 * alloc : 1024;
-            for (int c = 1; c < OUT_N_COLUMNS; c++) {
-                double *grown = realloc(t->col[c], alloc * sizeof *grown);
+        char *p = line, *end;
+        unsigned long long k = strtoull(p, &end, 10);
+        if (end == p || k == 0) {
+            rc = -1;
+            break;
+        }
+        if (k > alloc) {
+            size_t grown_n = alloc ? alloc : 1024;
+            while (grown_n < k) grown_n *= 2;
+            for (int f = 1; f < n_fields; f++) {
+                int c = map[f];
+                if (c < 0) continue;
+                double *grown = realloc(t->col[c], grown_n * sizeof *grown);
                 if (!grown) {
                     rc = -1;
                     break;
                 }
+                for (size_t j = alloc; j < grown_n; j++) grown[j] = NAN;
                 t->col[c] = grown;
             }
-            if (rc) break;
+            alloc = grown_n;
         }
-        char *p = line, *end;
-        strtoull(p, &end, 10); /* k */
-        for (int c = 1; c < OUT_N_COLUMNS; c++) {
+        for (int f = 1; rc == 0 && f < n_fields; f++) {
             if (*end != '\t') {
                 rc = -1;
                 break;
             }
             p = end + 1;
-            t->col[c][t->n] = strtod(p, &end);
+            double x = strtod(p, &end);
             if (end == p) rc = -1;
+            if (map[f] >= 0) t->col[map[f]][k - 1] = x;
         }
-        if (rc == 0) t->n++;
+        if (k > t->n) t->n = (size_t)k;
     }
     free(line);
     fclose(fp);
-    if (rc != 0) {
+    if (rc != 0 || n_fields == 0) {
         *msg = text_printf("%s: not a granules table of taper", path);
         table_free(t);
+        rc = -1;
     }
     free(path);
     return rc;
+}
+
+/* Appends the data lines of DIR/granules.tsv to fp, each after the lead
+ * cells; *header: the file's column names (malloc'd) when NULL before. */
+static int copy_rows(const char *dir, const char *lead, FILE *fp, char **header, char **msg)
+{
+    char *path = text_printf("%s/granules.tsv", dir);
+    FILE *in = path ? fopen(path, "r") : NULL;
+    if (!in) {
+        *msg = text_printf("cannot read %s: %s", path ? path : dir, strerror(errno));
+        free(path);
+        return -1;
+    }
+    char *line = NULL;
+    size_t cap = 0;
+    int first = 1;
+    while (getline(&line, &cap, in) >= 0) {
+        if (line[0] == '#') continue;
+        if (first) {
+            first = 0;
+            if (!*header) *header = text_dup(line);
+            continue;
+        }
+        fputs(lead, fp);
+        fputs(line, fp);
+    }
+    free(line);
+    fclose(in);
+    free(path);
+    return 0;
 }
 
 /* The first line of a run's messages, for sweep.tsv and runs.tsv, without
@@ -593,6 +670,7 @@ static const char *status_name(int rc)
 {
     switch (rc) {
     case RUN_COMPLETE: return "complete";
+    case RUN_UNTRUSTED: return "untrusted";
     case RUN_PARTIAL: return "partial";
     case RUN_INPUT: return "refused";
     default: return "failed";
@@ -606,15 +684,10 @@ static void write_lead_header(const scene_config *cfg, FILE *fp)
         fprintf(fp, "%s%s", k ? ", " : "", scene_swept_name(cfg, k));
 }
 
-/* DIR/sweep.tsv: the rows of every complete run's granules.tsv, the swept
- * values first.  One swept variable: the form of taper 0.1 exactly. */
-static int write_sweep_tsv(sweep *sw, table_data *keep)
+/* The comment lines of sweep.tsv: what it is, and each run without rows. */
+static void sweep_comments(const sweep *sw, FILE *fp)
 {
     const scene_config *cfg = sw->cfg;
-    char *msg = NULL;
-    out_file *f = out_open(cfg->output.dir, "sweep.tsv", &msg);
-    if (!f) goto fail;
-    FILE *fp = f->fp;
     fprintf(fp, "# taper %s sweep over ", taper_version());
     write_lead_header(cfg, fp);
     if (cfg->runs.n_swept > 1)
@@ -624,46 +697,75 @@ static int write_sweep_tsv(sweep *sw, table_data *keep)
     for (size_t k = 0; k < cfg->runs.n_swept; k++)
         fprintf(fp, "%s%s=VALUE", k ? "," : "", scene_swept_name(cfg, k));
     fputs("/granules.tsv\n", fp);
-    for (size_t i = 0; i < sw->n; i++) {
-        const sweep_item *it = &sw->items[i];
-        if (it->outcome.rc == RUN_COMPLETE) continue;
+    for (size_t j = 0; j < sw->n; j++) {
+        const sweep_item *it = &sw->items[j];
+        if (has_rows(it->outcome.rc)) continue;
         char *why = first_line(sw, it);
         fprintf(fp, "# %s run %s: no rows (%s)\n", status_name(it->outcome.rc), it->name,
                 why ? why : "");
         free(why);
     }
-    int header = 1;
-    for (size_t i = 0; i < sw->n; i++) {
-        const sweep_item *it = &sw->items[i];
-        if (it->outcome.rc != RUN_COMPLETE) continue;
-        table_data t;
-        if (table_read(it->dir, &t, &msg) != 0) {
-            out_discard(f);
+}
+
+/* DIR/sweep.tsv: the column names (the swept variables', then those of
+ * granules.tsv), the comment lines, then the rows of every complete run's
+ * granules.tsv as they are, the swept values first.  One swept variable:
+ * the form of a one-variable sweep exactly. */
+static int write_sweep_tsv(sweep *sw)
+{
+    const scene_config *cfg = sw->cfg;
+    char *msg = NULL, *header = NULL;
+    out_file *f = out_open(cfg->output.dir, "sweep.tsv", &msg);
+    if (!f) goto fail;
+    /* The column names of the first run with rows (every run has the same). */
+    for (size_t i = 0; i < sw->n && !header; i++) {
+        if (!has_rows(sw->items[i].outcome.rc)) continue;
+        char *path = text_printf("%s/granules.tsv", sw->items[i].dir);
+        FILE *in = path ? fopen(path, "r") : NULL;
+        char *line = NULL;
+        size_t cap = 0;
+        while (in && getline(&line, &cap, in) >= 0)
+            if (line[0] != '#') {
+                header = text_dup(line);
+                break;
+            }
+        free(line);
+        if (in) fclose(in);
+        if (!header) {
+            msg = text_printf("cannot read %s: %s", path ? path : "granules.tsv", strerror(errno));
+            free(path);
             goto fail;
         }
-        if (header) {
-            for (size_t k = 0; k < cfg->runs.n_swept; k++)
-                fprintf(fp, "%s\t", scene_swept_name(cfg, k));
-            for (size_t c = 0; c < OUT_N_COLUMNS; c++)
-                fprintf(fp, "%s%c", out_column_names[c], c + 1 < OUT_N_COLUMNS ? '\t' : '\n');
-            header = 0;
-        }
-        double lead[SCENE_MAX_SWEPT];
-        for (size_t k = 0; k < cfg->runs.n_swept; k++) lead[k] = scene_swept_value(cfg, i, k);
-        for (size_t row = 0; row < t.n; row++) {
-            for (size_t k = 0; k < cfg->runs.n_swept; k++) out_cell(fp, lead[k], 0);
-            fprintf(fp, "%zu\t", row + 1);
-            for (size_t c = 1; c < OUT_N_COLUMNS; c++) out_cell(fp, t.col[c][row], c + 1 == OUT_N_COLUMNS);
-        }
-        if (keep)
-            keep[i] = t;
-        else
-            table_free(&t);
+        free(path);
     }
-    if (out_commit(f, &msg) != 0) goto fail;
+    for (size_t k = 0; k < cfg->runs.n_swept; k++)
+        fprintf(f->fp, "%s%s", scene_swept_name(cfg, k), header || k + 1 < cfg->runs.n_swept ? "\t" : "\n");
+    if (header) fputs(header, f->fp);
+    sweep_comments(sw, f->fp);
+    for (size_t i = 0; i < sw->n; i++) {
+        const sweep_item *it = &sw->items[i];
+        if (!has_rows(it->outcome.rc)) continue;
+        char lead[SCENE_MAX_SWEPT * 32 + 1];
+        size_t used = 0;
+        for (size_t k = 0; k < cfg->runs.n_swept; k++) {
+            double x = scene_swept_value(cfg, i, k); /* out_cell's spelling */
+            used += (size_t)snprintf(lead + used, sizeof lead - used,
+                                     isnan(x) ? "nan\t" : "%.17g\t", x);
+        }
+        char *skip = NULL;
+        if (copy_rows(it->dir, lead, f->fp, &skip, &msg) != 0) goto fail;
+        free(skip);
+    }
+    free(header);
+    header = NULL;
+    int committed = out_commit(f, &msg);
+    f = NULL;
+    if (committed != 0) goto fail;
     printf("! wrote %s/sweep.tsv\n", cfg->output.dir);
     return RUN_COMPLETE;
 fail:
+    free(header);
+    if (f) out_discard(f);
     fprintf(stderr, "%s: %s\n", scene_path(sw->sc), msg ? msg : "out of memory");
     free(msg);
     return RUN_FAILED;
@@ -678,15 +780,18 @@ static int write_runs_tsv(sweep *sw)
     if (!f) goto fail;
     fprintf(f->fp, "# taper %s runs of the sweep over ", taper_version());
     write_lead_header(cfg, f->fp);
-    fputs(": status complete, partial (granules.partial.tsv), refused (the library refused "
-          "the point), failed\nrun\t", f->fp);
+    fputs(": status complete, untrusted (granules.tsv says why), partial "
+          "(granules.partial.tsv), refused (the library refused the point), failed\nrun\t",
+          f->fp);
     for (size_t k = 0; k < cfg->runs.n_swept; k++) fprintf(f->fp, "%s\t", scene_swept_name(cfg, k));
     fputs("status\tmessage\n", f->fp);
     for (size_t i = 0; i < sw->n; i++) {
         const sweep_item *it = &sw->items[i];
         fprintf(f->fp, "%s\t", it->name);
         for (size_t k = 0; k < cfg->runs.n_swept; k++) out_cell(f->fp, scene_swept_value(cfg, i, k), 0);
-        char *why = it->outcome.rc == RUN_COMPLETE ? text_dup("") : first_line(sw, it);
+        /* Runs with rows: no message (an untrusted one's granules.tsv says why),
+         * so that runs.tsv is the same whether a run was reused or not. */
+        char *why = has_rows(it->outcome.rc) ? text_dup("") : first_line(sw, it);
         fprintf(f->fp, "%s\t%s\n", status_name(it->outcome.rc), why ? why : "");
         free(why);
     }
@@ -700,13 +805,21 @@ fail:
 }
 
 /* Fits, table and figure from the runs' data (failed runs: no data). */
-static int write_reports(sweep *sw, table_data *data)
+static int write_reports(sweep *sw)
 {
     const scene_config *cfg = sw->cfg;
     report_point *points = calloc(sw->n, sizeof *points);
     taper_chain_spec **specs = calloc(sw->n, sizeof *specs);
-    int rc = points && specs ? RUN_COMPLETE : RUN_FAILED;
+    table_data *data = calloc(sw->n, sizeof *data);
+    int rc = points && specs && data ? RUN_COMPLETE : RUN_FAILED;
     for (size_t i = 0; rc == RUN_COMPLETE && i < sw->n; i++) {
+        char *msg = NULL;
+        if (has_rows(sw->items[i].outcome.rc) && table_read(sw->items[i].dir, &data[i], &msg) != 0) {
+            fprintf(stderr, "%s: %s\n", scene_path(sw->sc), msg ? msg : "out of memory");
+            free(msg);
+            rc = RUN_FAILED;
+            break;
+        }
         taper_error err;
         if (!(specs[i] = scene_chain_spec(cfg, i, &err))) {
             fprintf(stderr, "%s: run %s: %s\n", scene_path(sw->sc), sw->items[i].name, err.message);
@@ -727,6 +840,8 @@ static int write_reports(sweep *sw, table_data *data)
     }
     if (rc == RUN_COMPLETE) rc = run_write_reports(sw->sc, points);
     for (size_t i = 0; specs && i < sw->n; i++) taper_chain_spec_free(specs[i]);
+    for (size_t i = 0; data && i < sw->n; i++) table_free(&data[i]);
+    free(data);
     free(specs);
     free(points);
     return rc;
@@ -737,12 +852,8 @@ static int write_reports(sweep *sw, table_data *data)
 static int prepare(const scene *sc, sweep *sw)
 {
     const scene_config *cfg = scene_cfg(sc);
-    char *msg = NULL;
-    if (out_mkdir_p(cfg->output.dir, &msg) != 0) {
-        scene_print_output_error(sc, msg ? msg : "out of memory", stderr);
-        free(msg);
-        return RUN_INPUT;
-    }
+    /* Created and locked: parts of one sweep share the lock (--part). */
+    if (run_lock_dir(sc, cfg->output.dir, n_parts > 1) != 0) return RUN_INPUT;
     int rc = clean_dir(sc, sw);
     if (rc != RUN_COMPLETE) return rc;
     for (size_t i = 0; i < sw->n; i++) {
@@ -771,7 +882,8 @@ static int prepare(const scene *sc, sweep *sw)
         if (reusable(sw, i)) {
             sw->items[i].reused = 1;
             sw->items[i].state = DONE;
-            sw->items[i].outcome.rc = RUN_COMPLETE;
+            sw->items[i].outcome.rc = untrusted_file(it->dir) ? RUN_UNTRUSTED : RUN_COMPLETE;
+            sw->untrusted += sw->items[i].outcome.rc == RUN_UNTRUSTED;
             sw->done++;
             sw->reused++;
             sw->cost_todo -= it->cost;
@@ -860,7 +972,7 @@ int sweep_run(const scene *sc)
         fflush(stdout);
         size_t complete = 0;
         for (size_t i = 0; i < sw->n; i++)
-            complete += sw->items[i].state == DONE && sw->items[i].outcome.rc == RUN_COMPLETE;
+            complete += sw->items[i].state == DONE && has_rows(sw->items[i].outcome.rc);
         fprintf(stderr, "%s: interrupted: %zu of %zu runs complete; run the same command to "
                 "resume (complete runs are reused)\n", scene_path(sc), complete, sw->n);
         sweep_close(sw);
@@ -871,7 +983,7 @@ int sweep_run(const scene *sc)
         for (size_t i = 0; i < sw->n; i++) {
             if (sw->items[i].elsewhere) continue;
             mine++;
-            complete += sw->items[i].outcome.rc == RUN_COMPLETE;
+            complete += has_rows(sw->items[i].outcome.rc);
         }
         printf("! part %zu/%zu done: %zu of its %zu runs complete; once every part is done, "
                "`taper %s` (without --part) merges them: it reuses their runs and writes "
@@ -879,19 +991,16 @@ int sweep_run(const scene *sc)
         sweep_close(sw);
         return complete == mine ? RUN_COMPLETE : RUN_SOME_FAILED;
     }
-    rc = RUN_COMPLETE;
     int reports = cfg->runs.fit || cfg->runs.table || cfg->runs.figure;
-    table_data *data = reports ? calloc(sw->n, sizeof *data) : NULL;
-    if (reports && !data) rc = RUN_FAILED;
-    if (rc == RUN_COMPLETE) rc = write_sweep_tsv(sw, data);
+    rc = write_sweep_tsv(sw);
     if (rc == RUN_COMPLETE) rc = write_runs_tsv(sw);
-    if (rc == RUN_COMPLETE && reports) rc = write_reports(sw, data);
-    for (size_t i = 0; data && i < sw->n; i++) table_free(&data[i]);
-    free(data);
+    if (rc == RUN_COMPLETE && reports) rc = write_reports(sw);
     if (rc == RUN_COMPLETE && sw->failed) {
         fprintf(stderr, "%s: %zu of %zu runs failed (sweep.tsv and runs.tsv name them)\n",
                 scene_path(sc), sw->failed, sw->n);
         rc = RUN_SOME_FAILED;
+    } else if (rc == RUN_COMPLETE && sw->untrusted) {
+        rc = RUN_UNTRUSTED; /* each run's granules.tsv and message say why */
     }
     sweep_close(sw);
     return rc;

@@ -43,6 +43,12 @@ static const char *const fit_theories[] = {"fit", "rate", "f", "b"};
 static const char *const curves[] = {"both", "theory", "numerics"};
 static const char *const chain_params[] = {"s", "q"};
 static const char *const sweep_modes[] = {"grid", "zip"};
+static const char *const columns[SCENE_N_COLUMNS] = {
+    "k", "R", "m", "X0", "t_pass", "T_res", "v_peak", "t_peak", "X_pass",
+    "theory_v", "theory_T", "theory_t"};
+
+const char *scene_column_name(scene_column c) { return NAME_AT(columns, (int)c); }
+int scene_column_numerics(scene_column c) { return c >= SCENE_COL_T_PASS && c <= SCENE_COL_X_PASS; }
 
 const char *scene_quantity_name(scene_quantity q) { return NAME_AT(quantities, (int)q); }
 const char *scene_fit_report_name(scene_fit_report r) { return NAME_AT(fit_reports, (int)r); }
@@ -107,7 +113,7 @@ static const scene_var table[] = {
     {"chain", "q", SCENE_REAL, SCENE_SWEEP | SCENE_LIST_FIELD, AT(chain.q), NULL, SCENE_LIB_CHAIN, NULL, 0,
      TAPER_Q_MAX, NO_CHOICE,
      "exponential tapering q (backward_exponential needs q < 1); a list of values sweeps it"},
-    {"chain", "exponent", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP, AT(chain.exponent), NULL, SCENE_LIB_CHAIN,
+    {"chain", "exponent", SCENE_REAL, SCENE_SWEEP, AT(chain.exponent), NULL, SCENE_LIB_CHAIN,
      NULL, TAPER_EXPONENT_MIN, TAPER_EXPONENT_MAX, NO_CHOICE,
      "contact exponent n: force ~ overlap^(n-1); 2.5 is Hertz"},
     {"chain", "radii", SCENE_REAL_LIST, SCENE_LO_OPEN, AT(chain.radii), NULL, SCENE_LIB_CHAIN,
@@ -146,6 +152,20 @@ static const scene_var table[] = {
     {"output", "threads", SCENE_INTEGER, 0, AT(output.threads), "0", SCENE_OWN, NULL, 0, 256,
      NO_CHOICE,
      "runs of a sweep computed at once (results identical to one at a time); 0: one per core"},
+    {"output", "columns", SCENE_STRING, 0, AT(output.columns), "''", SCENE_OWN, NULL, 0, 0,
+     NO_CHOICE,
+     "columns of granules.tsv and sweep.tsv, names separated by blanks or commas, written in "
+     "the file's order with k always first (e.g. 'v_peak theory_v'); empty: every column the "
+     "run has (without numerics: k R m X0 theory_v theory_T theory_t)"},
+    {"output", "every", SCENE_INTEGER, 0, AT(output.every), "1", SCENE_OWN, NULL, 1, 1e7,
+     NO_CHOICE, "write the rows of granules k = 1, 1 + every, 1 + 2 every, ... and the last"},
+    {"output", "max_energy_error", SCENE_REAL, SCENE_LO_OPEN, AT(output.max_energy_error),
+     "1e-3", SCENE_OWN, NULL, 0, 1e300, NO_CHOICE,
+     "a run whose relative energy error exceeds this is UNTRUSTED: its granules.tsv says so "
+     "and taper exits with status 4"},
+    {"output", "max_momentum_error", SCENE_REAL, SCENE_LO_OPEN, AT(output.max_momentum_error),
+     "1e-3", SCENE_OWN, NULL, 0, 1e300, NO_CHOICE,
+     "the same bound on the relative momentum error"},
 
     {"fit", "model", SCENE_CHOICE, 0, AT(fit.model), "'none'", SCENE_LIB_FIT, NULL, 0, 0,
      CHOICE(fit_model_choice, SCENE_FIT_NONE),
@@ -216,7 +236,7 @@ static const scene_var table[] = {
     {"figure", "y_label", SCENE_STRING, 0, AT(figure.y_label), "''", SCENE_OWN, NULL, 0, 0,
      NO_CHOICE, "y axis label; empty: from y"},
     {"figure", "inset", SCENE_LOGICAL, 0, AT(figure.inset), ".false.", SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE, "second panel: the &fit value of theory and numerics against the swept variable"},
+     NO_CHOICE, "an inset inside the main panel (as the paper's Figs. 1, 2, 9): the &fit value of theory and numerics against the swept variable"},
     {"figure", "inset_reference", SCENE_REAL, 0, AT(figure.inset_reference), NULL, SCENE_OWN,
      NULL, -1e3, 1e3, NO_CHOICE,
      "a horizontal line in the inset (e.g. an asymptotic exponent); left out: none"},

@@ -107,10 +107,24 @@ typedef struct scene_solver_config {
     int numerics;           /* 0: the binary-collision theory only            */
 } scene_solver_config;
 
+/* The columns of granules.tsv, in the order they are written. */
+typedef enum scene_column {
+    SCENE_COL_K = 0, SCENE_COL_R, SCENE_COL_M, SCENE_COL_X0,
+    SCENE_COL_T_PASS, SCENE_COL_T_RES, SCENE_COL_V_PEAK, SCENE_COL_T_PEAK, SCENE_COL_X_PASS,
+    SCENE_COL_THEORY_V, SCENE_COL_THEORY_T, SCENE_COL_THEORY_CUM_T,
+    SCENE_N_COLUMNS
+} scene_column;
+const char *scene_column_name(scene_column c);   /* "k", "R", ..., "theory_t" */
+int scene_column_numerics(scene_column c);       /* 1: needs the dynamics      */
+
 typedef struct scene_output_config {
     char *dir;
     int progress;
     long long threads;
+    char *columns;          /* names of granules.tsv columns; "": all the run has */
+    long long every;        /* rows k = 1, 1 + every, ..., and N              */
+    double max_energy_error, max_momentum_error; /* beyond: UNTRUSTED          */
+    unsigned column_set;    /* resolved: bit c for scene_column c written     */
 } scene_output_config;
 
 typedef struct scene_fit_config {

@@ -62,38 +62,19 @@ static void check_count(scene *sc, size_t i)
 
 static int row(const char *group, const char *name) { return scene_var_find(group, name); }
 
-static int any_nonzero(const scene_reals *r)
-{
-    for (size_t i = 0; i < r->n; i++)
-        if (r->v[i] != 0.0) return 1;
-    return 0;
-}
-
-static int is_linear(taper_profile p)
-{
-    return p == TAPER_BACKWARD_LINEAR || p == TAPER_FORWARD_LINEAR;
-}
-
 static int is_exponential(taper_profile p)
 {
     return p == TAPER_BACKWARD_EXPONENTIAL || p == TAPER_FORWARD_EXPONENTIAL;
 }
 
-/* s only means something for the linear profiles, q for the exponential
- * ones, radii for custom: a value given to the wrong profile is a mistake
- * in the scene (the library simply ignores it). */
+/* radii only mean something for the custom profile: given to another
+ * profile they are a mistake in the scene.  (s and q given to a profile
+ * that does not read them, and a tapered profile without its parameter,
+ * are refused by the library's taper_chain_spec_check, reported at s or q
+ * by scene_lib.c: one owner per rule.) */
 static void check_unused(scene *sc)
 {
     const scene_chain_config *c = &sc->cfg.chain;
-    const char *profile = taper_profile_name(c->profile);
-    if (!is_linear(c->profile) && any_nonzero(&c->s))
-        scene_var_error(sc, (size_t)row("chain", "s"),
-                        "s has no effect with profile = '%s' (only the linear profiles use it): "
-                        "remove s or change the profile", profile);
-    if (!is_exponential(c->profile) && any_nonzero(&c->q))
-        scene_var_error(sc, (size_t)row("chain", "q"),
-                        "q has no effect with profile = '%s' (only the exponential profiles use "
-                        "it): remove q or change the profile", profile);
     int r = row("chain", "radii");
     if (c->profile != TAPER_CUSTOM && sc->origin[r].given)
         scene_var_error(sc, (size_t)r,
@@ -188,6 +169,47 @@ static void check_fit(scene *sc)
                         fit->k_min, fit->k_max);
 }
 
+/* &output columns -> column_set: known names, and none the run cannot
+ * have (the numerics' columns without numerics). */
+static void resolve_columns(scene *sc)
+{
+    scene_output_config *o = &sc->cfg.output;
+    int numerics = sc->cfg.solver.numerics;
+    size_t r = (size_t)row("output", "columns");
+    unsigned set = 1u << SCENE_COL_K;
+    const char *p = o->columns;
+    int named = 0;
+    while (*p) {
+        size_t n = strcspn(p, " ,\t");
+        if (n == 0) {
+            p++;
+            continue;
+        }
+        int c = 0;
+        while (c < SCENE_N_COLUMNS && !(strlen(scene_column_name((scene_column)c)) == n &&
+                                          strncmp(scene_column_name((scene_column)c), p, n) == 0))
+            c++;
+        if (c == SCENE_N_COLUMNS) {
+            scene_var_error(sc, r, "no column '%.*s' (columns: k R m X0 t_pass T_res v_peak "
+                            "t_peak X_pass theory_v theory_T theory_t)", n > 31 ? 31 : (int)n, p);
+            return;
+        }
+        if (!numerics && scene_column_numerics((scene_column)c)) {
+            scene_var_error(sc, r, "column %s is a result of the dynamics, and &solver "
+                            "numerics = .false.: drop it or turn the numerics on",
+                            scene_column_name((scene_column)c));
+            return;
+        }
+        set |= 1u << c;
+        named = 1;
+        p += n;
+    }
+    if (!named)
+        for (int c = 0; c < SCENE_N_COLUMNS; c++)
+            if (numerics || !scene_column_numerics((scene_column)c)) set |= 1u << c;
+    o->column_set = set;
+}
+
 /* Optional groups: what each needs from the others. */
 static void check_optional(scene *sc)
 {
@@ -227,6 +249,7 @@ size_t scene_validate(scene *sc)
     resolve_custom(sc);
     check_unused(sc);
     resolve_runs(sc);
+    resolve_columns(sc);
     if (!sc->cfg.output.dir[0])
         scene_var_error(sc, (size_t)row("output", "dir"), "the output directory must not be empty");
     /* The library checks its settings one by one, then their relations;

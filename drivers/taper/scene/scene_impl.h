@@ -74,7 +74,9 @@ typedef struct scene_origin {
 } scene_origin;
 
 struct scene {
-    char *path;                     /* file name used in messages          */
+    char *path;                     /* file name used in messages ("stdin"
+                                       for "-")                            */
+    int from_stdin;                 /* path "-": scene_load reads stdin    */
     scene_config cfg;               /* every value, typed                  */
     scene_origin *origin;           /* one per table row                   */
     int group_line[SCENE_N_GROUPS]; /* line where each group opens (0: not) */

@@ -87,7 +87,8 @@ scene *scene_new(const char *path)
 {
     scene *sc = calloc(1, sizeof *sc);
     if (!sc) return NULL;
-    sc->path = text_dup(path ? path : "<scene>");
+    sc->from_stdin = path && strcmp(path, "-") == 0;
+    sc->path = text_dup(sc->from_stdin ? "stdin" : path ? path : "<scene>");
     sc->origin = calloc(scene_var_count(), sizeof *sc->origin);
     sc->cfg.sweep.lists = calloc(scene_var_count(), sizeof *sc->cfg.sweep.lists);
     if (!sc->path || !sc->origin || !sc->cfg.sweep.lists) goto fail;

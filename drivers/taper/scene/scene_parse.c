@@ -276,6 +276,19 @@ static int type_error(parser *p, const scene_var *var, const element *e)
                                           "'text'"};
     char buf[64];
     const char *what = e->kind == E_STRING ? "a string" : tok_text(&e->tok, buf, sizeof buf);
+    if (var->type == SCENE_INTEGER && e->kind == E_NUMBER) {
+        /* 1e9, 2.0, 1d5: a number, but not written as an integer; or
+         * digits beyond a long long. */
+        char *range = scene_range_text(var);
+        int is_int = 0;
+        number_syntax(e->tok.text, e->tok.len, &is_int);
+        scene_error(p->sc, e->tok.line, var->group, var->name,
+                    "%s %s: %s takes integers in %s, written with digits only (e.g. %s = "
+                    "1000)", what, is_int ? "is out of range" : "is not written as an integer",
+                    var->name, range ? range : "its range", var->name);
+        free(range);
+        return -1;
+    }
     scene_error(p->sc, e->tok.line, var->group, var->name,
                 "expects %s %s, got %s (e.g. %s = %s)", var->type == SCENE_INTEGER ? "an" : "a",
                 scene_type_name(var), what, var->name, example[var->type]);
@@ -627,6 +640,12 @@ static int parse_group(parser *p)
             scene_error(p->sc, line, group, NULL, "group is not closed: add '/' after its last value");
             return -1;
         case T_GROUP:
+            /* &end closes a group in older namelist files (and for many
+             * compilers): the same as '/'. */
+            if (p->tok.len == 3 && strncasecmp(p->tok.text, "end", 3) == 0) {
+                advance(p);
+                return 0;
+            }
             scene_error(p->sc, p->tok.line, group, NULL,
                         "&%s starts before &%s (line %d) is closed: add '/'",
                         tok_text(&p->tok, buf, sizeof buf), group, line);
@@ -676,7 +695,7 @@ size_t scene_parse(scene *sc, const char *text, size_t len)
 size_t scene_load(scene *sc)
 {
     size_t before = sc->n_errors;
-    FILE *fp = fopen(sc->path, "rb");
+    FILE *fp = sc->from_stdin ? stdin : fopen(sc->path, "rb");
     if (!fp) {
         scene_error(sc, 0, NULL, NULL, "cannot open: %s", strerror(errno));
         return 1;
@@ -692,7 +711,7 @@ size_t scene_load(scene *sc)
         scene_error(sc, 0, NULL, NULL, "read error (is it a directory?)");
     else
         scene_parse(sc, buf, n);
-    fclose(fp);
+    if (fp != stdin) fclose(fp);
     free(buf);
     return sc->n_errors - before;
 }

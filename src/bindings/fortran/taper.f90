@@ -59,7 +59,7 @@ module taper
   integer(c_size_t), parameter, public :: TAPER_N_GRANULES_MIN = 2, &
        TAPER_N_GRANULES_MAX = 10000000
   real(c_double), parameter, public :: TAPER_S_MAX = 1d3, TAPER_Q_MAX = 1d3, &
-       TAPER_EXPONENT_MIN = 1d0, TAPER_EXPONENT_MAX = 20d0, TAPER_RTOL_MIN = 1d-14, &
+       TAPER_EXPONENT_MIN = 1.5d0, TAPER_EXPONENT_MAX = 20d0, TAPER_RTOL_MIN = 1d-14, &
        TAPER_RTOL_MAX = 0.1d0, TAPER_ATOL_MAX = 0.1d0
   integer(c_int), parameter, public :: TAPER_MAX_ORDER_ADAMS = 12, TAPER_MAX_ORDER_BDF = 5
 

@@ -23,16 +23,29 @@
 ! which one scoping unit cannot hold twice: each of these groups is read in
 ! its own internal subroutine (read_fit, read_table, read_figure).
 !
-! Exit status: 0 complete, 1 library failure, 2 bad input, 3 partial result.
+! Held to the C driver's standard where both read the same input: a file that
+! is not text (control bytes), or has no group at all (empty, comments only,
+! garbage), is refused; NaN and infinities are refused (a NaN with a payload
+! of its own marks a value left out, so that `s = nan` is not taken for "not
+! given"); errors end with a message and the exit status alone (no
+! ERROR STOP, whose gfortran backtrace looked like a crash).
+!
+! Exit status: 0 complete, 1 library failure, 2 bad input, 3 partial result
+! (as taper's; taper_nml does not check conservation, so never 4).
 program taper_nml
   use, intrinsic :: iso_c_binding
-  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
   use taper
   implicit none
 
   ! MAX_RADII: SCENE_MAX_LIST of the C parser (drivers/taper/scene/scene_impl.h)
   integer, parameter :: MAX_SWEEP = 1000, MAX_RADII = 250000, LEN_STR = 1024
+  ! SCENE_MAX_FILE of the C parser
+  integer(int64), parameter :: MAX_FILE = 8388608_int64
+  ! A value left out: a quiet NaN with a payload no input produces (a NaN
+  ! the file gives is the canonical one, and refused as not finite).
+  integer(int64), parameter :: NOT_GIVEN = int(z'7FF80000DEADBEEF', int64)
 
   ! &chain
   character(len=LEN_STR) :: profile
@@ -45,9 +58,11 @@ program taper_nml
   logical :: window, numerics
   integer(int64) :: last_granule, max_steps
   ! &output
-  character(len=LEN_STR) :: dir
+  character(len=LEN_STR) :: dir, columns
   logical :: progress
   integer(int64) :: threads      ! parallel sweeps of the C driver; unused here
+  integer(int64) :: every        ! granules.tsv of the C driver; unused here
+  real(c_double) :: max_energy_error, max_momentum_error
   ! &fit, &table, &figure (read by read_fit, read_table, read_figure; the
   ! group's prefix added to each name)
   character(len=LEN_STR) :: fit_model, fit_x, fit_y, fit_report, fit_label, fit_theory
@@ -76,7 +91,7 @@ program taper_nml
 
   namelist /chain/ profile, n_granules, s, q, exponent, radii
   namelist /solver/ method, rtol, atol, window, last_granule, t_max, max_steps, numerics
-  namelist /output/ dir, progress, threads
+  namelist /output/ dir, progress, threads, columns, every, max_energy_error, max_momentum_error
 
   character(len=LEN_STR) :: path, arg
   logical :: dump, n_given
@@ -92,30 +107,30 @@ program taper_nml
      if (arg_status /= 0) then   ! -1: longer than arg, never cut silently
         write (error_unit, '(a,i0,a)') "taper_nml: argument ", i, " is longer than ", LEN_STR, &
              " characters"
-        error stop 2
+        call quit(2)
      end if
      if (arg == "--dump") then
         dump = .true.
      else if (arg == "-h" .or. arg == "--help") then
         write (output_unit, '(a)') "usage: taper_nml [--dump] SCENE.nml"
-        stop
+        call quit(0)
      else
         path = arg
      end if
   end do
   if (path == "") then
      write (error_unit, '(a)') "usage: taper_nml [--dump] SCENE.nml"
-     error stop 2
+     call quit(2)
   end if
 
   ! Defaults: those of fresh library specs (the table of
   ! drivers/taper/scene/scene.c takes them from there too).
-  nan = ieee_value(nan, ieee_quiet_nan)
+  nan = transfer(NOT_GIVEN, nan)
   chain_defaults = taper_chain_spec_alloc(err)
   solver_defaults = taper_solver_spec_alloc(err)
   if (.not. c_associated(chain_defaults) .or. .not. c_associated(solver_defaults)) then
      write (error_unit, '(a)') "taper_nml: "//taper_message(err)
-     error stop 1
+     call quit(1)
   end if
   profile = taper_profile_name(taper_chain_spec_profile(chain_defaults))
   n_granules = -1            ! not given: the library's default, or the number of radii
@@ -135,15 +150,21 @@ program taper_nml
   dir = default_dir(path)
   progress = .true.
   threads = 0
+  columns = ""
+  every = 1
+  max_energy_error = 1e-3_c_double
+  max_momentum_error = 1e-3_c_double
 
   ! Defaults of &fit, &table and &figure: set by read_fit, read_table and
   ! read_figure, which read_scene calls.
+  call screen_file(path)
   call read_scene(path)
   ! Namelist READ cuts a string at its variable's length without a word: a
   ! value that fills the whole variable may have been cut, so it is refused.
   call check_length("chain", "profile", profile)
   call check_length("solver", "method", method)
   call check_length("output", "dir", dir)
+  call check_length("output", "columns", columns)
   call check_length("fit", "model", fit_model)
   call check_length("fit", "x", fit_x)
   call check_length("fit", "y", fit_y)
@@ -183,6 +204,23 @@ program taper_nml
   n_s = count_given(s)
   n_q = count_given(q)
   n_radii = count_given(radii)
+  ! Every real given must be a number (READ takes nan and inf).
+  call check_finite("chain", "s", s(1:n_s))
+  call check_finite("chain", "q", q(1:n_q))
+  call check_finite("chain", "radii", radii(1:n_radii))
+  call check_finite("chain", "exponent", [exponent])
+  call check_finite("solver", "rtol", [rtol])
+  call check_finite("solver", "atol", [atol])
+  call check_finite("solver", "t_max", [t_max])
+  call check_finite("output", "max_energy_error", [max_energy_error])
+  call check_finite("output", "max_momentum_error", [max_momentum_error])
+  call check_finite("fit", "factor", [fit_factor])
+  if (is_given(fit_p)) call check_finite("fit", "p", [fit_p])
+  if (is_given(figure_inset_reference)) &
+       call check_finite("figure", "inset_reference", [figure_inset_reference])
+  call check_finite("table", "paper_theory", table_paper_theory(1:count_given(table_paper_theory)))
+  call check_finite("table", "paper_numerics", &
+       table_paper_numerics(1:count_given(table_paper_numerics)))
   if (n_s == 0) then
      s(1) = taper_chain_spec_s(chain_defaults)
      n_s = 1
@@ -199,13 +237,13 @@ program taper_nml
      if (n_given .and. n_granules /= n_radii) then
         write (error_unit, '(a,i0,a,i0,a)') trim(path)//": n_granules = ", n_granules, &
              " but ", n_radii, " radii are given"
-        error stop 2
+        call quit(2)
      end if
      n_granules = n_radii
   end if
   if (n_s > 1 .and. n_q > 1) then
      write (error_unit, '(a)') trim(path)//": only one of s and q may be swept"
-     error stop 2
+     call quit(2)
   end if
 
   if (dump) then
@@ -223,25 +261,95 @@ program taper_nml
   ! Main-program variables are implicitly SAVE'd: never deallocated for us
   ! (LeakSanitizer and valgrind report them once MAIN__ has returned).
   deallocate (radii)
-  select case (worst)   ! F2008: STOP codes are constants
-  case (1)
-     error stop 1
-  case (2)
-     error stop 2
-  case (3)
-     error stop 3
-  end select
+  if (worst /= 0) call quit(worst)
 
 contains
 
+  ! Ends the program with `code` and nothing else on stderr (ERROR STOP
+  ! prints "ERROR STOP n" and a gfortran backtrace).  C's exit runs
+  ! libgfortran's destructor, which flushes and closes every unit.
+  subroutine quit(code)
+    integer, intent(in) :: code
+    interface
+       subroutine c_exit(status) bind(c, name="exit")
+         import :: c_int
+         integer(c_int), value :: status
+       end subroutine c_exit
+    end interface
+    flush (output_unit)
+    flush (error_unit)
+    call c_exit(int(code, c_int))
+  end subroutine quit
+
+  ! What the C parser refuses before any namelist syntax: a file too large,
+  ! control bytes (binary data), and -- after reading -- no group at all.
+  subroutine screen_file(file)
+    character(len=*), intent(in) :: file
+    character(len=:), allocatable :: bytes
+    character(len=512) :: msg
+    integer(int64) :: size, k
+    integer :: unit, ios, line, c
+    open (newunit=unit, file=file, access="stream", form="unformatted", status="old", &
+         action="read", iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+       write (error_unit, '(a)') trim(file)//": cannot open: "//trim(msg)
+       call quit(2)
+    end if
+    inquire (unit=unit, size=size)
+    if (size > MAX_FILE) then
+       write (error_unit, '(a,i0,a)') trim(file)//": file larger than ", MAX_FILE, &
+            " bytes: not a scene"
+       call quit(2)
+    end if
+    allocate (character(len=max(size, 1_int64)) :: bytes)
+    if (size > 0) read (unit, iostat=ios) bytes(1:size)
+    close (unit)
+    if (ios /= 0) then
+       write (error_unit, '(a)') trim(file)//": read error (is it a directory?)"
+       call quit(2)
+    end if
+    line = 1
+    do k = 1, size
+       c = iachar(bytes(k:k))
+       if (c == 10) then
+          line = line + 1
+       else if ((c < 32 .and. c /= 9 .and. c /= 13) .or. c == 127) then
+          write (error_unit, '(a,i0,a,z2.2,a)') trim(file)//":", line, ": binary data (byte 0x", &
+               c, "): not a text scene file"
+          call quit(2)
+       end if
+    end do
+  end subroutine screen_file
+
+  ! Refuses NaN and infinities among the values given for group/name.
+  subroutine check_finite(group, name, values)
+    character(len=*), intent(in) :: group, name
+    real(c_double), intent(in) :: values(:)
+    integer :: k
+    do k = 1, size(values)
+       if (ieee_is_finite(values(k))) cycle
+       write (error_unit, '(a)') trim(path)//": &"//group//" "//name// &
+            ": not a finite number (nan and inf are refused)"
+       call quit(2)
+    end do
+  end subroutine check_finite
+
+  ! False for the NaN that marks a value left out (NOT_GIVEN).
+  logical function is_given(x)
+    real(c_double), intent(in) :: x
+    is_given = transfer(x, 0_int64) /= NOT_GIVEN
+  end function is_given
+
   subroutine read_scene(file)
     character(len=*), intent(in) :: file
-    integer :: unit, ios
+    character(len=*), parameter :: GROUPS(7) = [character(len=6) :: "chain", "solver", "output", &
+         "fit", "table", "figure", "sweep"]
+    integer :: unit, ios, g
     character(len=512) :: msg
     open (newunit=unit, file=file, status="old", action="read", iostat=ios, iomsg=msg)
     if (ios /= 0) then
        write (error_unit, '(a)') trim(file)//": "//trim(msg)
-       error stop 2
+       call quit(2)
     end if
     ! Each group is optional: rewind and look for it; end of file = absent.
     read (unit, nml=chain, iostat=ios, iomsg=msg)
@@ -260,6 +368,15 @@ contains
     call read_figure(file, unit)
     rewind (unit)
     call read_sweep(file, unit)
+    ! READ skips whatever is not a group: a file with none ran the default
+    ! chain.  The C parser refuses it; so does this program.
+    do g = 1, size(GROUPS)
+       if (has_group(unit, trim(GROUPS(g)))) exit   ! one call per statement
+    end do
+    if (g > size(GROUPS)) then
+       write (error_unit, '(a)') trim(file)//": empty scene: no &chain, &solver or &output group"
+       call quit(2)
+    end if
     close (unit)
   end subroutine read_scene
 
@@ -401,7 +518,7 @@ contains
     if (len_trim(value) < len(value)) return
     write (error_unit, '(a,i0,a)') trim(path)//": &"//group//" "//name//": longer than ", &
          len(value) - 1, " characters, which taper_nml cannot hold"
-    error stop 2
+    call quit(2)
   end subroutine check_length
 
   ! The allowed string that str spells (case-insensitive), or str itself.
@@ -428,13 +545,13 @@ contains
     integer, intent(in) :: unit, ios
     if (ios > 0) then
        write (error_unit, '(a)') trim(file)//": &"//group//": "//trim(msg)
-       error stop 2
+       call quit(2)
     end if
     if (ios < 0) then
        if (has_group(unit, group)) then
           write (error_unit, '(a)') trim(file)//": &"//group//": end of file inside the group "// &
                "(a string not closed, or no '/' at its end?): "//trim(msg)
-          error stop 2
+          call quit(2)
        end if
     end if
   end subroutine check_read
@@ -472,7 +589,7 @@ contains
     real(c_double), intent(in) :: a(:)
     count_given = 0
     do while (count_given < size(a))
-       if (ieee_is_nan(a(count_given + 1))) exit
+       if (.not. is_given(a(count_given + 1))) exit
        count_given = count_given + 1
     end do
   end function count_given
@@ -522,7 +639,7 @@ contains
     character(len=*), intent(in) :: name
     real(c_double), intent(in) :: x
     write (output_unit, '(a)', advance="no") name//" ="
-    if (.not. ieee_is_nan(x)) call print_bits(x)
+    if (is_given(x)) call print_bits(x)
     write (output_unit, '()')
   end subroutine print_optional
 
@@ -557,6 +674,10 @@ contains
     write (output_unit, '(a)') "output.dir = "//trim(dir)
     write (output_unit, '(a,l1)') "output.progress = ", progress
     write (output_unit, '(a,i0)') "output.threads = ", threads
+    write (output_unit, '(a)') "output.columns = "//trim(columns)
+    write (output_unit, '(a,i0)') "output.every = ", every
+    call print_real("output.max_energy_error", max_energy_error)
+    call print_real("output.max_momentum_error", max_momentum_error)
     write (output_unit, '(a)') "fit.model = "//trim(fit_model)
     write (output_unit, '(a)') "fit.x = "//trim(fit_x)
     write (output_unit, '(a)') "fit.y = "//trim(fit_y)

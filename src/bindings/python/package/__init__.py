@@ -14,6 +14,10 @@ the extension ``taper._core``; results come back as numpy arrays.
     taper.run_scene("share/scenes/backward_linear.nml")             # the driver's reader
     taper.read_granules("out/default/granules.tsv")                 # a driver's output
 
+    taper.chain(profile="backward_linear", s=0.5).mu   # R m X0, contact factors r, mu
+    taper.asymptotic.exponent("v_of_t")               # the large-k laws (-15/23)
+    taper.fit(r.k, r.v_peak, model="power", index_window=(100, None)).params  # (a, b)
+
 Keyword arguments are the scene variables (docs/scene.md); values left out
 (or None) are the library's defaults.  A value the library refuses raises
 InvalidArgumentError (a ValueError) whose ``field`` names the argument; a
@@ -27,14 +31,18 @@ from __future__ import annotations
 import os
 from typing import List, Optional, Sequence, Union
 
-from . import _core
+from . import _core, asymptotic
+from ._chain import CHAIN_COLUMNS, Chain, chain
 from ._core import InvalidArgumentError, SceneError, TaperError, collision_time
+from ._fit import FitResult, fit
 from .result import COLUMNS, THEORY_COLUMNS, Result, read_granules
 
 __all__ = [
     "simulate", "theory", "run_scene", "read_granules", "plot", "collision_time", "version",
-    "Result", "TaperError", "InvalidArgumentError", "SceneError",
-    "PROFILES", "METHODS", "STATISTICS", "COLUMNS", "THEORY_COLUMNS", "__version__",
+    "chain", "fit", "asymptotic",
+    "Result", "Chain", "FitResult", "TaperError", "InvalidArgumentError", "SceneError",
+    "PROFILES", "METHODS", "STATISTICS", "OBSERVABLES", "THEORY_QUANTITIES", "LAWS",
+    "FIT_MODELS", "COLUMNS", "THEORY_COLUMNS", "CHAIN_COLUMNS", "__version__",
 ]
 
 #: Profile names, in the library's order (taper_profile_name).
@@ -43,6 +51,15 @@ PROFILES = _core.PROFILES
 METHODS = _core.METHODS
 #: Names of the run statistics (taper_statistic_name): the keys of Result.stats.
 STATISTICS = _core.STATISTICS
+#: The observables of a run (taper_observable_name): granules.tsv's columns.
+OBSERVABLES = _core.OBSERVABLES
+#: The theory's quantities (taper_theory_quantity_name): "v", "mu", "T", "t";
+#: a Result's columns are theory_v, theory_T, theory_t, Chain.mu is mu.
+THEORY_QUANTITIES = _core.THEORY_QUANTITIES
+#: The power laws of taper.asymptotic.exponent (taper_law_name).
+LAWS = _core.LAWS
+#: The models of taper.fit (taper_fit_model_name).
+FIT_MODELS = _core.FIT_MODELS
 
 Real = Union[int, float]
 

@@ -392,6 +392,20 @@ static int chain_columns(PyObject *cols, const taper_chain *chain)
     return 0;
 }
 
+/* The theory's columns as granules.tsv names them: "theory_" and the
+ * quantity's taper_theory_quantity_name, mu left out (it has no column;
+ * taper.chain() gives it). */
+static int theory_columns(PyObject *cols, const double *const *q, size_t n)
+{
+    for (int i = 0; taper_theory_quantity_name((taper_theory_quantity)i); i++) {
+        if (i == TAPER_THEORY_MU) continue;
+        char key[64];
+        snprintf(key, sizeof key, "theory_%s", taper_theory_quantity_name((taper_theory_quantity)i));
+        if (put(cols, key, double_array(q[i], n)) < 0) return -1;
+    }
+    return 0;
+}
+
 /* The resolved settings (every default filled in), from the specs' getters. */
 static PyObject *settings_dict(const taper_chain_spec *cs, const taper_solver_spec *ss)
 {
@@ -575,10 +589,7 @@ static PyObject *run_specs(const taper_chain_spec *cs, const taper_solver_spec *
             raise_library(&err);
             goto fail;
         }
-        if (put(cols, "theory_v", double_array(theory[0], n)) < 0 ||
-            put(cols, "theory_T", double_array(theory[2], n)) < 0 ||
-            put(cols, "theory_t", double_array(theory[3], n)) < 0)
-            goto fail;
+        if (theory_columns(cols, (const double *const *)theory, n) < 0) goto fail;
         if (put(out, "stats", PyDict_New()) < 0 ||
             put(out, "settings", settings_dict(cs, NULL)) < 0 ||
             put(out, "status", PyUnicode_FromString("ok")) < 0 ||
@@ -623,16 +634,15 @@ static PyObject *run_specs(const taper_chain_spec *cs, const taper_solver_spec *
             raise_library(&err);
             goto fail;
         }
-        static const struct { const char *name; taper_observable o; } obs[] = {
-            {"t_pass", TAPER_T_PASS}, {"T_res", TAPER_T_RES}, {"v_peak", TAPER_V_PEAK},
-            {"t_peak", TAPER_T_PEAK}, {"X_pass", TAPER_X_PASS}};
-        for (size_t i = 0; i < sizeof obs / sizeof obs[0]; i++)
-            if (put(cols, obs[i].name, double_array(taper_sim_observable(sim, obs[i].o), n)) < 0)
+        /* The observables under the library's names (granules.tsv's). */
+        for (int i = 0; taper_observable_name((taper_observable)i); i++)
+            if (put(cols, taper_observable_name((taper_observable)i),
+                    double_array(taper_sim_observable(sim, (taper_observable)i), n)) < 0)
                 goto fail;
-        if (put(cols, "theory_v", double_array(taper_sim_theory(sim, TAPER_THEORY_V), n)) < 0 ||
-            put(cols, "theory_T", double_array(taper_sim_theory(sim, TAPER_THEORY_T_RES), n)) < 0 ||
-            put(cols, "theory_t", double_array(taper_sim_theory(sim, TAPER_THEORY_T), n)) < 0)
-            goto fail;
+        const double *th[TAPER_N_THEORY_QUANTITIES];
+        for (int i = 0; i < TAPER_N_THEORY_QUANTITIES; i++)
+            th[i] = taper_sim_theory(sim, (taper_theory_quantity)i);
+        if (theory_columns(cols, th, n) < 0) goto fail;
         /* The state where the run ended. */
         PyObject *x = double_array(NULL, n), *v = double_array(NULL, n);
         if (!x || !v) {
@@ -799,6 +809,12 @@ static PyObject *names_tuple(const char *(*name)(int))
 static const char *profile_name_i(int i) { return taper_profile_name((taper_profile)i); }
 static const char *method_name_i(int i) { return taper_method_name((taper_method)i); }
 static const char *statistic_name_i(int i) { return taper_statistic_name((taper_statistic)i); }
+static const char *observable_name_i(int i) { return taper_observable_name((taper_observable)i); }
+static const char *quantity_name_i(int i)
+{
+    return taper_theory_quantity_name((taper_theory_quantity)i);
+}
+static const char *fit_model_name_i(int i) { return taper_fit_model_name((taper_fit_model)i); }
 
 static PyObject *py_version(PyObject *self, PyObject *unused)
 {
@@ -839,6 +855,328 @@ static PyObject *py_statuses(PyObject *self, PyObject *unused)
     return d;
 }
 
+/* ---- the chain alone ---------------------------------------------------------- */
+
+/* chain(**chain_settings): the geometry the library builds (k R m X0, the
+ * contact factors r_k) and the reduced masses mu_k of its theory. */
+static PyObject *py_chain(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    if (no_positional(args, "chain") < 0) return NULL;
+    taper_error err;
+    taper_chain_spec *cs = taper_chain_spec_alloc(&err);
+    if (!cs) return raise_library(&err);
+    if (parse_settings(kwargs, cs, NULL, "chain") < 0) {
+        taper_chain_spec_free(cs);
+        return NULL;
+    }
+    taper_chain *chain;
+    Py_BEGIN_ALLOW_THREADS
+    chain = taper_chain_alloc(cs, &err);
+    Py_END_ALLOW_THREADS
+    if (!chain) {
+        taper_chain_spec_free(cs);
+        return raise_library(&err);
+    }
+    size_t n = taper_chain_size(chain);
+    PyObject *out = PyDict_New(), *cols = PyDict_New(), *mu = NULL;
+    if (!out || !cols) goto fail;
+    if (chain_columns(cols, chain) < 0) goto fail;
+    if (put(cols, "r", double_array(taper_chain_contact(chain), n)) < 0) goto fail;
+    if (!(mu = double_array(NULL, n))) goto fail;
+    taper_status rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = taper_theory_compute(chain, NULL, PyArray_DATA((PyArrayObject *)mu), NULL, NULL, &err);
+    Py_END_ALLOW_THREADS
+    if (rc != TAPER_OK) {
+        raise_library(&err);
+        goto fail;
+    }
+    if (put(cols, "mu", mu) < 0) {
+        mu = NULL;
+        goto fail;
+    }
+    mu = NULL;
+    const char *profile = taper_profile_name(taper_chain_profile(chain));
+    if (put(out, "columns", Py_NewRef(cols)) < 0 ||
+        put(out, "settings", settings_dict(cs, NULL)) < 0 ||
+        put(out, "profile", PyUnicode_FromString(profile ? profile : "")) < 0 ||
+        put(out, "exponent", PyFloat_FromDouble(taper_chain_exponent(chain))) < 0)
+        goto fail;
+    Py_DECREF(cols);
+    taper_chain_free(chain);
+    taper_chain_spec_free(cs);
+    return out;
+fail:
+    Py_XDECREF(mu);
+    Py_XDECREF(cols);
+    Py_XDECREF(out);
+    taper_chain_free(chain);
+    taper_chain_spec_free(cs);
+    return NULL;
+}
+
+/* ---- asymptotic laws ---------------------------------------------------------- */
+
+/* A name of a walked list (taper_X_name) -> its enum value, or an
+ * InvalidArgumentError naming `what` and listing the names. */
+static int enum_from_name(const char *(*name)(int), const char *what, PyObject *v, int *out)
+{
+    const char *s;
+    if (get_str(what, v, &s) < 0) return -1;
+    for (int i = 0; name(i); i++)
+        if (strcmp(name(i), s) == 0) {
+            *out = i;
+            return 0;
+        }
+    PyObject *text = PyUnicode_FromFormat("%s: unknown %s '%s': use", what, what, s);
+    for (int i = 0; text && name(i); i++) {
+        PyObject *t = PyUnicode_FromFormat("%U%s '%s'", text, i ? "," : "", name(i));
+        Py_DECREF(text);
+        text = t;
+    }
+    if (text) raise_with(InvalidArgumentError, PyUnicode_AsUTF8(text), TAPER_EINVAL, what,
+                         PyUnicode_AsUTF8(text) + strlen(what) + 2);
+    Py_XDECREF(text);
+    return -1;
+}
+
+static const char *law_name_i(int i) { return taper_law_name((taper_law)i); }
+
+/* The functions of taper.h's "Asymptotic laws" by their suffix, with the
+ * names of their arguments (for TypeErrors).  Each returns NaN outside its
+ * domain; the wrappers in asymptotic.py say so. */
+typedef struct asym_fn {
+    const char *name;
+    const char *args[2]; /* args[1] NULL: one argument */
+    double (*f1)(double);
+    double (*f2)(double, double);
+} asym_fn;
+
+static const asym_fn asym_fns[] = {
+    {"A", {"q", NULL}, taper_asymptotic_A, NULL},
+    {"lnA", {"q", NULL}, taper_asymptotic_lnA, NULL},
+    {"forward_linear_b", {"S", NULL}, taper_asymptotic_forward_linear_b, NULL},
+    {"eta", {"q", "n"}, NULL, taper_asymptotic_eta},
+    {"f", {"q", "n"}, NULL, taper_asymptotic_f},
+    {"position_exponent", {"q", "n"}, NULL, taper_asymptotic_position_exponent},
+    {"speed_exponent", {"q", "n"}, NULL, taper_asymptotic_speed_exponent},
+    {"timescale", {"q", "n"}, NULL, taper_asymptotic_timescale},
+    {"M", {"q", "n"}, NULL, taper_asymptotic_M},
+    {"C0", {"S", "n"}, NULL, taper_asymptotic_C0},
+    {"C", {"S", "n"}, NULL, taper_asymptotic_C},
+};
+
+/* asymptotic(name, x[, n]) -> float: taper_asymptotic_<name>(x[, n]). */
+static PyObject *py_asymptotic(PyObject *self, PyObject *args)
+{
+    (void)self;
+    const char *name;
+    PyObject *a = NULL, *b = NULL;
+    if (!PyArg_ParseTuple(args, "sO|O:asymptotic", &name, &a, &b)) return NULL;
+    for (size_t i = 0; i < sizeof asym_fns / sizeof asym_fns[0]; i++) {
+        const asym_fn *fn = &asym_fns[i];
+        if (strcmp(fn->name, name) != 0) continue;
+        double x, y = 2.5;
+        if ((fn->args[1] == NULL) != (b == NULL)) {
+            PyErr_Format(PyExc_TypeError, "%s() takes %d arguments", name, fn->args[1] ? 2 : 1);
+            return NULL;
+        }
+        if (get_real(fn->args[0], a, &x) < 0) return NULL;
+        if (b && get_real(fn->args[1], b, &y) < 0) return NULL;
+        return PyFloat_FromDouble(fn->f2 ? fn->f2(x, y) : fn->f1(x));
+    }
+    PyErr_Format(PyExc_ValueError, "no asymptotic function '%s'", name);
+    return NULL;
+}
+
+/* asymptotic_exponent(law, n) -> float: taper_asymptotic_exponent, the law
+ * given by its taper_law_name. */
+static PyObject *py_asymptotic_exponent(PyObject *self, PyObject *args)
+{
+    (void)self;
+    PyObject *law, *n_obj;
+    int code;
+    double n;
+    if (!PyArg_ParseTuple(args, "OO:exponent", &law, &n_obj)) return NULL;
+    if (enum_from_name(law_name_i, "law", law, &code) < 0) return NULL;
+    if (get_real("n", n_obj, &n) < 0) return NULL;
+    return PyFloat_FromDouble(taper_asymptotic_exponent((taper_law)code, n));
+}
+
+/* ---- fits ------------------------------------------------------------------ */
+
+/* A one-dimensional array of doubles from `v`, or a TypeError naming it. */
+static PyArrayObject *real_vector(const char *name, PyObject *v)
+{
+    if (PyUnicode_Check(v) || PyBytes_Check(v) || is_bool(v)) {
+        type_error(name, "a sequence of real numbers", v);
+        return NULL;
+    }
+    PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(v, NPY_DOUBLE, 0, 0, NPY_ARRAY_CARRAY_RO);
+    if (!a) {
+        if (PyErr_ExceptionMatches(PyExc_TypeError) || PyErr_ExceptionMatches(PyExc_ValueError)) {
+            PyErr_Clear();
+            type_error(name, "a sequence of real numbers", v);
+        }
+        return NULL;
+    }
+    if (PyArray_NDIM(a) != 1) {
+        Py_DECREF(a);
+        PyErr_Format(PyExc_TypeError, "%s must be a one-dimensional sequence of real numbers",
+                     name);
+        return NULL;
+    }
+    return a;
+}
+
+/* A pair (tuple or list of two) for the two-valued setters. */
+static int get_pair(const char *name, PyObject *v, PyObject **first, PyObject **second)
+{
+    if (!(PyTuple_Check(v) || PyList_Check(v)) || PySequence_Size(v) != 2) {
+        PyErr_Format(PyExc_TypeError, "%s must be a pair (a tuple of two values), not %.100s",
+                     name, Py_TYPE(v)->tp_name);
+        return -1;
+    }
+    *first = PySequence_Fast_GET_ITEM(v, 0);
+    *second = PySequence_Fast_GET_ITEM(v, 1);
+    return 0;
+}
+
+static int fit_settings(taper_fit_spec *spec, PyObject *exponent, PyObject *index_window,
+                        PyObject *x_window, PyObject *skip_invalid, PyObject *max_iter,
+                        PyObject *xtol)
+{
+    taper_error err;
+    taper_status rc = TAPER_OK;
+    if (exponent && exponent != Py_None) {
+        double p;
+        if (get_real("exponent", exponent, &p) < 0) return -1;
+        rc = taper_fit_spec_set_exponent(spec, p, &err);
+    }
+    if (rc == TAPER_OK && index_window && index_window != Py_None) {
+        PyObject *b, *e;
+        long long begin, end = 0;
+        if (get_pair("index_window", index_window, &b, &e) < 0) return -1;
+        long long hi = (long long)(SIZE_MAX < (unsigned long long)LLONG_MAX ? SIZE_MAX : LLONG_MAX);
+        if (get_integer("index_window", b, 0, hi, &begin) < 0) return -1;
+        if (e != Py_None && get_integer("index_window", e, 0, hi, &end) < 0) return -1;
+        rc = taper_fit_spec_set_index_window(spec, (size_t)begin, (size_t)end, &err);
+    }
+    if (rc == TAPER_OK && x_window && x_window != Py_None) {
+        PyObject *lo, *hi;
+        double x_min = -INFINITY, x_max = INFINITY;
+        if (get_pair("x_window", x_window, &lo, &hi) < 0) return -1;
+        if (lo != Py_None && get_real("x_window", lo, &x_min) < 0) return -1;
+        if (hi != Py_None && get_real("x_window", hi, &x_max) < 0) return -1;
+        rc = taper_fit_spec_set_x_window(spec, x_min, x_max, &err);
+    }
+    if (rc == TAPER_OK && skip_invalid && skip_invalid != Py_None) {
+        int b;
+        if (get_bool("skip_invalid", skip_invalid, &b) < 0) return -1;
+        rc = taper_fit_spec_set_skip_invalid(spec, b, &err);
+    }
+    if (rc == TAPER_OK && max_iter && max_iter != Py_None) {
+        long long m;
+        long long hi = (long long)(SIZE_MAX < (unsigned long long)LLONG_MAX ? SIZE_MAX : LLONG_MAX);
+        if (get_integer("max_iter", max_iter, 0, hi, &m) < 0) return -1;
+        rc = taper_fit_spec_set_max_iter(spec, (size_t)m, &err);
+    }
+    if (rc == TAPER_OK && xtol && xtol != Py_None) {
+        double t;
+        if (get_real("xtol", xtol, &t) < 0) return -1;
+        rc = taper_fit_spec_set_xtol(spec, t, &err);
+    }
+    if (rc != TAPER_OK) {
+        raise_library(&err);
+        return -1;
+    }
+    return 0;
+}
+
+/* fit(x, y, *, model, exponent, index_window, x_window, skip_invalid,
+ * max_iter, xtol) -> dict: taper_fit with each keyword passed to the fit
+ * setter of its name. */
+static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    static char *kw[] = {"x", "y", "model", "exponent", "index_window", "x_window",
+                         "skip_invalid", "max_iter", "xtol", NULL};
+    PyObject *xo, *yo, *model = NULL, *exponent = NULL, *index_window = NULL, *x_window = NULL,
+                       *skip_invalid = NULL, *max_iter = NULL, *xtol = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO|$OOOOOOO:fit", kw, &xo, &yo, &model,
+                                     &exponent, &index_window, &x_window, &skip_invalid,
+                                     &max_iter, &xtol))
+        return NULL;
+    taper_error err;
+    taper_fit_model code = TAPER_FIT_POWER;
+    if (model && model != Py_None) {
+        const char *s;
+        if (get_str("model", model, &s) < 0) return NULL;
+        if (taper_fit_model_from_name(s, &code, &err) != TAPER_OK) return raise_library(&err);
+    }
+    PyArrayObject *x = real_vector("x", xo);
+    if (!x) return NULL;
+    PyArrayObject *y = real_vector("y", yo);
+    if (!y) {
+        Py_DECREF(x);
+        return NULL;
+    }
+    PyObject *out = NULL;
+    taper_fit_result *res = NULL;
+    taper_fit_spec *spec = NULL;
+    npy_intp n = PyArray_DIM(x, 0);
+    if (PyArray_DIM(y, 0) != n) {
+        PyObject *text = PyUnicode_FromFormat("y: %zd values, x has %zd: they must pair up",
+                                              (Py_ssize_t)PyArray_DIM(y, 0), (Py_ssize_t)n);
+        if (text) raise_with(InvalidArgumentError, PyUnicode_AsUTF8(text), TAPER_EINVAL, "y",
+                             PyUnicode_AsUTF8(text) + 3);
+        Py_XDECREF(text);
+        goto done;
+    }
+    if (!(spec = taper_fit_spec_alloc(code, &err))) {
+        raise_library(&err);
+        goto done;
+    }
+    if (fit_settings(spec, exponent, index_window, x_window, skip_invalid, max_iter, xtol) < 0)
+        goto done;
+    Py_BEGIN_ALLOW_THREADS
+    res = taper_fit(spec, PyArray_DATA(x), PyArray_DATA(y), (size_t)n, &err);
+    Py_END_ALLOW_THREADS
+    if (!res) {
+        raise_library(&err);
+        goto done;
+    }
+    {
+        /* The exponent slot (parameter 2) is reported whenever the model has
+         * one, fixed (error 0) or fitted. */
+        size_t np = taper_fit_result_n_params(res);
+        size_t shown = isnan(taper_fit_result_param(res, 2)) ? np : 3;
+        double p[3], e[3];
+        for (size_t i = 0; i < shown; i++) {
+            p[i] = taper_fit_result_param(res, i);
+            e[i] = taper_fit_result_param_error(res, i);
+        }
+        const char *mname = taper_fit_model_name(taper_fit_result_model(res));
+        if (!(out = PyDict_New()) ||
+            put(out, "model", PyUnicode_FromString(mname ? mname : "")) < 0 ||
+            put(out, "params", double_array(p, shown)) < 0 ||
+            put(out, "errors", double_array(e, shown)) < 0 ||
+            put(out, "n_params", PyLong_FromSize_t(np)) < 0 ||
+            put(out, "n_points", PyLong_FromSize_t(taper_fit_result_n_points(res))) < 0 ||
+            put(out, "n_skipped", PyLong_FromSize_t(taper_fit_result_n_skipped(res))) < 0 ||
+            put(out, "chi2", PyFloat_FromDouble(taper_fit_result_chi2(res))) < 0 ||
+            put(out, "iterations", PyLong_FromSize_t(taper_fit_result_iterations(res))) < 0)
+            Py_CLEAR(out);
+    }
+done:
+    taper_fit_result_free(res);
+    taper_fit_spec_free(spec);
+    Py_DECREF(x);
+    Py_DECREF(y);
+    return out;
+}
+
 static PyMethodDef methods[] = {
     {"simulate", (PyCFunction)(void (*)(void))py_simulate, METH_VARARGS | METH_KEYWORDS,
      "simulate(**settings) -> dict: build the chain, integrate it (GIL released), return its "
@@ -851,6 +1189,16 @@ static PyMethodDef methods[] = {
     {"collision_time", (PyCFunction)(void (*)(void))py_collision_time, METH_VARARGS | METH_KEYWORDS,
      "collision_time(mu, r, zdot0, n=2.5) -> float: residence time of one binary collision, "
      "eq. (18)."},
+    {"chain", (PyCFunction)(void (*)(void))py_chain, METH_VARARGS | METH_KEYWORDS,
+     "chain(**chain_settings) -> dict: the chain's columns k R m X0 r mu, no theory times, no "
+     "integration."},
+    {"asymptotic", py_asymptotic, METH_VARARGS,
+     "asymptotic(name, x[, n]) -> float: taper_asymptotic_<name>."},
+    {"asymptotic_exponent", py_asymptotic_exponent, METH_VARARGS,
+     "asymptotic_exponent(law, n) -> float: the exponent of a law named as in LAWS."},
+    {"fit", (PyCFunction)(void (*)(void))py_fit, METH_VARARGS | METH_KEYWORDS,
+     "fit(x, y, *, model, exponent, index_window, x_window, skip_invalid, max_iter, xtol) -> "
+     "dict: taper_fit, each keyword passed to the fit setter of its name."},
     {"version", py_version, METH_NOARGS, "version() -> str: the version of libtaper linked in."},
     {"setting_names", py_setting_names, METH_NOARGS, "The keyword arguments simulate() takes."},
     {"statuses", py_statuses, METH_NOARGS, "{identifier: (code, description)} of taper_status."},
@@ -887,7 +1235,11 @@ PyMODINIT_FUNC PyInit__core(void)
         PyModule_AddObject(m, "SceneError", Py_NewRef(SceneError)) < 0 ||
         PyModule_AddObject(m, "PROFILES", names_tuple(profile_name_i)) < 0 ||
         PyModule_AddObject(m, "METHODS", names_tuple(method_name_i)) < 0 ||
-        PyModule_AddObject(m, "STATISTICS", names_tuple(statistic_name_i)) < 0) {
+        PyModule_AddObject(m, "STATISTICS", names_tuple(statistic_name_i)) < 0 ||
+        PyModule_AddObject(m, "OBSERVABLES", names_tuple(observable_name_i)) < 0 ||
+        PyModule_AddObject(m, "THEORY_QUANTITIES", names_tuple(quantity_name_i)) < 0 ||
+        PyModule_AddObject(m, "LAWS", names_tuple(law_name_i)) < 0 ||
+        PyModule_AddObject(m, "FIT_MODELS", names_tuple(fit_model_name_i)) < 0) {
         Py_DECREF(m);
         return NULL;
     }

@@ -2,7 +2,7 @@
 ``pip install taper[plot]``).
 
 The driver draws, per run, the theory as open circles and the numerics as
-filled circles of one colour (share/scenes/paper/figure*.nml).  plot() does
+filled circles of one colour (share/scenes/paper/fig*.nml).  plot() does
 the same for a Result or a list of them (a sweep):
 
     quantity  numerics    theory     against k

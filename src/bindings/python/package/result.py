@@ -68,6 +68,8 @@ class Result:
         if complete is None:
             complete = bool(self.stats.get("complete", status == "ok"))
         self.complete = bool(complete)
+        #: why a driver's granules.tsv is UNTRUSTED (its "# UNTRUSTED:" line), else "".
+        self.untrusted: str = ""
 
     @classmethod
     def _from_core(cls, d: Dict[str, Any], source: str) -> "Result":
@@ -173,24 +175,28 @@ def read_granules(path: PathLike) -> Result:
     """Reads a granules.tsv (or granules.partial.tsv, or sweep.tsv) written by
     the driver as a Result.
 
-    Lines starting with '#' are comments: ``# name = value`` lines that name a
-    statistic (``steps``, ``energy_error``, ...) fill ``stats``, and
-    ``# complete`` or ``# PARTIAL result (...): message`` the status.  The
-    header is the first line that is not a comment; every later line is a
-    row.  Integer columns (k) become int64 arrays, the others float64
-    (``nan`` is NaN), read back to the same doubles the driver computed (it
-    writes 17 significant digits).
+    Lines starting with '#' are comments, wherever they are: ``# name =
+    value`` lines that name a statistic (``steps``, ``energy_error``, ...)
+    fill ``stats``, ``# complete`` or ``# PARTIAL result (...): message`` the
+    status, ``# UNTRUSTED: why`` sets ``untrusted``.  The header is the first
+    line that is not a comment (the driver writes it as the file's first
+    line, so that numpy.genfromtxt(names=True) and pandas read it too); every
+    later line is a row.  The columns are those the file has (``&output
+    columns``; a run without numerics has no t_pass ... X_pass), and ``k`` the
+    granules its rows hold (``&output every`` thins them).  Integer columns
+    (k) become int64 arrays, the others float64 (``nan`` is NaN), read back to
+    the same doubles the driver computed (it writes 17 significant digits).
     """
     path = os.fspath(path)
     statistics = set(_core.STATISTICS)
     statuses = {desc: ident for ident, (_, desc) in _core.statuses().items()}
     stats: Dict[str, Any] = {}
-    status, message, complete = "ok", "", None
+    status, message, complete, untrusted = "ok", "", None, ""
     header: Optional[List[str]] = None
     rows: List[str] = []
     with open(path, encoding="utf-8") as f:
         for line in f:
-            if header is None and line.startswith("#"):
+            if line.startswith("#"):
                 text = line[1:].strip()
                 if text == "complete":
                     complete = True
@@ -199,6 +205,8 @@ def read_granules(path: PathLike) -> Result:
                     inner, _, message = text.partition("): ")
                     desc = inner[len("PARTIAL result ("):]
                     status = statuses.get(desc, desc)
+                elif text.startswith("UNTRUSTED: "):
+                    untrusted = text[len("UNTRUSTED: "):]
                 else:
                     name, eq, value = text.partition(" = ")
                     if eq and name in statistics:
@@ -207,7 +215,7 @@ def read_granules(path: PathLike) -> Result:
             if header is None:
                 header = line.rstrip("\r\n").split("\t")
                 continue
-            if line.strip() and not line.startswith("#"):
+            if line.strip():
                 rows.append(line)
     if header is None:
         raise ValueError(f"{path}: no header line (every line is a comment)")
@@ -228,5 +236,7 @@ def read_granules(path: PathLike) -> Result:
         stats["complete"] = bool(stats["complete"])
     if complete is None:
         complete = bool(stats.get("complete", True))
-    return Result(columns, stats=stats, status=status, message=message, source=path,
-                  complete=complete)
+    result = Result(columns, stats=stats, status=status, message=message, source=path,
+                    complete=complete)
+    result.untrusted = untrusted
+    return result
