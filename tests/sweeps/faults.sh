@@ -59,5 +59,15 @@ printf "&chain profile = 'forward_linear', n_granules = 50, s = 0.001, 0.01 /\n"
 "$TAPER" good.nml -o good > /dev/null 2>&1 || fail "good sweep: exit status $?"
 [ "$(grep -c '^#' good/sweep.tsv)" -eq 1 ] || fail "good sweep: comment lines in sweep.tsv"
 
+# An UNTRUSTED run (energy error beyond &output max_energy_error) keeps its
+# rows; the sweep exits 4, runs.tsv says untrusted.
+printf "&chain profile = 'forward_exponential', q = 0.01, n_granules = 1500 /\n&solver atol = 1d-13, 0.1 /\n" > ut.nml
+"$TAPER" ut.nml -o ut > /dev/null 2> ut.err
+status=$?
+[ $status -eq 4 ] || fail "untrusted run: exit status $status, wanted 4: $(cat ut.err)"
+[ "$(grep -vc '^#' ut/sweep.tsv)" -eq 3001 ] || fail "untrusted run: its rows are not in sweep.tsv"
+awk -F '\t' 'NR > 2 { print $1 " " $3 }' ut/runs.tsv | tr '\n' ' ' | grep -q '^atol=1e-13 complete atol=0.1 untrusted $' ||
+    fail "untrusted run: runs.tsv $(cat ut/runs.tsv)"
+
 [ $failures -eq 0 ] && echo "failing runs: marked, the others complete, exit status 5"
 [ $failures -eq 0 ]

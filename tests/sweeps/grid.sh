@@ -81,6 +81,15 @@ sed -n 2p iout/sweep.tsv | grep -q 'sweep over n_granules: the rows of every n_g
     fail "integers: sweep.tsv comment line $(sed -n 2p iout/sweep.tsv)"
 [ "$(grep -vc '^#' iout/sweep.tsv)" -eq 51 ] || fail "integers: sweep.tsv rows"
 
+# &output every = 5 thins granules.tsv and sweep.tsv, not the fits: the runs
+# keep every granule for them in report.tsv.
+printf "&chain profile = 'backward_exponential', n_granules = 300, q = 0.02, 0.05 /\n&fit model = 'exponential', y = 'v', k_min = 10 /\n" > ev.nml
+"$TAPER" ev.nml -o ev1 > /dev/null 2>&1 || fail "every: the sweep"
+"$TAPER" ev.nml -o ev5 --set output.every=5 > /dev/null 2>&1 || fail "every = 5: the sweep"
+cmp -s ev1/fits.tsv ev5/fits.tsv || fail "every = 5 changes fits.tsv"
+[ "$(grep -vc '^#' ev5/sweep.tsv)" -eq $((1 + 2 * 61)) ] || fail "every = 5: sweep.tsv rows"
+[ -f ev5/q=0.02/report.tsv ] && [ ! -f ev1/q=0.02/report.tsv ] || fail "every: report.tsv"
+
 # Zipped lists of different lengths: a scene error naming the later list.
 printf "&chain q = 0.1, 0.2\n exponent = 2, 3, 4 /\n&sweep mode = 'zip' /\n" > bad.nml
 "$TAPER" bad.nml -o bout > /dev/null 2> bad.err
