@@ -21,9 +21,11 @@ build_dir=${BUILD_DIR:-build}
 # the tests), gfortran for the Fortran module, gnuplot for the figures,
 # python3 with its headers and venv for the Python package and its tests; dpkg-dev and patch to unpack and
 # patch SUNDIALS' source package (libsundials-dev stays: the fallback, and the
-# -Dsundials=system build).
+# -Dsundials=system build); Open MPI for sweeps on MPI ranks (-Dmpi,
+# docs/cluster.md).
 packages="meson ninja-build pkg-config gcc g++ gfortran cmake libsundials-dev libgsl-dev \
-libcmocka-dev gnuplot-nox python3 python3-dev python3-venv dpkg-dev patch"
+libcmocka-dev gnuplot-nox python3 python3-dev python3-venv dpkg-dev patch \
+libopenmpi-dev openmpi-bin"
 
 missing=""
 for p in $packages; do

@@ -12,9 +12,17 @@
  * line, output directory); 3 partial result (solver failure, a signal,
  * t_max or max_steps: granules.partial.tsv is written and no granules.tsv
  * exists); 4 complete but UNTRUSTED (conservation errors beyond &output
- * max_energy_error / max_momentum_error).  With several scenes, the gravest.
+ * max_energy_error / max_momentum_error); 5 a sweep whose runs all ran, some
+ * of them failing (sweep.tsv and runs.tsv name them; run/sweep.h).  With
+ * several scenes, the gravest.
+ *
+ * Sweeps: `--part I/N` computes part I of N of a sweep's runs (a job array;
+ * the same command without it merges them), and `mpirun -np K taper ...`
+ * spreads the runs over K ranks when taper is built with MPI (run/mpi.h,
+ * docs/cluster.md).
  */
 #include "run/run.h"
+#include "run/sweep.h"
 #include "scene/scene.h"
 #include "taper.h"
 
@@ -24,8 +32,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef TAPER_MPI
+#include "run/mpi.h" /* mpirun -np K taper SCENE.nml: a sweep's runs on K ranks */
+#endif
+
 static const char usage[] =
     "usage: taper SCENE.nml... [-o DIR] [GROUP.KEY=VALUE]... [--get GROUP.KEY]\n"
+    "                          [--part I/N]\n"
     "       taper --defaults | --doc | --help | --version\n"
     "\n"
     "Runs each scene (Fortran namelist, see docs/scene.md; - reads standard input):\n"
@@ -42,11 +55,15 @@ static const char usage[] =
     "              may be repeated\n"
     "  --get GROUP.KEY\n"
     "              print the resolved value of one variable and exit\n"
+    "  --part I/N  a sweep's runs split in N parts: compute part I only (a job\n"
+    "              array); then the same command without --part merges them\n"
+    "              (reuses every run on disk, writes sweep.tsv; docs/cluster.md)\n"
     "  --defaults  print a complete scene with every default, documented\n"
     "  --doc       print the scene reference (Markdown)\n"
     "\n"
     "Exit status: 0 complete, 1 failure, 2 bad input, 3 partial result,\n"
-    "4 untrusted result (conservation errors beyond the scene's bounds).\n";
+    "4 untrusted result (conservation errors beyond the scene's bounds),\n"
+    "5 some runs of a sweep failed (DIR/runs.tsv names them).\n";
 
 typedef struct options {
     const char **paths;
@@ -55,6 +72,7 @@ typedef struct options {
     const char *get;
     const char **sets;
     size_t n_sets;
+    size_t part, parts;   /* --part part/parts; 0: the whole sweep */
 } options;
 
 /* Standard output: the echo and the "! wrote" lines.  A reader that stops
@@ -95,10 +113,35 @@ static scene *load_scene(const options *o, const char *path)
     return NULL;
 }
 
+static int one_scene(const options *o, scene *sc);
+
 static int run_one(const options *o, const char *path)
 {
     scene *sc = load_scene(o, path);
+#ifdef TAPER_MPI
+    if (mpi_rank() > 0) { /* the runs rank 0 hands out, nothing printed */
+        int worker_rc = mpi_worker(o->get ? NULL : sc);
+        scene_free(sc);
+        return sc ? RUN_COMPLETE : worker_rc;
+    }
+#endif
+    int rc = one_scene(o, sc);
+#ifdef TAPER_MPI
+    mpi_scene_end(); /* the other ranks are done with this scene too */
+#endif
+    return rc;
+}
+
+static int one_scene(const options *o, scene *sc)
+{
     if (!sc) return RUN_INPUT;
+    if (o->parts && !scene_cfg(sc)->runs.swept) {
+        fprintf(stderr, "taper: --part %zu/%zu: %s is not a sweep (no variable takes a list)\n",
+                o->part, o->parts, scene_path(sc));
+        scene_free(sc);
+        return RUN_INPUT;
+    }
+    sweep_set_part(o->part, o->parts);
     int rc;
     if (o->get) {
         rc = scene_print_value(sc, o->get, stdout) == 0 ? RUN_COMPLETE : RUN_INPUT;
@@ -159,6 +202,9 @@ int main(int argc, char **argv)
 {
     options o = {0};
     int rc = -1;
+#ifdef TAPER_MPI
+    mpi_start(&argc, &argv);
+#endif
     /* Standard output closed by its reader: EPIPE, not death (check_stdout). */
     signal(SIGPIPE, SIG_IGN);
     o.sets = calloc((size_t)argc, sizeof *o.sets);
@@ -192,6 +238,21 @@ int main(int argc, char **argv)
                 o.get = value;
             }
             i++;
+        } else if (strcmp(a, "--part") == 0) {
+            char *end = NULL;
+            unsigned long long part = value ? strtoull(value, &end, 10) : 0, parts = 0;
+            if (value && end != value && *end == '/') {
+                const char *q = end + 1;
+                parts = strtoull(q, &end, 10);
+                if (end == q) parts = 0;
+            }
+            if (parts == 0 || part == 0 || part > parts || *end != '\0' || value[0] == '-') {
+                rc = bad_argument(a, ": write I/N with 1 <= I <= N (e.g. --part 3/8)");
+            } else {
+                o.part = (size_t)part;
+                o.parts = (size_t)parts;
+            }
+            i++;
         } else if (is_assignment(a)) {
             o.sets[o.n_sets++] = a;
         } else if (strcmp(a, "-") == 0) {
@@ -213,5 +274,8 @@ int main(int argc, char **argv)
     if (rc < 0) rc = run(&o);
     free(o.sets);
     free(o.paths);
+#ifdef TAPER_MPI
+    rc = mpi_stop(rc);
+#endif
     return rc;
 }

@@ -443,7 +443,9 @@ static const bad_case bad_cases[] = {
     {"&chain profile = backward_linear /", 1, "chain", "profile", "quotes"},
     {"&output progress = 1 /", 1, "output", "progress", "logical"},
     {"&output progress = yes /", 1, "output", "progress", "not a value"},
-    {"&chain exponent = 2, 3 /", 1, "chain", "exponent", "one value"},
+    {"&solver window = .true., .false. /", 1, "solver", "window", "one value"},
+    {"&chain exponent = 2, 3, 4\n n_granules = 10, 20 /\n&sweep mode = 'zip' /", 1, "chain",
+     "exponent", "same length"},
     {"&chain\n\n n_granules = 10,\n n_granules = 3 /", 4, "chain", "n_granules", "line 3"},
     /* numbers */
     {"&chain s = nan /", 1, "chain", "s", "finite"},
@@ -645,19 +647,23 @@ static void test_validation_reports_all(void **state)
     scene_free(sc);
 }
 
+/* Issue 17: lists of several variables make a grid (or zipped runs);
+ * zipped lists of unequal lengths are refused at the later one. */
 static void test_two_sweeps_rejected(void **state)
 {
     (void)state;
-    /* only the exponential profiles use q, so give both on a profile where
-     * the only remaining complaint can be the double sweep */
     scene *sc = load("&chain profile='backward_linear', s = 0.1, 0.2 /");
     assert_int_equal(scene_error_count(sc), 0);
     scene_free(sc);
-    sc = load("&chain profile='monodisperse'\n s = 0, 0\n q = 0, 0 /");
+    sc = load("&chain profile='monodisperse'\n s = 0, 0\n q = 0, 0, 0 /");
+    assert_int_equal(scene_error_count(sc), 0);
+    assert_int_equal(cfg_of(sc)->runs.n, 6);
+    scene_free(sc);
+    sc = load("&chain profile='monodisperse'\n s = 0, 0\n q = 0, 0, 0 /\n&sweep mode='zip' /");
     assert_int_equal(scene_error_count(sc), 1);
     assert_int_equal(scene_diag_at(sc, 0)->line, 3);
     assert_string_equal(scene_diag_at(sc, 0)->key, "q");
-    assert_non_null(strstr(scene_diag_at(sc, 0)->message, "one variable"));
+    assert_non_null(strstr(scene_diag_at(sc, 0)->message, "same length"));
     scene_free(sc);
 }
 

@@ -92,7 +92,7 @@ static void write_granules(const granules_run *r, FILE *fp, int partial)
     out_write_rows(fp, &cols, NULL, 0);
 }
 
-int granules_write(const char *dir, const granules_run *run, int partial, char **msg)
+int granules_save(const char *dir, const granules_run *run, int partial, char **msg)
 {
     const char *name = partial ? "granules.partial.tsv" : "granules.tsv";
     const char *stale = partial ? "granules.tsv" : "granules.partial.tsv";
@@ -100,8 +100,13 @@ int granules_write(const char *dir, const granules_run *run, int partial, char *
     out_file *f = out_open(dir, name, msg);
     if (!f) return -1;
     write_granules(run, f->fp, partial);
-    if (out_commit(f, msg) != 0) return -1;
-    printf("! wrote %s/%s\n", dir, name);
+    return out_commit(f, msg);
+}
+
+int granules_write(const char *dir, const granules_run *run, int partial, char **msg)
+{
+    if (granules_save(dir, run, partial, msg) != 0) return -1;
+    printf("! wrote %s/%s\n", dir, partial ? "granules.partial.tsv" : "granules.tsv");
     return 0;
 }
 

@@ -8,8 +8,11 @@
  *            output directory: a scene the library rejects leaves none;
  *   compute  (in parallel)     taper_sim_run, or taper_theory_compute when
  *            the numerics are off; nothing is printed here;
- *   finish   (in sweep order)  messages and granules.tsv; then sweep.tsv,
- *            fits, table and figure.
+ *   finish   (in sweep order)  messages and granules.tsv; then fits, table
+ *            and figure.
+ * A sweep (several runs) is run/sweep.c's: each run prepared, computed and
+ * written on its own (run_point), on threads or MPI ranks, its messages
+ * printed in the order of the sweep.
  */
 #include "run/run.h"
 
@@ -19,6 +22,7 @@
 #include "results/plot.h"
 #include "results/table.h"
 #include "run/parallel.h"
+#include "run/sweep.h"
 #include "util/text.h"
 
 #include <errno.h>
@@ -130,19 +134,17 @@ static void progress_done(progress_state *ps)
     ps->printed = 0;
 }
 
-/* The library's warnings (level 1) go to stderr, named by scene; its
- * information messages (level 0) are not shown. */
-static void report_warning(int level, const char *message, void *user)
-{
-    if (level >= 1) fprintf(stderr, "%s: warning: %s\n", (const char *)user, message);
-}
-
 /* ---- one run ------------------------------------------------------------- */
 
 /* One value of a sweep (or the only run). */
 typedef struct run {
     const scene *sc;
-    const scene_config *cfg;
+    const scene_config *cfg; /* &at: the scene at this point               */
+    scene_config at;
+    FILE *out, *log;         /* stdout, stderr; a sweep's run: its buffers   */
+    char *label;             /* names the run in messages: SCENE, or
+                                SCENE: run NAME in a sweep                   */
+    const char *name;        /* NAME in a sweep, NULL otherwise              */
     size_t point;
     char *dir;
     taper_chain_spec *spec;
@@ -159,6 +161,14 @@ typedef struct run {
     char *message;           /* printed by finish_run (malloc'd)            */
 } run;
 
+/* The library's warnings (level 1) go to stderr, named by scene and run;
+ * its information messages (level 0) are not shown. */
+static void report_warning(int level, const char *message, void *user)
+{
+    const run *r = user;
+    if (level >= 1) fprintf(r->log, "%s: warning: %s\n", r->label, message);
+}
+
 static void run_free(run *r)
 {
     taper_sim_free(r->sim);
@@ -167,13 +177,26 @@ static void run_free(run *r)
     for (int i = 0; i < TAPER_N_THEORY_QUANTITIES; i++) free(r->own_theory[i]);
     free(r->message);
     free(r->dir);
+    free(r->label);
 }
 
 /* "SCENE: message" for finish_run. */
 static void set_message(run *r, const char *message)
 {
     free(r->message);
-    r->message = text_printf("%s: %s", scene_path(r->sc), message);
+    r->message = text_printf("%s: %s", r->label, message);
+}
+
+/* A message about the scene's text (FILE:LINE: &group key: ...), with the
+ * run it comes from in a sweep. */
+static void print_scene_message(const run *r, char *text)
+{
+    size_t n = text ? strlen(text) : 0;
+    if (n && text[n - 1] == '\n') text[--n] = '\0';
+    if (r->name)
+        fprintf(r->log, "%s (run %s)\n", text ? text : "out of memory", r->name);
+    else
+        fprintf(r->log, "%s\n", text ? text : "out of memory");
 }
 
 /* A library refusal of a validated scene: what needs the whole chain
@@ -181,7 +204,15 @@ static void set_message(run *r, const char *message)
  * names the setting; the scene names its line. */
 static int refused(const run *r, scene_lib lib)
 {
-    scene_print_library_error(r->sc, lib, &r->err, stderr);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *mem = open_memstream(&text, &len);
+    if (mem) {
+        scene_print_library_error(r->sc, lib, &r->err, mem);
+        fclose(mem);
+    }
+    print_scene_message(r, text);
+    free(text);
     return r->err.status == TAPER_ENOMEM ? RUN_FAILED : RUN_INPUT;
 }
 
@@ -198,13 +229,13 @@ static int build_sim(run *r)
     taper_solver_spec *spec = scene_solver_spec(r->cfg, &r->err);
     if (!spec) return refused(r, SCENE_LIB_SOLVER);
     taper_solver_spec_set_monitor(spec, monitor, &r->progress);
-    taper_solver_spec_set_log(spec, report_warning, (void *)scene_path(r->sc));
+    taper_solver_spec_set_log(spec, report_warning, r);
     r->sim = taper_sim_alloc(r->chain, spec, &r->err);
     taper_solver_spec_free(spec);
     if (!r->sim) {
         if (r->err.field) return refused(r, SCENE_LIB_SOLVER);
         /* The theory overflowing, or memory: not the scene's syntax. */
-        fprintf(stderr, "%s: %s\n", scene_path(r->sc), r->err.message);
+        fprintf(r->log, "%s: %s\n", r->label, r->err.message);
         return RUN_FAILED;
     }
     for (int q = 0; q < TAPER_N_THEORY_QUANTITIES; q++)
@@ -217,7 +248,15 @@ static int prepare_dir(const run *r)
     char *msg = NULL;
     if (out_mkdir_p(r->dir, &msg) == 0 && access(r->dir, W_OK | X_OK) == 0) return 0;
     if (!msg) msg = text_printf("output directory %s is not writable", r->dir);
-    scene_print_output_error(r->sc, msg ? msg : "out of memory", stderr);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *mem = open_memstream(&text, &len);
+    if (mem) {
+        scene_print_output_error(r->sc, msg ? msg : "out of memory", mem);
+        fclose(mem);
+    }
+    print_scene_message(r, text);
+    free(text);
     free(msg);
     return -1;
 }
@@ -235,7 +274,7 @@ static void prepare_run(run *r)
  * the first runs, instead of both writing and the last one winning.  The
  * descriptor is left open (close-on-exec) and released by the kernel at
  * exit, however the process ends.  0, or -1 after printing why. */
-static int lock_dir(const scene *sc, const char *dir)
+int run_lock_dir(const scene *sc, const char *dir, int shared)
 {
     char *msg = NULL;
     if (out_mkdir_p(dir, &msg) != 0) {
@@ -248,14 +287,14 @@ static int lock_dir(const scene *sc, const char *dir)
     if (fd < 0) {
         msg = path ? text_printf("output directory %s is not writable: %s", dir, strerror(errno))
                    : NULL;
-    } else if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    } else if (flock(fd, (shared ? LOCK_SH : LOCK_EX) | LOCK_NB) != 0) {
         msg = errno == EWOULDBLOCK
                   ? text_printf("output directory %s is in use by another taper run (it holds "
                                 "%s): wait for it to end, or write elsewhere with -o DIR", dir, path)
                   : text_printf("cannot lock %s: %s", path, strerror(errno));
         close(fd);
         fd = -1;
-    } else {
+    } else if (!shared) {
         /* The lock file says who holds it, for a person looking. */
         char pid[32];
         int n = snprintf(pid, sizeof pid, "%ld\n", (long)getpid());
@@ -357,78 +396,123 @@ static char *distrust(const run *r)
     return text_printf("momentum error %.2e exceeds %s (&output max_momentum_error)", p, bp);
 }
 
+/* Every row and column of a run whose granules.tsv leaves some out (&output
+ * every, columns), for the fits, table and figure of a sweep, which read
+ * their runs back from files (run/sweep.c): DIR/report.tsv. */
+static int write_report_data(const run *r, char **msg)
+{
+    const scene_config *cfg = r->cfg;
+    if (!(cfg->runs.fit || cfg->runs.table || cfg->runs.figure)) return 0;
+    unsigned needed = 1u << 9 | 1u << 10 | 1u << 11; /* the theory's columns */
+    if (cfg->solver.numerics) needed |= 0x1fu << 4;  /* and the observables    */
+    if (cfg->output.every <= 1 && (cfg->output.column_set & needed) == needed) return 0;
+    out_columns cols;
+    memset(&cols, 0, sizeof cols);
+    cols.n = taper_chain_size(r->chain);
+    cols.col[1] = taper_chain_radius(r->chain);
+    cols.col[2] = taper_chain_mass(r->chain);
+    cols.col[3] = taper_chain_rest_position(r->chain);
+    if (r->sim)
+        for (int o = 0; o < TAPER_N_OBSERVABLES; o++)
+            cols.col[4 + o] = taper_sim_observable(r->sim, (taper_observable)o);
+    cols.col[9] = r->theory[TAPER_THEORY_V];
+    cols.col[10] = r->theory[TAPER_THEORY_T_RES];
+    cols.col[11] = r->theory[TAPER_THEORY_T];
+    out_file *f = out_open(r->dir, "report.tsv", msg);
+    if (!f) return -1;
+    out_write_header(f->fp, &cols, NULL);
+    fputs("# every granule and column of this run, for the sweep's fits, table and figure\n",
+          f->fp);
+    out_write_rows(f->fp, &cols, NULL, 0);
+    return out_commit(f, msg);
+}
+
 /* After the computation, in the order of the sweep. */
 static void finish_run(run *r)
 {
-    if (r->message) fprintf(stderr, "%s\n", r->message);
+    if (r->message) fprintf(r->log, "%s\n", r->message);
     if (!r->computed || (r->rc != RUN_COMPLETE && r->rc != RUN_PARTIAL)) return;
     granules_run g = result_of(r);
     char *untrusted = distrust(r);
     if (untrusted) {
-        fprintf(stderr, "%s: UNTRUSTED result: %s; a smaller rtol (and atol) keeps the "
-                "conservation errors small\n", scene_path(r->sc), untrusted);
+        fprintf(r->log, "%s: UNTRUSTED result: %s; a smaller rtol (and atol) keeps the "
+                "conservation errors small\n", r->label, untrusted);
         if (r->rc == RUN_COMPLETE) r->rc = RUN_UNTRUSTED;
     }
     g.untrusted = untrusted;
     char *msg = NULL;
-    if (granules_write(r->dir, &g, r->rc == RUN_PARTIAL, &msg) != 0) {
-        fprintf(stderr, "%s: %s\n", scene_path(r->sc), msg ? msg : "out of memory");
+    int partial = r->rc == RUN_PARTIAL;
+    if (granules_save(r->dir, &g, partial, &msg) != 0) {
+        fprintf(r->log, "%s: %s\n", r->label, msg ? msg : "out of memory");
         r->rc = RUN_FAILED;
+    } else {
+        fprintf(r->out, "! wrote %s/%s\n", r->dir, partial ? "granules.partial.tsv" : "granules.tsv");
+        if (r->name && !partial && write_report_data(r, &msg) != 0) {
+            fprintf(r->log, "%s: %s\n", r->label, msg ? msg : "out of memory");
+            r->rc = RUN_FAILED;
+        }
     }
     free(msg);
     free(untrusted);
+}
+
+/* A run at its point: the scene's configuration there, its messages to out
+ * and log. */
+static int run_init(run *r, const scene *sc, size_t point, const char *dir, const char *name,
+                    FILE *out, FILE *log)
+{
+    r->sc = sc;
+    r->point = point;
+    scene_config_at(scene_cfg(sc), point, &r->at);
+    r->cfg = &r->at;
+    r->out = out;
+    r->log = log;
+    r->name = name;
+    r->dir = text_dup(dir);
+    r->label = name ? text_printf("%s: run %s", scene_path(sc), name) : text_dup(scene_path(sc));
+    return r->dir && r->label ? 0 : -1;
+}
+
+void run_point(const scene *sc, size_t point, const char *dir, const char *name, run_outcome *o)
+{
+    size_t n_out = 0, n_log = 0;
+    memset(o, 0, sizeof *o);
+    FILE *out = open_memstream(&o->out, &n_out), *log = open_memstream(&o->log, &n_log);
+    run r;
+    memset(&r, 0, sizeof r);
+    if (!out || !log || run_init(&r, sc, point, dir, name, out, log) != 0) {
+        o->rc = RUN_FAILED;
+    } else {
+        prepare_run(&r);
+        if (r.rc == RUN_COMPLETE && prepare_dir(&r) != 0) r.rc = RUN_INPUT;
+        compute_run(0, &r);
+        finish_run(&r);
+        o->rc = r.rc;
+    }
+    run_free(&r);
+    if (out) fclose(out);
+    if (log) fclose(log);
+    if (!out || !log) {
+        run_outcome_free(o);
+        o->rc = RUN_FAILED;
+    }
+}
+
+void run_outcome_free(run_outcome *o)
+{
+    free(o->out);
+    free(o->log);
+    o->out = o->log = NULL;
 }
 
 /* ---- the runs of a scene -------------------------------------------------- */
 
 int run_worst(int a, int b)
 {
-    /* Order of gravity: input error > failure > partial > untrusted > complete. */
-    static const int rank[] = {0, 3, 4, 2, 1};
+    /* Order of gravity: input error > failure > partial > some runs of a
+     * sweep failed > untrusted > complete. */
+    static const int rank[] = {0, 4, 5, 3, 1, 2};
     return rank[b] > rank[a] ? b : a;
-}
-
-/* DIR, or DIR/NAME=VALUE/ for each value of a swept variable. */
-static int run_dirs(const scene_config *cfg, run *runs)
-{
-    const char *dir = cfg->output.dir;
-    for (size_t i = 0; i < cfg->runs.n; i++) {
-        if (!cfg->runs.swept) {
-            if (!(runs[i].dir = text_dup(dir))) return -1;
-            continue;
-        }
-        char num[SCENE_REAL_TEXT];
-        const char *name = scene_chain_param_name(cfg->runs.sweep);
-        scene_format_real(scene_param_value(cfg, cfg->runs.sweep, i), num);
-        if (!(runs[i].dir = text_printf("%s/%s=%s", dir, name, num))) return -1;
-        printf("! sweep %s = %s -> %s\n", name, num, runs[i].dir);
-    }
-    return 0;
-}
-
-/* DIR/sweep.tsv: every run's granules.tsv rows, the swept value first. */
-static int write_sweep_table(const scene *sc, const run *runs)
-{
-    const scene_config *cfg = scene_cfg(sc);
-    size_t n = cfg->runs.n;
-    granules_run *results = calloc(n, sizeof *results);
-    double *values = calloc(n, sizeof *values);
-    char *msg = NULL;
-    int rc = RUN_FAILED;
-    if (results && values) {
-        for (size_t i = 0; i < n; i++) {
-            results[i] = result_of(&runs[i]);
-            values[i] = scene_param_value(cfg, cfg->runs.sweep, i);
-        }
-        if (granules_write_sweep(cfg->output.dir, results, n, scene_chain_param_name(cfg->runs.sweep),
-                                 values, &msg) == 0)
-            rc = RUN_COMPLETE;
-    }
-    if (rc != RUN_COMPLETE) fprintf(stderr, "%s: %s\n", scene_path(sc), msg ? msg : "out of memory");
-    free(msg);
-    free(values);
-    free(results);
-    return rc;
 }
 
 static void fill_point(const run *r, scene_chain_param param, report_point *p)
@@ -447,10 +531,20 @@ static void fill_point(const run *r, scene_chain_param param, report_point *p)
 static int write_reports(const scene *sc, const run *runs)
 {
     const scene_config *cfg = scene_cfg(sc);
+    report_point *points = calloc(cfg->runs.n, sizeof *points);
+    if (!points) return RUN_FAILED;
+    for (size_t i = 0; i < cfg->runs.n; i++) fill_point(&runs[i], cfg->runs.param, &points[i]);
+    int rc = run_write_reports(sc, points);
+    free(points);
+    return rc;
+}
+
+int run_write_reports(const scene *sc, report_point *points)
+{
+    const scene_config *cfg = scene_cfg(sc);
     report rep = {.cfg = cfg, .scene_path = scene_path(sc), .dir = cfg->output.dir,
-                  .n = cfg->runs.n, .param_name = scene_chain_param_name(cfg->runs.param)};
-    if (!(rep.points = calloc(rep.n, sizeof *rep.points))) return RUN_FAILED;
-    for (size_t i = 0; i < rep.n; i++) fill_point(&runs[i], cfg->runs.param, &rep.points[i]);
+                  .n = cfg->runs.n, .param_name = scene_chain_param_name(cfg->runs.param),
+                  .points = points};
     analysis_apply(&rep);
     char *msg = NULL;
     int rc = RUN_COMPLETE;
@@ -471,34 +565,32 @@ static int write_reports(const scene *sc, const run *runs)
     if (rc != RUN_COMPLETE) fprintf(stderr, "%s: %s\n", scene_path(sc), msg ? msg : "out of memory");
     free(msg);
     analysis_free(&rep);
-    free(rep.points);
     return rc;
 }
 
 int run_scene(const scene *sc)
 {
     const scene_config *cfg = scene_cfg(sc);
+    if (cfg->runs.swept) return sweep_run(sc);
     size_t n = cfg->runs.n;
     run *runs = calloc(n, sizeof *runs);
     if (!runs) return RUN_FAILED;
     int rc = RUN_COMPLETE;
-    if (run_dirs(cfg, runs) != 0) {
-        fprintf(stderr, "%s: out of memory\n", scene_path(sc));
-        rc = RUN_FAILED;
-        goto out;
-    }
     int ready = 0;
     for (size_t i = 0; i < n; i++) {
-        runs[i].sc = sc;
-        runs[i].cfg = cfg;
-        runs[i].point = i;
+        if (run_init(&runs[i], sc, i, cfg->output.dir, NULL, stdout, stderr) != 0) {
+            fprintf(stderr, "%s: out of memory\n", scene_path(sc));
+            rc = RUN_FAILED;
+            goto out;
+        }
         runs[i].show_progress = n == 1;
         prepare_run(&runs[i]);
         ready |= runs[i].rc == RUN_COMPLETE;
     }
     /* The directories once a run is known to start: none for a scene the
-     * library rejects. */
-    if (ready && lock_dir(sc, cfg->output.dir) != 0)
+     * library rejects.  An earlier sweep's files there go (run/sweep.c). */
+    if (ready && (run_lock_dir(sc, cfg->output.dir, 0) != 0 ||
+                  sweep_clean_single(sc) != RUN_COMPLETE))
         for (size_t i = 0; i < n; i++) runs[i].rc = RUN_INPUT;
     for (size_t i = 0; i < n; i++)
         if (runs[i].rc == RUN_COMPLETE && prepare_dir(&runs[i]) != 0) runs[i].rc = RUN_INPUT;
@@ -511,8 +603,6 @@ int run_scene(const scene *sc)
     /* Untrusted runs still get their tables: the status and each file's
      * header say what they are worth. */
     int whole = rc == RUN_COMPLETE || rc == RUN_UNTRUSTED;
-    if (whole && cfg->runs.swept) rc = run_worst(rc, write_sweep_table(sc, runs));
-    whole = rc == RUN_COMPLETE || rc == RUN_UNTRUSTED;
     if (whole) rc = run_worst(rc, write_reports(sc, runs));
 out:
     for (size_t i = 0; i < n; i++) run_free(&runs[i]);

@@ -10,19 +10,24 @@
 #ifndef TAPER_RUN_H
 #define TAPER_RUN_H
 
+#include "results/analysis.h"
 #include "scene/scene.h"
 
 /* Exit status of the driver, in order of gravity: input error > failure >
- * partial > untrusted > complete (docs/scene.md, "Exit status"). */
+ * partial > some runs failed > untrusted > complete (docs/scene.md, "Exit
+ * status"). */
 enum run_status {
     RUN_COMPLETE = 0, /* every result written                                  */
     RUN_FAILED = 1,   /* library or output failure                             */
     RUN_INPUT = 2,    /* bad input: scene, command line, output directory      */
     RUN_PARTIAL = 3,  /* a run ended early (solver failure, a signal, t_max,
                          max_steps): granules.partial.tsv, no granules.tsv     */
-    RUN_UNTRUSTED = 4 /* complete, but energy or momentum conservation worse
+    RUN_UNTRUSTED = 4, /* complete, but energy or momentum conservation worse
                          than &output max_energy_error / max_momentum_error:
                          granules.tsv says "# UNTRUSTED: ..."                  */
+    RUN_SOME_FAILED = 5 /* a sweep ran every run, but some failed (solver
+                         failure, a value the library refused, t_max, ...):
+                         sweep.tsv and runs.tsv name them (run/sweep.c)        */
 };
 
 /* The graver of two run_status values. */
@@ -36,7 +41,36 @@ void run_install_signals(void);
 /* The number of the first such signal received, 0 if none. */
 int run_interrupted(void);
 
-/* Runs every point of the scene into &output dir.  Returns a run_status. */
+/* Runs every point of the scene into &output dir.  Returns a run_status.
+ * A sweep (runs.swept) is run by run/sweep.c. */
 int run_scene(const scene *sc);
+
+/* &output dir created and locked for this process (flock on
+ * DIR/.taper.lock, held until exit): exclusive (shared != 0: shared, the
+ * parts of a sweep computed at once, --part) so that a second run into the
+ * same directory is refused while the first runs.  0, or -1 after printing
+ * why. */
+int run_lock_dir(const scene *sc, const char *dir, int shared);
+
+/* What one run of a sweep printed: stdout and stderr text (malloc'd, may be
+ * NULL), and its run_status. */
+typedef struct run_outcome {
+    int rc;
+    char *out;
+    char *log;
+} run_outcome;
+
+/* Computes run `point` of the scene into dir (granules.tsv, or
+ * granules.partial.tsv; report.tsv when the scene's fits, table or figure
+ * need rows or columns its granules.tsv leaves out): chain, sim, result
+ * files.  Prints nothing; its messages name the run (`name`, e.g.
+ * "q=0.05,exponent=2.5").  Thread-safe.  Free with run_outcome_free. */
+void run_point(const scene *sc, size_t point, const char *dir, const char *name,
+               run_outcome *o);
+void run_outcome_free(run_outcome *o);
+
+/* Fits, table and figure of a scene from its runs' data: points[i] for run
+ * i (runs.n of them), spec and src filled.  Returns a run_status. */
+int run_write_reports(const scene *sc, report_point *points);
 
 #endif

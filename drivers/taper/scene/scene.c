@@ -42,6 +42,7 @@ static const char *const fit_reports[] = {"a", "b", "c", "m", "p", "f"};
 static const char *const fit_theories[] = {"fit", "rate", "f", "b"};
 static const char *const curves[] = {"both", "theory", "numerics"};
 static const char *const chain_params[] = {"s", "q"};
+static const char *const sweep_modes[] = {"grid", "zip"};
 static const char *const columns[SCENE_N_COLUMNS] = {
     "k", "R", "m", "X0", "t_pass", "T_res", "v_peak", "t_peak", "X_pass",
     "theory_v", "theory_T", "theory_t"};
@@ -62,6 +63,7 @@ static const char *quantity_choice(int i) { return NAME_AT(quantities, i); }
 static const char *report_choice(int i) { return NAME_AT(fit_reports, i); }
 static const char *theory_choice(int i) { return NAME_AT(fit_theories, i); }
 static const char *curves_choice(int i) { return NAME_AT(curves, i); }
+static const char *sweep_mode_choice(int i) { return NAME_AT(sweep_modes, i); }
 
 /* ---- groups ------------------------------------------------------------------ */
 
@@ -73,6 +75,7 @@ static const char *const groups[SCENE_N_GROUPS][2] = {
     {"fit", "a fit applied to every run of the scene, to numerics and theory alike"},
     {"table", "a table of the fitted parameter over the sweep, next to the paper's values"},
     {"figure", "a figure: per-granule data of every run, and the fit as an inset"},
+    {"sweep", "how the lists of several swept variables combine into runs"},
 };
 
 const char *scene_group_name(size_t i) { return i < SCENE_N_GROUPS ? groups[i][0] : NULL; }
@@ -100,17 +103,17 @@ static const scene_var table[] = {
      "radius profile R_k: monodisperse (1), backward_linear (1+s(k-1)), forward_linear "
      "(1-s(k-1)), backward_exponential ((1-q)^(1-k)), forward_exponential ((1+q)^(1-k)), "
      "custom (radii)"},
-    {"chain", "n_granules", SCENE_INTEGER, SCENE_COUNT, AT(chain.n_granules), NULL,
+    {"chain", "n_granules", SCENE_INTEGER, SCENE_COUNT | SCENE_SWEEP, AT(chain.n_granules), NULL,
      SCENE_LIB_CHAIN, NULL, TAPER_N_GRANULES_MIN, TAPER_N_GRANULES_MAX, NO_CHOICE,
      "number of granules N (custom profile: may be left out, then N = number of radii)"},
-    {"chain", "s", SCENE_REAL, SCENE_SWEEP, AT(chain.s), NULL, SCENE_LIB_CHAIN, NULL, 0,
+    {"chain", "s", SCENE_REAL, SCENE_SWEEP | SCENE_LIST_FIELD, AT(chain.s), NULL, SCENE_LIB_CHAIN, NULL, 0,
      TAPER_S_MAX, NO_CHOICE,
      "linear tapering S (backward_linear, forward_linear: N < 1 + 1/S); a list of values "
      "sweeps it"},
-    {"chain", "q", SCENE_REAL, SCENE_SWEEP, AT(chain.q), NULL, SCENE_LIB_CHAIN, NULL, 0,
+    {"chain", "q", SCENE_REAL, SCENE_SWEEP | SCENE_LIST_FIELD, AT(chain.q), NULL, SCENE_LIB_CHAIN, NULL, 0,
      TAPER_Q_MAX, NO_CHOICE,
      "exponential tapering q (backward_exponential needs q < 1); a list of values sweeps it"},
-    {"chain", "exponent", SCENE_REAL, 0, AT(chain.exponent), NULL, SCENE_LIB_CHAIN,
+    {"chain", "exponent", SCENE_REAL, SCENE_SWEEP, AT(chain.exponent), NULL, SCENE_LIB_CHAIN,
      NULL, TAPER_EXPONENT_MIN, TAPER_EXPONENT_MAX, NO_CHOICE,
      "contact exponent n: force ~ overlap^(n-1); 2.5 is Hertz"},
     {"chain", "radii", SCENE_REAL_LIST, SCENE_LO_OPEN, AT(chain.radii), NULL, SCENE_LIB_CHAIN,
@@ -120,22 +123,22 @@ static const scene_var table[] = {
     {"solver", "method", SCENE_CHOICE, 0, AT(solver.method), NULL, SCENE_LIB_SOLVER, NULL, 0, 0,
      CHOICE(method_choice, 0),
      "integrator: 'adams' (Adams-Moulton, fixed point) or 'bdf' (BDF, banded Jacobian)"},
-    {"solver", "rtol", SCENE_REAL, 0, AT(solver.rtol), NULL, SCENE_LIB_SOLVER, NULL,
+    {"solver", "rtol", SCENE_REAL, SCENE_SWEEP, AT(solver.rtol), NULL, SCENE_LIB_SOLVER, NULL,
      TAPER_RTOL_MIN, TAPER_RTOL_MAX, NO_CHOICE,
      "relative tolerance of the integrator (below 1e-14 double precision cannot follow)"},
-    {"solver", "atol", SCENE_REAL, SCENE_LO_OPEN, AT(solver.atol), NULL, SCENE_LIB_SOLVER, NULL,
+    {"solver", "atol", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP, AT(solver.atol), NULL, SCENE_LIB_SOLVER, NULL,
      0, TAPER_ATOL_MAX, NO_CHOICE,
      "absolute tolerance, in units of each granule's binary-collision velocity and maximum "
      "compression (relative to the pulse wherever it is)"},
     {"solver", "window", SCENE_LOGICAL, 0, AT(solver.window), NULL, SCENE_LIB_SOLVER, NULL, 0,
      0, NO_CHOICE,
      "integrate only the granules that can move (exact and faster); .false.: the whole chain"},
-    {"solver", "last_granule", SCENE_INTEGER, SCENE_COUNT, AT(solver.last_granule), NULL,
-     SCENE_LIB_SOLVER, NULL, 0, TAPER_N_GRANULES_MAX, NO_CHOICE,
+    {"solver", "last_granule", SCENE_INTEGER, SCENE_COUNT | SCENE_SWEEP, AT(solver.last_granule),
+     NULL, SCENE_LIB_SOLVER, NULL, 0, TAPER_N_GRANULES_MAX, NO_CHOICE,
      "stop once the pulse has passed this granule (at most n_granules); 0: the whole chain"},
-    {"solver", "t_max", SCENE_REAL, 0, AT(solver.t_max), NULL, SCENE_LIB_SOLVER, NULL, 0,
+    {"solver", "t_max", SCENE_REAL, SCENE_SWEEP, AT(solver.t_max), NULL, SCENE_LIB_SOLVER, NULL, 0,
      INFINITY, NO_CHOICE, "stop at this time with a partial result; 0: no limit"},
-    {"solver", "max_steps", SCENE_INTEGER, 0, AT(solver.max_steps), NULL, SCENE_LIB_SOLVER, NULL,
+    {"solver", "max_steps", SCENE_INTEGER, SCENE_SWEEP, AT(solver.max_steps), NULL, SCENE_LIB_SOLVER, NULL,
      0, INFINITY, NO_CHOICE,
      "stop after this many internal steps with a partial result; 0: no limit"},
     {"solver", "numerics", SCENE_LOGICAL, 0, AT(solver.numerics), ".true.", SCENE_OWN, NULL, 0,
@@ -237,6 +240,11 @@ static const scene_var table[] = {
     {"figure", "inset_reference", SCENE_REAL, 0, AT(figure.inset_reference), NULL, SCENE_OWN,
      NULL, -1e3, 1e3, NO_CHOICE,
      "a horizontal line in the inset (e.g. an asymptotic exponent); left out: none"},
+
+    {"sweep", "mode", SCENE_CHOICE, 0, AT(sweep.mode), "'grid'", SCENE_OWN, NULL, 0, 0,
+     CHOICE(sweep_mode_choice, 0),
+     "several variables given lists: 'grid' runs every combination (the variable later in "
+     "this table varies fastest), 'zip' the i-th values together (lists of equal length)"},
 };
 #define N_VARS (sizeof table / sizeof table[0])
 
@@ -255,7 +263,9 @@ const scene_var *scene_var_at(size_t i) { return i < N_VARS ? &table[i] : NULL; 
 const char *scene_var_group(size_t i) { return i < N_VARS ? table[i].group : NULL; }
 const char *scene_var_name(size_t i) { return i < N_VARS ? table[i].name : NULL; }
 scene_type scene_var_type(size_t i) { return i < N_VARS ? table[i].type : SCENE_STRING; }
-int scene_var_sweeps(size_t i) { return i < N_VARS && (table[i].flags & SCENE_SWEEP) != 0; }
+int scene_var_sweeps(size_t i) { return i < N_VARS && (table[i].flags & SCENE_LIST_FIELD) != 0; }
+int scene_var_takes_list(size_t i) { return i < N_VARS && (table[i].flags & SCENE_SWEEP) != 0; }
+size_t scene_var_index(const scene_var *var) { return (size_t)(var - table); }
 
 int scene_var_find(const char *group, const char *name)
 {
@@ -281,6 +291,7 @@ const char *scene_type_name(const scene_var *var)
     static const char *const names[] = {"string", "real", "integer", "logical", "real list",
                                         "string"};
     if (var->type == SCENE_REAL && (var->flags & SCENE_SWEEP)) return "real (list: sweep)";
+    if (var->type == SCENE_INTEGER && (var->flags & SCENE_SWEEP)) return "integer (list: sweep)";
     return names[var->type];
 }
 
@@ -295,7 +306,7 @@ const void *scene_cfield(const scene_config *cfg, const scene_var *var)
 
 int scene_var_is_list(const scene_var *var)
 {
-    return var->type == SCENE_REAL_LIST || (var->type == SCENE_REAL && (var->flags & SCENE_SWEEP));
+    return var->type == SCENE_REAL_LIST || (var->flags & SCENE_LIST_FIELD);
 }
 
 size_t scene_field_size(const scene_var *var)
@@ -312,6 +323,12 @@ size_t scene_field_size(const scene_var *var)
 void scene_field_clear(scene_config *cfg, const scene_var *var)
 {
     void *f = scene_field(cfg, var);
+    if (cfg->sweep.lists) {
+        scene_reals *l = &cfg->sweep.lists[scene_var_index(var)];
+        free(l->v);
+        l->v = NULL;
+        l->n = 0;
+    }
     if (scene_var_is_list(var)) {
         scene_reals *r = f;
         free(r->v);
@@ -382,6 +399,10 @@ const double *scene_var_reals(const scene *sc, size_t i, size_t *n)
         return r->v;
     }
     if (var->type == SCENE_REAL) {
+        if (sc->cfg.sweep.lists && sc->cfg.sweep.lists[i].n > 1) {
+            *n = sc->cfg.sweep.lists[i].n;
+            return sc->cfg.sweep.lists[i].v;
+        }
         const double *x = f;
         *n = isnan(*x) ? 0 : 1; /* NaN: a real without default, left out */
         return x;
@@ -389,10 +410,42 @@ const double *scene_var_reals(const scene *sc, size_t i, size_t *n)
     return NULL;
 }
 
+size_t scene_row_count(const scene_config *cfg, size_t i)
+{
+    const scene_var *var = &table[i];
+    if (scene_var_is_list(var)) return ((const scene_reals *)scene_cfield(cfg, var))->n;
+    if (cfg->sweep.lists && cfg->sweep.lists[i].n > 1) return cfg->sweep.lists[i].n;
+    return 1;
+}
+
+double scene_row_value(const scene_config *cfg, size_t i, size_t j)
+{
+    const scene_var *var = &table[i];
+    const void *f = scene_cfield(cfg, var);
+    if (scene_var_is_list(var)) {
+        const scene_reals *r = f;
+        return j < r->n ? r->v[j] : NAN;
+    }
+    if (cfg->sweep.lists && cfg->sweep.lists[i].n > 1)
+        return j < cfg->sweep.lists[i].n ? cfg->sweep.lists[i].v[j] : NAN;
+    if (var->type == SCENE_INTEGER) {
+        long long x;
+        memcpy(&x, f, sizeof x);
+        return (double)x;
+    }
+    double x;
+    memcpy(&x, f, sizeof x);
+    return x;
+}
+
 double scene_param_value(const scene_config *cfg, scene_chain_param p, size_t point)
 {
     const scene_reals *r = p == SCENE_PARAM_Q ? &cfg->chain.q : &cfg->chain.s;
     if (r->n == 0) return NAN;
+    size_t row = (size_t)scene_var_find("chain", p == SCENE_PARAM_Q ? "q" : "s");
+    for (size_t k = 0; k < cfg->runs.n_swept; k++)
+        if (cfg->runs.swept_row[k] == row) return r->v[scene_point_index(cfg, point, k)];
+    /* Not resolved yet (before scene_validate): the list by point. */
     return r->v[r->n > 1 && point < r->n ? point : 0];
 }
 

@@ -158,11 +158,37 @@ typedef struct scene_figure_config {
     double inset_reference; /* NaN: none                                      */
 } scene_figure_config;
 
+/* &sweep: how the lists of several swept variables combine. */
+typedef enum scene_sweep_mode {
+    SCENE_SWEEP_GRID = 0,      /* every combination (cartesian), the variable
+                                  last in the table fastest                   */
+    SCENE_SWEEP_ZIP = 1        /* the i-th values together (equal lengths)    */
+} scene_sweep_mode;
+
+typedef struct scene_sweep_config {
+    scene_sweep_mode mode;
+    /* The list given to a sweepable variable whose field holds one value
+     * (exponent, n_granules, rtol, ...): one entry per table row, empty
+     * unless the scene gives that row more than one value (its field then
+     * holds the first).  Integers are stored exactly (|x| <= 2^53).  s and
+     * q keep their lists in their own fields.  NULL in a configuration at
+     * one point (scene_config_at). */
+    scene_reals *lists;
+} scene_sweep_config;
+
+/* At most this many variables swept at once. */
+#define SCENE_MAX_SWEPT 16
+
 /* What scene_validate resolves from the values above. */
 typedef struct scene_runs {
-    size_t n;                  /* runs: the values of the swept variable, or 1 */
-    int swept;                 /* 1: `sweep` has n > 1 values                  */
-    scene_chain_param sweep;   /* the swept variable (when swept)              */
+    size_t n;                  /* runs: the points of the sweep, or 1          */
+    int swept;                 /* 1: some variable has more than one value    */
+    scene_chain_param sweep;   /* the swept variable when it is s or q alone
+                                  (kept for callers of the one-variable sweep) */
+    size_t n_swept;            /* variables with more than one value          */
+    size_t swept_row[SCENE_MAX_SWEPT]; /* their rows in the variable table,
+                                  in table order                              */
+    size_t swept_len[SCENE_MAX_SWEPT]; /* their numbers of values            */
     scene_chain_param param;   /* the parameter reports tabulate: q for the
                                   exponential profiles, s otherwise            */
     int fit, table, figure;    /* 1: the optional group is on                  */
@@ -175,11 +201,37 @@ typedef struct scene_config {
     scene_fit_config fit;
     scene_table_config table;
     scene_figure_config figure;
+    scene_sweep_config sweep;
     scene_runs runs;
 } scene_config;
 
+#define SCENE_REAL_TEXT_SIZE 32 /* = SCENE_REAL_TEXT (defined below) */
+
 /* The value of s or q at run `point` (its only value without a sweep). */
 double scene_param_value(const scene_config *cfg, scene_chain_param p, size_t point);
+
+/* ---- the points of a sweep (scene_sweep.c) ------------------------------------ */
+
+/* Index into the list of swept variable k (0 <= k < runs.n_swept) at run
+ * `point`: grid: the last variable varies fastest; zip: `point`. */
+size_t scene_point_index(const scene_config *cfg, size_t point, size_t k);
+/* The value of swept variable k at run `point`. */
+double scene_swept_value(const scene_config *cfg, size_t point, size_t k);
+/* Name of swept variable k ("q", "exponent"), and 1 if it is an integer. */
+const char *scene_swept_name(const scene_config *cfg, size_t k);
+int scene_swept_integer(const scene_config *cfg, size_t k);
+/* The value of swept variable k at `point` as text: %lld for integers,
+ * scene_format_real for reals. */
+void scene_swept_text(const scene_config *cfg, size_t point, size_t k,
+                      char buf[SCENE_REAL_TEXT_SIZE]);
+/* The name of run `point`: "NAME=VALUE" for each swept variable, joined by
+ * ',' ("s=0.1", "q=0.05,exponent=2.5"); "" without a sweep.  malloc'd. */
+char *scene_point_name(const scene_config *cfg, size_t point);
+/* *at = the configuration of the single run `point`: a shallow copy of cfg
+ * with every swept variable at that point's value (s and q as a view of
+ * one value), sweep.lists NULL.  It shares cfg's strings and lists: it is
+ * valid while cfg is, and is never freed. */
+void scene_config_at(const scene_config *cfg, size_t point, scene_config *at);
 
 /* ---- reading a scene ---------------------------------------------------------- */
 
@@ -256,7 +308,8 @@ void scene_print_output_error(const scene *sc, const char *message, FILE *fp);
 /* ---- the library's specifications ------------------------------------------------- */
 
 /* Apply the scene's settings to a library spec through its setters (run
- * `point` of a sweep).  On a validated scene these cannot fail, except
+ * `point` of a sweep; scene_apply_solver: a configuration at one point,
+ * scene_config_at, for a sweep of solver settings).  On a validated scene these cannot fail, except
  * that taper_sim_alloc and taper_chain_alloc check what needs the chain. */
 taper_status scene_apply_chain(const scene_config *cfg, size_t point, taper_chain_spec *spec,
                                taper_error *err);
@@ -272,7 +325,7 @@ taper_fit_spec *scene_fit_spec(const scene_config *cfg, taper_error *err);
 /* ---- writing a scene -------------------------------------------------------------- */
 
 /* Writes the scene as a namelist (every variable of the groups that are
- * on).  With doc != 0: every group, each value with its documentation as a
+ * on; &sweep only when several variables are swept or its mode is given).  With doc != 0: every group, each value with its documentation as a
  * comment (taper --defaults). */
 void scene_write(const scene *sc, FILE *fp, int doc);
 /* The scene at one run of its sweep: the swept variable has that value. */
@@ -303,7 +356,10 @@ size_t scene_var_count(void);
 const char *scene_var_group(size_t i);
 const char *scene_var_name(size_t i);
 scene_type scene_var_type(size_t i);
-int scene_var_sweeps(size_t i);   /* 1: a real that takes a list (a sweep) */
+int scene_var_sweeps(size_t i);   /* 1: a real stored as a list (s, q: a list
+                                     sweeps them)                             */
+int scene_var_takes_list(size_t i); /* 1: a list of values sweeps it (s, q,
+                                     exponent, n_granules, rtol, ...)         */
 /* The value of variable i: a string or choice's text; an integer or a
  * logical; the reals of a real (none when a real without default is left
  * out), sweep or list. */

@@ -46,13 +46,18 @@ static void check_own(scene *sc, size_t i)
     }
 }
 
-/* A number of granules handed to the library as a size_t. */
+/* A number of granules handed to the library as a size_t (each value of a
+ * sweep). */
 static void check_count(scene *sc, size_t i)
 {
-    long long x;
-    memcpy(&x, scene_cfield(&sc->cfg, scene_var_at(i)), sizeof x);
-    if (x < 0)
-        scene_var_error(sc, i, "%lld is out of range: a number of granules cannot be negative", x);
+    for (size_t j = 0; j < scene_row_count(&sc->cfg, i); j++) {
+        long long x = (long long)scene_row_value(&sc->cfg, i, j);
+        if (x < 0) {
+            scene_var_error(sc, i, "%lld is out of range: a number of granules cannot be negative",
+                            x);
+            return;
+        }
+    }
 }
 
 static int row(const char *group, const char *name) { return scene_var_find(group, name); }
@@ -88,23 +93,13 @@ static void resolve_custom(scene *sc)
     }
 }
 
-/* Which runs the scene asks for: one per value of the swept variable. */
+/* Which runs the scene asks for: one per point of its sweep
+ * (scene_sweep.c). */
 static void resolve_runs(scene *sc)
 {
     scene_config *cfg = &sc->cfg;
     scene_runs *runs = &cfg->runs;
-    runs->n = 1;
-    runs->swept = 0;
-    runs->sweep = SCENE_PARAM_S;
-    if (cfg->chain.s.n > 1 && cfg->chain.q.n > 1) {
-        scene_var_error(sc, (size_t)row("chain", "q"),
-                        "only one variable may be swept at a time (s, line %d, is a list too)",
-                        SCENE_LINE(sc, chain.s));
-    } else if (cfg->chain.s.n > 1 || cfg->chain.q.n > 1) {
-        runs->swept = 1;
-        runs->sweep = cfg->chain.s.n > 1 ? SCENE_PARAM_S : SCENE_PARAM_Q;
-        runs->n = cfg->chain.s.n > 1 ? cfg->chain.s.n : cfg->chain.q.n;
-    }
+    scene_resolve_sweep(sc);
     runs->param = is_exponential(cfg->chain.profile) ? SCENE_PARAM_Q : SCENE_PARAM_S;
     runs->fit = cfg->fit.model != SCENE_FIT_NONE;
     runs->table = cfg->table.name[0] != '\0';
@@ -151,6 +146,11 @@ static void check_fit_theory(scene *sc)
 static void check_window(scene *sc, const char *group, const char *key, long long k)
 {
     long long n = sc->cfg.chain.n_granules;
+    /* A sweep of n_granules: the shortest chain. */
+    size_t nr = (size_t)row("chain", "n_granules");
+    for (size_t j = 0; j < scene_row_count(&sc->cfg, nr); j++)
+        if ((long long)scene_row_value(&sc->cfg, nr, j) < n)
+            n = (long long)scene_row_value(&sc->cfg, nr, j);
     if (k > n)
         scene_var_error(sc, (size_t)row(group, key),
                         "%s = %lld is beyond the chain (n_granules = %lld)", key, k, n);

@@ -23,11 +23,15 @@
 #define SCENE_MAX_LIST 250000
 
 /* Bits of scene_var.flags. */
-#define SCENE_SWEEP 0x1u      /* REAL: also accepts a list (a sweep)            */
+#define SCENE_SWEEP 0x1u      /* REAL or INTEGER: also accepts a list (a sweep;
+                                 scene_sweep.c)                                 */
 #define SCENE_LO_OPEN 0x2u    /* lower bound excluded                           */
 #define SCENE_COUNT 0x4u      /* INTEGER passed to the library as a size_t: a
                                  negative value is refused here                 */
 #define SCENE_FROM_PATH 0x8u  /* default derived from the scene's file name     */
+#define SCENE_LIST_FIELD 0x10u /* SWEEP REAL whose field is a scene_reals (s, q);
+                                 other sweepable rows keep a list in
+                                 scene_config.sweep.lists                       */
 
 /* One row of the variable table. */
 typedef struct scene_var {
@@ -57,8 +61,8 @@ int scene_var_find(const char *group, const char *name);
 /* Index of the row with this library object and field name, or -1. */
 int scene_var_of_field(scene_lib lib, const char *field);
 
-/* The groups (chain, solver, output, fit, table, figure), in order. */
-#define SCENE_N_GROUPS 6
+/* The groups (chain, solver, output, fit, table, figure, sweep), in order. */
+#define SCENE_N_GROUPS 7
 const char *scene_group_name(size_t i);
 const char *scene_group_doc(size_t i);
 int scene_group_index(const char *name);
@@ -97,8 +101,22 @@ const void *scene_cfield(const scene_config *cfg, const scene_var *var);
 size_t scene_field_size(const scene_var *var);
 /* Frees what a row's field owns and leaves it empty. */
 void scene_field_clear(scene_config *cfg, const scene_var *var);
-/* 1: the row's value is a list (REAL_LIST, or a sweepable REAL). */
+/* 1: the row's field is a list (REAL_LIST, or s and q). */
 int scene_var_is_list(const scene_var *var);
+/* The row's index in the table. */
+size_t scene_var_index(const scene_var *var);
+/* Values of row i: its sweep list (a sweepable row given several values),
+ * the list of a list field, or its one value.  scene_row_value: value j as
+ * a double (integers exactly up to 2^53). */
+size_t scene_row_count(const scene_config *cfg, size_t i);
+double scene_row_value(const scene_config *cfg, size_t i, size_t j);
+/* Resolves scene_config.runs from the lists (scene_sweep.c): which
+ * variables are swept, how many runs; errors for zipped lists of unequal
+ * lengths and grids too large. */
+void scene_resolve_sweep(scene *sc);
+/* The run where swept variable k has its value j and every other swept
+ * variable its first (grid), or the j-th run (zip). */
+size_t scene_sweep_point_of(const scene_config *cfg, size_t k, size_t j);
 /* Index of a CHOICE row's name (case-insensitive) among its values, 0 and
  * the value in *value when found. */
 int scene_choice_find(const scene_var *var, const char *name, int *value);

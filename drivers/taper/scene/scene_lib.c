@@ -98,20 +98,24 @@ static void set_s_or_q(sink *k, const scene_config *cfg, scene_chain_param p, si
 /* Every chain setting, at run `point` of a sweep. */
 static void apply_chain(sink *k, const scene_config *cfg, size_t point, taper_chain_spec *spec)
 {
-    const scene_chain_config *c = &cfg->chain;
+    scene_config at; /* every swept variable at this point (scene_sweep.c) */
+    scene_config_at(cfg, point, &at);
+    const scene_chain_config *c = &at.chain;
     taper_error e;
     note(k, taper_chain_spec_set_profile(spec, c->profile, &e), &e);
     /* Negative counts never get here (scene_check.c). */
     note(k, taper_chain_spec_set_n_granules(spec, (size_t)c->n_granules, &e), &e);
-    set_s_or_q(k, cfg, SCENE_PARAM_S, point, spec);
-    set_s_or_q(k, cfg, SCENE_PARAM_Q, point, spec);
+    set_s_or_q(k, &at, SCENE_PARAM_S, 0, spec);
+    set_s_or_q(k, &at, SCENE_PARAM_Q, 0, spec);
     note(k, taper_chain_spec_set_exponent(spec, c->exponent, &e), &e);
     note(k, taper_chain_spec_set_radii(spec, c->radii.v, c->radii.n, &e), &e);
 }
 
-static void apply_solver(sink *k, const scene_config *cfg, taper_solver_spec *spec)
+static void apply_solver(sink *k, const scene_config *cfg, size_t point, taper_solver_spec *spec)
 {
-    const scene_solver_config *s = &cfg->solver;
+    scene_config at;
+    scene_config_at(cfg, point, &at);
+    const scene_solver_config *s = &at.solver;
     taper_error e;
     note(k, taper_solver_spec_set_method(spec, s->method, &e), &e);
     note(k, taper_solver_spec_set_rtol(spec, s->rtol, &e), &e);
@@ -160,7 +164,7 @@ taper_status scene_apply_solver(const scene_config *cfg, taper_solver_spec *spec
                                 taper_error *err)
 {
     sink k = {.lib = SCENE_LIB_SOLVER, .first = err};
-    apply_solver(&k, cfg, spec);
+    apply_solver(&k, cfg, 0, spec);
     return k.status == TAPER_OK ? ok(err) : k.status;
 }
 
@@ -211,8 +215,13 @@ static void out_of_memory(scene *sc)
     scene_error(sc, 0, NULL, NULL, "out of memory");
 }
 
-/* The chain at every run of the sweep: every setting once, then the swept
- * variable value by value, each time with taper_chain_spec_check. */
+/* The chain at every run of the sweep: every setting once, then each
+ * other value of each swept variable through its setter.  With one swept
+ * variable (or none) the relations between the settings
+ * (taper_chain_spec_check) are checked at every point: a value that breaks
+ * them is an error of the scene.  In a sweep of several variables some
+ * combinations may break them while others run: those runs fail alone
+ * (the chain's allocation checks them) and the sweep marks them. */
 static void check_chain(scene *sc)
 {
     const scene_config *cfg = &sc->cfg;
@@ -223,15 +232,32 @@ static void check_chain(scene *sc)
     }
     sink k = {.sc = sc, .lib = SCENE_LIB_CHAIN};
     taper_error e;
+    int relations = cfg->runs.n_swept <= 1;
     apply_chain(&k, cfg, 0, spec);
-    if (k.status == TAPER_OK) note(&k, taper_chain_spec_check(spec, &e), &e);
+    if (k.status == TAPER_OK && relations) note(&k, taper_chain_spec_check(spec, &e), &e);
     /* The other values of a sweep, once the rest of the chain is right. */
-    for (size_t point = 1; k.status == TAPER_OK && cfg->runs.swept && point < cfg->runs.n;
-         point++) {
-        set_s_or_q(&k, cfg, cfg->runs.sweep, point, spec);
-        if (k.status == TAPER_OK) note(&k, taper_chain_spec_check(spec, &e), &e);
+    for (size_t v = 0; k.status == TAPER_OK && v < cfg->runs.n_swept; v++) {
+        if (scene_var_at(cfg->runs.swept_row[v])->lib != SCENE_LIB_CHAIN) continue;
+        for (size_t j = 1; k.status == TAPER_OK && j < cfg->runs.swept_len[v]; j++) {
+            apply_chain(&k, cfg, scene_sweep_point_of(cfg, v, j), spec);
+            if (k.status == TAPER_OK && relations)
+                note(&k, taper_chain_spec_check(spec, &e), &e);
+        }
     }
     taper_chain_spec_free(spec);
+}
+
+/* The solver's settings, each value of a swept one too. */
+static void check_solver(scene *sc, taper_solver_spec *spec)
+{
+    const scene_config *cfg = &sc->cfg;
+    sink k = {.sc = sc, .lib = SCENE_LIB_SOLVER};
+    apply_solver(&k, cfg, 0, spec);
+    for (size_t v = 0; k.status == TAPER_OK && v < cfg->runs.n_swept; v++) {
+        if (scene_var_at(cfg->runs.swept_row[v])->lib != SCENE_LIB_SOLVER) continue;
+        for (size_t j = 1; k.status == TAPER_OK && j < cfg->runs.swept_len[v]; j++)
+            apply_solver(&k, cfg, scene_sweep_point_of(cfg, v, j), spec);
+    }
 }
 
 size_t scene_check_library(scene *sc)
@@ -243,8 +269,7 @@ size_t scene_check_library(scene *sc)
         out_of_memory(sc);
         return sc->n_errors - before;
     }
-    sink k = {.sc = sc, .lib = SCENE_LIB_SOLVER};
-    apply_solver(&k, &sc->cfg, spec);
+    check_solver(sc, spec);
     taper_solver_spec_free(spec);
     return sc->n_errors - before;
 }

@@ -14,6 +14,7 @@ void scene_free(scene *sc)
 {
     if (!sc) return;
     for (size_t i = 0; i < scene_var_count(); i++) scene_field_clear(&sc->cfg, scene_var_at(i));
+    free(sc->cfg.sweep.lists);
     for (size_t i = 0; i < sc->n_diags; i++) {
         free(sc->diags[i].group);
         free(sc->diags[i].key);
@@ -30,7 +31,7 @@ void scene_free(scene *sc)
 static int set_table_default(const scene_var *var, scene_config *cfg)
 {
     void *f = scene_field(cfg, var);
-    if (var->type == SCENE_REAL && !(var->flags & SCENE_SWEEP)) {
+    if (var->type == SCENE_REAL && !(var->flags & SCENE_LIST_FIELD)) {
         double x = var->def ? strtod(var->def, NULL) : NAN; /* NaN: none */
         memcpy(f, &x, sizeof x);
         return 0;
@@ -89,7 +90,8 @@ scene *scene_new(const char *path)
     sc->from_stdin = path && strcmp(path, "-") == 0;
     sc->path = text_dup(sc->from_stdin ? "stdin" : path ? path : "<scene>");
     sc->origin = calloc(scene_var_count(), sizeof *sc->origin);
-    if (!sc->path || !sc->origin) goto fail;
+    sc->cfg.sweep.lists = calloc(scene_var_count(), sizeof *sc->cfg.sweep.lists);
+    if (!sc->path || !sc->origin || !sc->cfg.sweep.lists) goto fail;
     sc->cfg.fit.model = SCENE_FIT_NONE;
     for (size_t i = 0; i < scene_var_count(); i++)
         if (set_table_default(scene_var_at(i), &sc->cfg) != 0) goto fail;

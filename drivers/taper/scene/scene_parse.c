@@ -336,10 +336,11 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
 {
     const scene_var *var = scene_var_at((size_t)vi);
     scene_config *cfg = &p->sc->cfg;
-    int multi_ok = scene_var_is_list(var);
+    int multi_ok = scene_var_is_list(var) || (var->flags & SCENE_SWEEP);
     if (n > 1 && !multi_ok) {
         scene_error(p->sc, line, var->group, var->name,
-                    "expects one value, got %zu (only s and q take a list, to sweep them)", n);
+                    "expects one value, got %zu (lists sweep reals and integers of &chain and "
+                    "&solver: s, q, exponent, n_granules, rtol, ...)", n);
         return -1;
     }
     if (n > 1) {
@@ -374,6 +375,23 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
         for (size_t i = 0; i < n; i++) r->v[i] = el[i].x;
         r->n = n;
         return 0;
+    }
+    if (n > 1) {
+        /* A sweep of a one-value field: the list aside (scene_sweep.c), the
+         * first value in the field.  Integers are stored as doubles. */
+        scene_reals *r = &cfg->sweep.lists[vi];
+        if (!(r->v = malloc(n * sizeof *r->v))) goto nomem;
+        for (size_t i = 0; i < n; i++) {
+            if (var->type == SCENE_INTEGER && (el[i].i > (1LL << 53) || el[i].i < -(1LL << 53))) {
+                free(r->v);
+                r->v = NULL;
+                scene_error(p->sc, line, var->group, var->name,
+                            "%lld: the values of a swept integer must be at most 2^53", el[i].i);
+                return -1;
+            }
+            r->v[i] = var->type == SCENE_INTEGER ? (double)el[i].i : el[i].x;
+        }
+        r->n = n;
     }
     switch (var->type) {
     case SCENE_STRING:
@@ -600,7 +618,7 @@ static int parse_group(parser *p)
     if (gi < 0) {
         scene_error(p->sc, line, tok_text(&p->tok, buf, sizeof buf), NULL,
                     "unknown group (groups: &chain, &solver, &output, &fit, &table, "
-                    "&figure)");
+                    "&figure, &sweep)");
         return -1;
     }
     if (p->sc->group_line[gi]) {
@@ -737,6 +755,9 @@ size_t scene_set(scene *sc, const char *assignment)
         memcpy(save, scene_field(&sc->cfg, var), size);
         memcpy(scene_field(&sc->cfg, var), scene_field(&tmp->cfg, var), size);
         memcpy(scene_field(&tmp->cfg, var), save, size);
+        scene_reals list = sc->cfg.sweep.lists[vi]; /* a sweep's list too */
+        sc->cfg.sweep.lists[vi] = tmp->cfg.sweep.lists[vi];
+        tmp->cfg.sweep.lists[vi] = list;
         sc->origin[vi].given = 1;
         sc->origin[vi].line = 0;
     }

@@ -93,6 +93,17 @@ void scene_write_value(const scene_var *var, const scene_config *cfg, FILE *fp)
 {
     const void *f = scene_cfield(cfg, var);
     char num[SCENE_REAL_TEXT];
+    const scene_reals *sweep = cfg->sweep.lists ? &cfg->sweep.lists[scene_var_index(var)] : NULL;
+    if (sweep && sweep->n > 1) {
+        for (size_t i = 0; i < sweep->n; i++) {
+            if (var->type == SCENE_INTEGER)
+                snprintf(num, sizeof num, "%lld", (long long)sweep->v[i]);
+            else
+                scene_format_real(sweep->v[i], num);
+            fprintf(fp, "%s%s", i ? ", " : "", num);
+        }
+        return;
+    }
     if (scene_var_is_list(var)) {
         const scene_reals *r = f;
         for (size_t i = 0; i < r->n; i++) {
@@ -160,9 +171,32 @@ static scene_reals row_reals(const scene_var *var, const scene_config *cfg, size
     return r;
 }
 
-static void write_var(const scene *sc, size_t i, FILE *fp, int doc, size_t point)
+/* A sweep of a one-value row (exponent, n_granules, rtol, ...): its list. */
+static int write_sweep_list(const scene_config *cfg, size_t i, FILE *fp, int doc)
 {
     const scene_var *var = scene_var_at(i);
+    if (!cfg->sweep.lists || cfg->sweep.lists[i].n < 2) return 0;
+    const scene_reals *r = &cfg->sweep.lists[i];
+    if (doc) fprintf(fp, "  ! %s\n", var->doc);
+    fprintf(fp, "  %s = ", var->name);
+    if (var->type == SCENE_INTEGER) {
+        for (size_t j = 0; j < r->n; j++) {
+            fprintf(fp, "%lld%s", (long long)r->v[j], j + 1 < r->n ? "," : "");
+            if (j + 1 < r->n) fputs((j + 1) % 5 == 0 ? "\n      " : " ", fp);
+        }
+    } else {
+        write_list(r, fp);
+    }
+    fputc('\n', fp);
+    return 1;
+}
+
+/* cfg: the scene's, or its configuration at one point (scene_config_at). */
+static void write_var(const scene *sc, const scene_config *cfg, size_t i, FILE *fp, int doc,
+                      size_t point)
+{
+    const scene_var *var = scene_var_at(i);
+    if (write_sweep_list(cfg, i, fp, doc)) return;
     if (doc && !sc->origin[i].given && (var->flags & SCENE_FROM_PATH)) {
         /* Its default depends on the scene's file name: leave it derived. */
         fprintf(fp, "  ! %-10s = %-18s ! %s\n", var->name, "'out/NAME'", var->doc);
@@ -171,10 +205,11 @@ static void write_var(const scene *sc, size_t i, FILE *fp, int doc, size_t point
     size_t count = 1;
     scene_reals r = {0};
     if (scene_var_is_list(var)) {
-        r = row_reals(var, &sc->cfg, point);
+        r = row_reals(var, cfg, point);
         count = r.n;
     } else if (var->type == SCENE_REAL) {
-        scene_var_reals(sc, i, &count);
+        const double *x = scene_cfield(cfg, var);
+        count = isnan(*x) ? 0 : 1; /* NaN: a real without default, left out */
     }
     if (var->type == SCENE_REAL_LIST || (var->type == SCENE_REAL && count != 1)) {
         if (count == 0) {
@@ -199,12 +234,12 @@ static void write_var(const scene *sc, size_t i, FILE *fp, int doc, size_t point
         return;
     }
     if (doc) {
-        char *text = value_text(var, &sc->cfg);
+        char *text = value_text(var, cfg);
         fprintf(fp, "  %-12s = %-18s ! %s\n", var->name, text ? text : "", var->doc);
         free(text);
     } else {
         fprintf(fp, "  %s = ", var->name);
-        scene_write_value(var, &sc->cfg, fp);
+        scene_write_value(var, cfg, fp);
         fputc('\n', fp);
     }
 }
@@ -216,21 +251,33 @@ static int group_on(const scene *sc, const char *group)
     if (strcmp(group, "fit") == 0) return sc->cfg.fit.model != SCENE_FIT_NONE;
     if (strcmp(group, "table") == 0) return sc->cfg.table.name[0] != '\0';
     if (strcmp(group, "figure") == 0) return sc->cfg.figure.name[0] != '\0';
+    if (strcmp(group, "sweep") == 0) {
+        /* Only where it matters: several lists, or a mode the file gives. */
+        int mode = scene_var_find("sweep", "mode");
+        return sc->cfg.runs.n_swept > 1 || sc->origin[mode].given;
+    }
     return 1;
 }
 
 /* point: write only that value of a swept variable (SIZE_MAX: all). */
 static void write_scene(const scene *sc, FILE *fp, int doc, size_t point)
 {
+    scene_config at;
+    const scene_config *cfg = &sc->cfg;
+    if (point != SIZE_MAX) {
+        scene_config_at(&sc->cfg, point, &at);
+        cfg = &at;
+    }
     for (size_t g = 0; g < SCENE_N_GROUPS; g++) {
         const char *group = scene_group_name(g);
         /* The echo leaves out optional groups that are off: shorter, and
-         * the same scene. */
+         * the same scene.  One point of a sweep is a single run: no &sweep. */
         if (!doc && !group_on(sc, group)) continue;
+        if (!doc && point != SIZE_MAX && strcmp(group, "sweep") == 0) continue;
         if (doc) fprintf(fp, "! &%s: %s\n", group, scene_group_doc(g));
         fprintf(fp, "&%s\n", group);
         for (size_t i = 0; i < scene_var_count(); i++)
-            if (strcmp(scene_var_at(i)->group, group) == 0) write_var(sc, i, fp, doc, point);
+            if (strcmp(scene_var_at(i)->group, group) == 0) write_var(sc, cfg, i, fp, doc, point);
         fputs("/\n", fp);
     }
 }
@@ -304,12 +351,23 @@ static const char doc_intro[] =
     "`out/stdin`).  A group may also end with `&end` instead of `/`, as older\n"
     "namelist files do.\n"
     "\n"
-    "**Sweeps.** `s` and `q` accept a list of values (`s = 0.1, 0.2, 0.3`); only one\n"
-    "variable may be swept.  The driver then runs each value into its own\n"
-    "sub-directory `DIR/s=VALUE/` (`DIR/q=VALUE/`), and writes the combined table\n"
-    "`DIR/sweep.tsv` (the swept value as first column, then the columns of\n"
-    "`granules.tsv`).  Runs are computed in parallel (`&output threads`), with results\n"
-    "identical to serial runs.  Every other real takes one value.\n"
+    "**Sweeps.** The reals and integers of `&chain` and `&solver` (type \"list: sweep\"\n"
+    "below: `s`, `q`, `exponent`, `n_granules`, `rtol`, `atol`, `last_granule`, `t_max`,\n"
+    "`max_steps`) accept a list of values (`q = 0.05, 0.1`, `n_granules = 3*1000`).\n"
+    "Lists of several variables make a grid, every combination, the variable later\n"
+    "in this reference varying fastest; `&sweep mode = 'zip'` runs the i-th values\n"
+    "together instead (lists of equal length).  Each run goes into its own\n"
+    "sub-directory named by its values, `DIR/s=VALUE/` or\n"
+    "`DIR/q=0.05,exponent=2.5/`, and the driver writes `DIR/sweep.tsv` (one column\n"
+    "per swept variable, then the columns of `granules.tsv`) and `DIR/runs.tsv` (each\n"
+    "run's status).  Runs are computed in parallel (`&output threads`; under\n"
+    "`mpirun`, on every rank: docs/cluster.md), the dearest first, with results\n"
+    "identical to serial runs.  A run that fails (solver failure, a point the\n"
+    "library refuses, `t_max`) does not stop the others: sweep.tsv and runs.tsv name\n"
+    "it, and `taper` exits with status 5.  A sweep stopped halfway (Ctrl-C, a\n"
+    "killed job) resumes with the same command: complete runs made from the same\n"
+    "resolved scene (`DIR/RUN/scene.hash`) are reused, the others computed; run\n"
+    "directories of another sweep in DIR are removed.\n"
     "\n"
     "**Fits, tables, figures.** `&fit` fits one per-granule quantity against another\n"
     "over a window of granules, for every run, to the numerics and to the exact\n"
@@ -341,9 +399,12 @@ static void write_doc_outro(FILE *fp)
           "| 4 | untrusted: complete, but the relative energy or momentum error exceeds "
           "`&output max_energy_error` / `max_momentum_error` (default 1e-3, the library's "
           "drift warning); `granules.tsv` has the line `# UNTRUSTED: ...` after `# complete` |\n"
+          "| 5 | some runs of a sweep failed: every run ran, but some ended early or were "
+          "refused by the library (a point of a grid beyond a profile's limits); `sweep.tsv` "
+          "names each with a comment line, `runs.tsv` gives every run's status |\n"
           "\n"
           "With several runs (a sweep, several scenes) the status is the gravest: 2, then 1, "
-          "3, 4, 0.  A reader that stops reading standard output (`taper ... | head -1`) is "
+          "3, 5, 4, 0 (an interrupted sweep: 3).  A reader that stops reading standard output (`taper ... | head -1`) is "
           "not a failure: the runs go on, their files are complete, and the status is theirs "
           "(SIGPIPE is ignored, and the echo stops quietly).\n"
           "\n"

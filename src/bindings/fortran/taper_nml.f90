@@ -5,7 +5,7 @@
 !                                 tests/bindings/scene_dump.c) and stop
 !
 ! Our scene files (share/scenes/*.nml, docs/scene.md) are standard Fortran
-! namelists with the groups &chain, &solver, &output, &fit, &table and &figure;
+! namelists with the groups &chain, &solver, &output, &fit, &table, &figure and &sweep;
 ! this program reads them with READ(unit, NML=...) and hands the values of the
 ! first three to libtaper through the iso_c_binding module `taper`
 ! (src/bindings/fortran/taper.f90), one setter per variable: the library
@@ -76,6 +76,8 @@ program taper_nml
   logical :: figure_log_x, figure_log_y, figure_inset
   integer(int64) :: figure_every, figure_k_max
   real(c_double) :: figure_inset_reference
+  ! &sweep (read by read_sweep): how the C driver combines lists; unused here
+  character(len=LEN_STR) :: sweep_mode
 
   ! Allowed strings of the driver's own analysis groups
   ! (drivers/taper/scene/scene.c); the C parser stores their canonical
@@ -85,6 +87,7 @@ program taper_nml
   character(len=*), parameter :: FIT_PARAMS(6) = [character(len=1) :: "a", "b", "c", "m", "p", "f"]
   character(len=*), parameter :: THEORIES(4) = [character(len=4) :: "fit", "rate", "f", "b"]
   character(len=*), parameter :: CURVES(3) = [character(len=8) :: "both", "theory", "numerics"]
+  character(len=*), parameter :: SWEEP_MODES(2) = [character(len=4) :: "grid", "zip"]
 
   namelist /chain/ profile, n_granules, s, q, exponent, radii
   namelist /solver/ method, rtol, atol, window, last_granule, t_max, max_steps, numerics
@@ -177,6 +180,7 @@ program taper_nml
   call check_length("figure", "curves", figure_curves)
   call check_length("figure", "x_label", figure_x_label)
   call check_length("figure", "y_label", figure_y_label)
+  call check_length("sweep", "mode", sweep_mode)
 
   ! Allowed strings in their canonical spelling, as the C parser stores them:
   ! the library's names for profiles, methods and fit models.
@@ -194,6 +198,7 @@ program taper_nml
   figure_x = canonical(figure_x, QUANTITIES)
   figure_y = canonical(figure_y, QUANTITIES)
   figure_curves = canonical(figure_curves, CURVES)
+  sweep_mode = canonical(sweep_mode, SWEEP_MODES)
 
   ! Resolve: a sweep is the list given; nothing given is the library's default.
   n_s = count_given(s)
@@ -337,8 +342,8 @@ contains
 
   subroutine read_scene(file)
     character(len=*), intent(in) :: file
-    character(len=*), parameter :: GROUPS(6) = [character(len=6) :: "chain", "solver", "output", &
-         "fit", "table", "figure"]
+    character(len=*), parameter :: GROUPS(7) = [character(len=6) :: "chain", "solver", "output", &
+         "fit", "table", "figure", "sweep"]
     integer :: unit, ios, g
     character(len=512) :: msg
     open (newunit=unit, file=file, status="old", action="read", iostat=ios, iomsg=msg)
@@ -361,6 +366,8 @@ contains
     call read_table(file, unit)
     rewind (unit)
     call read_figure(file, unit)
+    rewind (unit)
+    call read_sweep(file, unit)
     ! READ skips whatever is not a group: a file with none ran the default
     ! chain.  The C parser refuses it; so does this program.
     do g = 1, size(GROUPS)
@@ -430,6 +437,20 @@ contains
     table_paper_theory = paper_theory
     table_paper_numerics = paper_numerics
   end subroutine read_table
+
+  ! &sweep with its table default, if the file has it; copied to sweep_mode.
+  subroutine read_sweep(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    character(len=LEN_STR) :: mode
+    namelist /sweep/ mode
+    integer :: ios
+    character(len=512) :: msg
+    mode = "grid"
+    read (unit, nml=sweep, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "sweep", ios, msg)
+    sweep_mode = mode
+  end subroutine read_sweep
 
   ! &figure with its table defaults, if the file has it; copied to figure_*.
   subroutine read_figure(file, unit)
@@ -686,6 +707,7 @@ contains
     write (output_unit, '(a)') "figure.y_label = "//trim(figure_y_label)
     write (output_unit, '(a,l1)') "figure.inset = ", figure_inset
     call print_optional("figure.inset_reference", figure_inset_reference)
+    write (output_unit, '(a)') "sweep.mode = "//trim(sweep_mode)
   end subroutine print_dump
 
   ! A library refusal, as the C driver reports it: the file, the group and

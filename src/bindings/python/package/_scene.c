@@ -66,8 +66,9 @@ int pyscene_numerics(const pyscene *ps)
 taper_status pyscene_specs(const pyscene *ps, size_t i, taper_chain_spec *chain,
                            taper_solver_spec *solver, taper_error *err)
 {
-    const scene_config *cfg = scene_cfg(ps->sc);
-    taper_status rc = scene_apply_chain(cfg, i, chain, err);
-    if (rc == TAPER_OK) rc = scene_apply_solver(cfg, solver, err);
+    scene_config at; /* run i: every swept variable, solver ones too, at its value */
+    scene_config_at(scene_cfg(ps->sc), i, &at);
+    taper_status rc = scene_apply_chain(&at, 0, chain, err);
+    if (rc == TAPER_OK) rc = scene_apply_solver(&at, solver, err);
     return rc;
 }

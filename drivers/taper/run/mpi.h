@@ -1,0 +1,35 @@
+/*
+ * mpi.h -- the runs of a sweep on MPI ranks (taper built with -Dmpi, run
+ * under mpirun).  Rank 0 reads the scene, echoes it, prepares the output
+ * directory and hands out runs, the dearest first, as ranks ask for work;
+ * every rank, rank 0 included, computes runs on its threads and writes
+ * their directories; rank 0 prints their messages in sweep order and
+ * writes sweep.tsv, runs.tsv, fits, table and figure, byte-identical to a
+ * serial sweep.  The other ranks print nothing.  Without mpirun (no MPI
+ * launcher in the environment) MPI is not initialised at all: the driver
+ * is the serial one.  The library never sees MPI.
+ *
+ * Not part of libtaper: compiled into the taper executable only.
+ */
+#ifndef TAPER_MPI_H
+#define TAPER_MPI_H
+
+#include "scene/scene.h"
+
+/* Initialises MPI when launched by mpirun/srun; returns this rank (0
+ * otherwise).  Ranks other than 0 print nothing from here on. */
+int mpi_start(int *argc, char ***argv);
+/* This rank (0 without MPI). */
+int mpi_rank(void);
+/* The work of a rank other than 0 on one scene: computes the runs rank 0
+ * hands out, until it says stop, then says goodbye.  sc NULL (the scene
+ * did not load) or a scene that is not a sweep: nothing to do but that.
+ * Returns a run_status. */
+int mpi_worker(const scene *sc);
+/* Rank 0, after each scene of the command line: waits for every worker to
+ * be done with it (a scene that was no sweep, or did not load, included). */
+void mpi_scene_end(void);
+/* Finalises MPI.  Returns rc. */
+int mpi_stop(int rc);
+
+#endif

@@ -1,0 +1,73 @@
+#!/bin/sh
+# faults.sh TAPER -- a failing run does not end a sweep (issue 17, item 4):
+# a grid with points the library refuses (forward_linear needs N < 1 + 1/s)
+# and runs that stop at max_steps (partial).  Every other run completes;
+# sweep.tsv has their rows and a comment line per failed run, runs.tsv a
+# status per run, fits.tsv nan for the failed point; exit status 5.
+set -u
+TAPER=$1
+case $TAPER in /*) ;; *) TAPER=$(pwd)/$TAPER ;; esac
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cd "$tmp" || exit 1
+failures=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+
+cat > fault.nml <<'NML'
+&chain profile = 'forward_linear'
+       n_granules = 50, 200
+       s = 0.001, 0.01 /
+&solver max_steps = 0, 40 /
+&fit model = 'power', x = 'k', y = 'v', k_min = 5, k_max = 40 /
+NML
+"$TAPER" fault.nml -o out > out.txt 2> err.txt
+status=$?
+[ $status -eq 5 ] || fail "exit status $status, wanted 5 (some runs failed): $(cat err.txt)"
+grep -q "fault.nml: 5 of 8 runs failed" err.txt || fail "no summary: $(cat err.txt)"
+# The refusal names the scene's line, the variable and the run.
+grep -q "^fault.nml:2: &chain n_granules: .*(run n_granules=200,s=0.01,max_steps=0)$" err.txt ||
+    fail "refusal not named: $(cat err.txt)"
+grep -q "^fault.nml: run n_granules=50,s=0.001,max_steps=40: max_steps reached" err.txt ||
+    fail "partial run not named: $(cat err.txt)"
+# The complete runs' rows; one comment line per failed run.
+[ "$(grep -vc '^#' out/sweep.tsv)" -eq $((1 + 50 + 50 + 200)) ] ||
+    fail "sweep.tsv rows: $(grep -vc '^#' out/sweep.tsv)"
+[ "$(grep -c '^# partial run ' out/sweep.tsv)" -eq 3 ] || fail "sweep.tsv: partial runs not marked"
+grep -q '^# refused run n_granules=200,s=0.01,max_steps=40: no rows (fault.nml:2: &chain n_granules: ' out/sweep.tsv ||
+    fail "sweep.tsv: refused run not marked"
+# runs.tsv: one status per run.
+awk -F '\t' 'NR > 2 { print $1 " " $5 }' out/runs.tsv > status
+cat > status.want <<'TXT'
+n_granules=50,s=0.001,max_steps=0 complete
+n_granules=50,s=0.001,max_steps=40 partial
+n_granules=50,s=0.01,max_steps=0 complete
+n_granules=50,s=0.01,max_steps=40 partial
+n_granules=200,s=0.001,max_steps=0 complete
+n_granules=200,s=0.001,max_steps=40 partial
+n_granules=200,s=0.01,max_steps=0 refused
+n_granules=200,s=0.01,max_steps=40 refused
+TXT
+diff status.want status >&2 || fail "runs.tsv statuses"
+[ -f 'out/n_granules=50,s=0.001,max_steps=40/granules.partial.tsv' ] || fail "no granules.partial.tsv"
+[ ! -e 'out/n_granules=200,s=0.01,max_steps=0' ] || fail "a refused run left a directory"
+# Fits for every run, nan where there is no data.
+[ "$(grep -c '^0.01	numerics	nan' out/fits.tsv)" -eq 3 ] || fail "fits.tsv: $(cat out/fits.tsv)"
+[ "$(grep -c '^0.001	numerics	0\.' out/fits.tsv)" -eq 2 ] || fail "fits.tsv: complete runs not fitted"
+
+# A sweep without failures exits 0 and has no comment line but the first.
+printf "&chain profile = 'forward_linear', n_granules = 50, s = 0.001, 0.01 /\n" > good.nml
+"$TAPER" good.nml -o good > /dev/null 2>&1 || fail "good sweep: exit status $?"
+[ "$(grep -c '^#' good/sweep.tsv)" -eq 1 ] || fail "good sweep: comment lines in sweep.tsv"
+
+# An UNTRUSTED run (energy error beyond &output max_energy_error) keeps its
+# rows; the sweep exits 4, runs.tsv says untrusted.
+printf "&chain profile = 'forward_exponential', q = 0.01, n_granules = 1500 /\n&solver atol = 1d-13, 0.1 /\n" > ut.nml
+"$TAPER" ut.nml -o ut > /dev/null 2> ut.err
+status=$?
+[ $status -eq 4 ] || fail "untrusted run: exit status $status, wanted 4: $(cat ut.err)"
+[ "$(grep -vc '^#' ut/sweep.tsv)" -eq 3001 ] || fail "untrusted run: its rows are not in sweep.tsv"
+awk -F '\t' 'NR > 2 { print $1 " " $3 }' ut/runs.tsv | tr '\n' ' ' | grep -q '^atol=1e-13 complete atol=0.1 untrusted $' ||
+    fail "untrusted run: runs.tsv $(cat ut/runs.tsv)"
+
+[ $failures -eq 0 ] && echo "failing runs: marked, the others complete, exit status 5"
+[ $failures -eq 0 ]
