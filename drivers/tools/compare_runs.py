@@ -67,11 +67,14 @@ def compare(run, ref, name):
 
 
 def residence_bins(run, ref):
-    """{decade of T/t: [count, max t_pass error, max T_res error, first k, last k]}."""
-    bins, before_a, before_b = {}, 0.0, 0.0
-    for k, (a, b) in enumerate(zip(run["t_pass"], ref["t_pass"]), start=1):
-        ta, tb = a - before_a, b - before_b
-        before_a, before_b = a, b
+    """{decade of T/t: [count, max t_pass error, max T_res error, first k, last k]}.
+
+    Reads the T_res column (t_pass(k) - t_pass(k-1) as the library computes
+    it) and each row's own k, so that files thinned with &output every give
+    the right bins for the rows they keep."""
+    bins = {}
+    for k, a, b, ta, tb in zip(run["k"], run["t_pass"], ref["t_pass"], run["T_res"], ref["T_res"]):
+        k = int(k)
         if not all(math.isfinite(x) for x in (a, b, ta, tb)) or tb == 0.0 or b == 0.0:
             continue
         decade = math.floor(math.log10(abs(tb) / abs(b)))
@@ -126,6 +129,10 @@ def main(argv):
         cells = [f"{name} {relative(run[name][rows[k]], ref[name][rows[k]]):.3e}"
                  for name in ("t_pass", "v_peak") if name in run]
         print(f"k = {k}: " + ", ".join(cells))
+    if want_bins and not all(name in run and name in ref for name in ("t_pass", "T_res")):
+        print("compare_runs: --bins needs the t_pass and T_res columns in both files "
+              "(&output columns left them out)", file=sys.stderr)
+        return 2
     if want_bins:
         print("log10(T_res/t_pass)\tgranules\tmax_rel_diff_t_pass\tmax_rel_diff_T_res\tk_range")
         for decade, (count, err_t, err_T, first, last) in sorted(residence_bins(run, ref).items(),

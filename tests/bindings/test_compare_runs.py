@@ -21,11 +21,12 @@ def check(cond, what):
         failures.append(what)
 
 
-def scene(directory, name, n, rtol):
+def scene(directory, name, n, rtol, every=1):
     path = os.path.join(directory, name + ".nml")
     with open(path, "w") as f:
         f.write(f"&chain profile = 'monodisperse', n_granules = {n} /\n"
-                f"&solver rtol = {rtol}, atol = {rtol * 1e-3} /\n&output progress = .false. /\n")
+                f"&solver rtol = {rtol}, atol = {rtol * 1e-3} /\n"
+                f"&output progress = .false., every = {every} /\n")
     out = os.path.join(directory, name)
     subprocess.run([driver, path, "-o", out], check=True, capture_output=True)
     return out
@@ -56,6 +57,21 @@ with tempfile.TemporaryDirectory() as d:
     check(status == 0 and decades, f"--bins printed no decades: {text}")
     check(sum(int(r[1]) for r in decades) == 59, "--bins does not count granules 1..59")
     check(all(0.0 < float(r[3]) < 1e-3 for r in decades), f"--bins T_res errors: {decades}")
+    # Files thinned with &output every: the bins are those of the rows kept,
+    # each binned by its own T_res (not by the difference of kept t_pass rows,
+    # which spans `every` granules).
+    thin_loose = scene(d, "thin_loose", 60, 1e-6, every=5)
+    thin_tight = scene(d, "thin_tight", 60, 1e-11, every=5)
+    status, table, thin_text = compare(thin_loose, thin_tight, "--bins")
+    thin = [line.split("\t") for line in thin_text.splitlines()]
+    full_range = {r[0]: tuple(map(int, r[4].split("-"))) for r in decades}
+    thin_range = {r[0]: tuple(map(int, r[4].split("-")))
+                  for r in thin if len(r) == 5 and r[0].lstrip("-").isdigit()}
+    check(status == 0 and thin_range and all(
+              dec in full_range and full_range[dec][0] <= lo and hi <= full_range[dec][1]
+              for dec, (lo, hi) in thin_range.items()),
+          f"--bins on thinned files: granule ranges {thin_range} outside the full "
+          f"files' {full_range}: {thin_text}")
     status, table, text = compare(tight, tight)
     check(status == 0 and table.get("t_pass") == 0.0, f"a run against itself: {text}")
     status, table, text = compare(loose, other)
