@@ -1,0 +1,89 @@
+#!/usr/bin/env python3
+"""layering.py SOURCE_DIR -- the architecture rules of issue 12, checked on
+every #include of the tree, so that a change that breaks them fails a test
+instead of waiting for a reviewer:
+
+1. A library part (src/core, src/chain, src/sim, src/analysis) includes only
+   taper.h, its own folder's headers and src/core's (the shared base).
+2. Outside src/, nothing includes a header of the library but taper.h,
+   except the unit tests (tests/unit), which test internals by design.
+3. A private header (*_impl.h, and src/sim/sim.h, the simulation's state) is
+   included only by files of its own folder and by unit tests.
+4. No two files include each other, directly or through others (no circle
+   in the include graph).
+
+Quoted includes are resolved as the build does: the including file's folder,
+then src/, drivers/taper, drivers/bench, tests/ (the include roots of the
+meson.build files)."""
+
+import os
+import re
+import sys
+
+root = sys.argv[1] if len(sys.argv) > 1 else "."
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
+ROOTS = ["src", "drivers/taper", "drivers/bench", "tests", "include"]
+PARTS = ["src/core", "src/chain", "src/sim", "src/analysis"]
+PRIVATE = re.compile(r"(_impl\.h$|^src/sim/sim\.h$)")
+
+
+def sources():
+    for top in ("src", "drivers", "tests"):
+        for d, _, files in os.walk(os.path.join(root, top)):
+            for f in files:
+                if f.endswith((".c", ".h")):
+                    yield os.path.relpath(os.path.join(d, f), root)
+
+
+def resolve(path, name):
+    for base in [os.path.dirname(path)] + ROOTS:
+        cand = os.path.normpath(os.path.join(base, name))
+        if os.path.exists(os.path.join(root, cand)):
+            return cand
+    return None
+
+
+graph, problems = {}, []
+for path in sorted(sources()):
+    with open(os.path.join(root, path), encoding="utf-8", errors="replace") as f:
+        names = INCLUDE.findall(f.read())
+    graph[path] = []
+    for name in names:
+        target = resolve(path, name)
+        if target is None or target == "include/taper.h":
+            continue
+        graph[path].append(target)
+        here, there = os.path.dirname(path), os.path.dirname(target)
+        unit_test = path.startswith("tests/unit/")
+        part = next((p for p in PARTS if path.startswith(p + "/")), None)
+        if part and there != here and there != "src/core":
+            problems.append(f"{path}: includes {target}, a header of another library part")
+        if not path.startswith("src/") and target.startswith("src/") and not unit_test:
+            problems.append(f"{path}: includes the library's internal {target} (use taper.h)")
+        if PRIVATE.search(target) and there != here and not unit_test:
+            problems.append(f"{path}: includes {target}, private to {there}")
+
+# Circles: depth-first search over the include graph.
+state = {}
+
+
+def visit(node, stack):
+    state[node] = 1
+    for nxt in graph.get(node, []):
+        if state.get(nxt) == 1:
+            problems.append("include circle: " + " -> ".join(stack[stack.index(nxt):] + [nxt])
+                            if nxt in stack else f"include circle through {nxt}")
+        elif state.get(nxt) is None:
+            visit(nxt, stack + [nxt])
+    state[node] = 2
+
+
+for node in graph:
+    if state.get(node) is None:
+        visit(node, [node])
+
+for p in problems:
+    print("FAIL:", p)
+print(f"layering: {len(graph)} files, {sum(map(len, graph.values()))} includes, "
+      f"{len(problems)} problems")
+sys.exit(1 if problems else 0)
