@@ -152,7 +152,10 @@ static int one_scene(const options *o, scene *sc)
         if (o->n_paths > 1) printf("! scene %s\n", scene_path(sc));
         scene_write(sc, stdout, 0);
         /* The echo is the record of what ran: without it, nothing runs. */
-        rc = check_stdout() == 0 ? run_scene(sc) : RUN_FAILED;
+        if (check_stdout() != 0)
+            rc = RUN_FAILED;
+        else
+            rc = scene_cfg(sc)->runs.swept ? sweep_run(sc) : run_scene(sc);
     }
     scene_free(sc);
     return rc;

@@ -22,7 +22,7 @@
 #include "results/plot.h"
 #include "results/table.h"
 #include "run/parallel.h"
-#include "run/sweep.h"
+#include "run/outdir.h"
 #include "util/text.h"
 
 #include <errno.h>
@@ -571,7 +571,6 @@ int run_write_reports(const scene *sc, report_point *points)
 int run_scene(const scene *sc)
 {
     const scene_config *cfg = scene_cfg(sc);
-    if (cfg->runs.swept) return sweep_run(sc);
     size_t n = cfg->runs.n;
     run *runs = calloc(n, sizeof *runs);
     if (!runs) return RUN_FAILED;
@@ -588,9 +587,9 @@ int run_scene(const scene *sc)
         ready |= runs[i].rc == RUN_COMPLETE;
     }
     /* The directories once a run is known to start: none for a scene the
-     * library rejects.  An earlier sweep's files there go (run/sweep.c). */
+     * library rejects.  An earlier sweep's files there go (run/outdir.c). */
     if (ready && (run_lock_dir(sc, cfg->output.dir, 0) != 0 ||
-                  sweep_clean_single(sc) != RUN_COMPLETE))
+                  outdir_clean(sc, NULL, NULL) != RUN_COMPLETE))
         for (size_t i = 0; i < n; i++) runs[i].rc = RUN_INPUT;
     for (size_t i = 0; i < n; i++)
         if (runs[i].rc == RUN_COMPLETE && prepare_dir(&runs[i]) != 0) runs[i].rc = RUN_INPUT;

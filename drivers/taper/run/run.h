@@ -41,8 +41,9 @@ void run_install_signals(void);
 /* The number of the first such signal received, 0 if none. */
 int run_interrupted(void);
 
-/* Runs every point of the scene into &output dir.  Returns a run_status.
- * A sweep (runs.swept) is run by run/sweep.c. */
+/* Runs a scene without a sweep (runs.swept 0) into &output dir; a sweep is
+ * run by sweep_run (run/sweep.c), which calls run_point for each of its
+ * runs.  Returns a run_status. */
 int run_scene(const scene *sc);
 
 /* &output dir created and locked for this process (flock on

@@ -14,6 +14,7 @@
 
 #include "results/analysis.h"
 #include "results/output.h"
+#include "run/outdir.h"
 #include "run/run.h"
 #include "util/text.h"
 
@@ -304,139 +305,17 @@ void sweep_compute(sweep *sw, size_t i, run_outcome *o)
     free(msg);
 }
 
-/* ---- earlier results in the output directory ------------------------------- */
+/* ---- earlier results in the output directory (run/outdir.c) ------------------ */
 
-/* The files a run directory of taper holds (and their temporaries). */
-static int run_file(const char *name)
+/* outdir_clean's test: NAME is a run of this sweep (kept). */
+static int is_run_of(const char *name, const void *data)
 {
-    static const char *const names[] = {"granules.tsv", "granules.partial.tsv", "scene.hash"};
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
-        size_t n = strlen(names[i]);
-        if (strcmp(name, names[i]) == 0) return 1;
-        /* .NAME.XXXXXX: out_open's temporary, left by a killed run */
-        if (name[0] == '.' && strncmp(name + 1, names[i], n) == 0 && name[n + 1] == '.') return 1;
-    }
-    return 0;
-}
-
-/* NAME=VALUE[,NAME=VALUE...] with NAME a variable a list sweeps. */
-static int looks_like_run(const char *name)
-{
-    const char *p = name;
-    for (;;) {
-        const char *eq = strchr(p, '=');
-        if (!eq || eq == p) return 0;
-        int known = 0;
-        for (size_t i = 0; i < scene_var_count() && !known; i++)
-            known = scene_var_takes_list(i) && strlen(scene_var_name(i)) == (size_t)(eq - p) &&
-                    strncmp(scene_var_name(i), p, (size_t)(eq - p)) == 0;
-        if (!known) return 0;
-        const char *comma = strchr(eq, ',');
-        if (eq[1] == '\0' || eq[1] == ',') return 0;
-        if (!comma) return 1;
-        p = comma + 1;
-    }
-}
-
-/* Removes dir if it holds only a run's files; 1 removed, 0 kept. */
-static int remove_run_dir(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return 0;
-    struct dirent *e;
-    int only_ours = 1;
-    while ((e = readdir(d)) != NULL) {
-        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
-        if (!run_file(e->d_name)) only_ours = 0;
-    }
-    if (only_ours) {
-        rewinddir(d);
-        while ((e = readdir(d)) != NULL) {
-            if (!run_file(e->d_name)) continue;
-            char *p = text_printf("%s/%s", dir, e->d_name);
-            if (p) unlink(p);
-            free(p);
-        }
-    }
-    closedir(d);
-    return only_ours && rmdir(dir) == 0;
-}
-
-/* Temporaries a killed run left in its directory (.granules.tsv.XXXXXX). */
-static void remove_temporaries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return;
-    struct dirent *e;
-    while ((e = readdir(d)) != NULL) {
-        if (e->d_name[0] != '.' || !run_file(e->d_name)) continue;
-        char *p = text_printf("%s/%s", dir, e->d_name);
-        if (p) unlink(p);
-        free(p);
-    }
-    closedir(d);
-}
-
-static int is_run_of(const sweep *sw, const char *name)
-{
-    for (size_t i = 0; sw && i < sw->n; i++)
+    const sweep *sw = data;
+    for (size_t i = 0; i < sw->n; i++)
         if (strcmp(sw->items[i].name, name) == 0) return 1;
     return 0;
 }
 
-/* The sweep-level files an earlier sweep (or run) may have left. */
-static const char *const sweep_files[] = {"sweep.tsv", "runs.tsv", "fits.tsv", "table.tsv",
-                                          "figure.tsv", "inset.tsv", "figure.gp", "figure.png"};
-
-/* Removes what an earlier sweep (or single run) left in DIR that is not a
- * run of sw (sw NULL: a single run, which keeps its granules files).  Run
- * directories holding other files than a run's are kept, with a warning. */
-static int clean_dir(const scene *sc, const sweep *sw)
-{
-    const char *dir = scene_cfg(sc)->output.dir;
-    char *msg = NULL;
-    int rc = RUN_COMPLETE;
-    for (size_t i = 0; i < sizeof sweep_files / sizeof sweep_files[0]; i++)
-        if (out_remove(dir, sweep_files[i], &msg) != 0) {
-            fprintf(stderr, "%s: %s\n", scene_path(sc), msg ? msg : "out of memory");
-            free(msg);
-            msg = NULL;
-            rc = RUN_FAILED;
-        }
-    if (sw) {
-        /* A single run's own result in DIR is not part of a sweep. */
-        out_remove(dir, "granules.tsv", &msg);
-        free(msg);
-        msg = NULL;
-        out_remove(dir, "granules.partial.tsv", &msg);
-        free(msg);
-        msg = NULL;
-    }
-    DIR *d = opendir(dir);
-    if (!d) return rc;
-    struct dirent *e;
-    size_t removed = 0;
-    while ((e = readdir(d)) != NULL) {
-        if (!looks_like_run(e->d_name) || is_run_of(sw, e->d_name)) continue;
-        char *sub = text_printf("%s/%s", dir, e->d_name);
-        struct stat st;
-        if (sub && stat(sub, &st) == 0 && S_ISDIR(st.st_mode)) {
-            if (remove_run_dir(sub))
-                removed++;
-            else
-                fprintf(stderr, "%s: warning: %s is a run of another sweep and holds other files: "
-                        "kept (not part of this sweep's results)\n", scene_path(sc), sub);
-        }
-        free(sub);
-    }
-    closedir(d);
-    if (removed)
-        printf("! removed %zu run director%s of an earlier sweep from %s\n", removed,
-               removed == 1 ? "y" : "ies", dir);
-    return rc;
-}
-
-int sweep_clean_single(const scene *sc) { return clean_dir(sc, NULL); }
 
 /* ---- printing in the order of the sweep, progress ---------------------------- */
 
@@ -854,7 +733,7 @@ static int prepare(const scene *sc, sweep *sw)
     const scene_config *cfg = scene_cfg(sc);
     /* Created and locked: parts of one sweep share the lock (--part). */
     if (run_lock_dir(sc, cfg->output.dir, n_parts > 1) != 0) return RUN_INPUT;
-    int rc = clean_dir(sc, sw);
+    int rc = outdir_clean(sc, is_run_of, sw);
     if (rc != RUN_COMPLETE) return rc;
     for (size_t i = 0; i < sw->n; i++) {
         const sweep_item *it = &sw->items[i];
@@ -878,7 +757,7 @@ static int prepare(const scene *sc, sweep *sw)
                 continue;
             }
         }
-        remove_temporaries(it->dir);
+        outdir_remove_temporaries(it->dir);
         if (reusable(sw, i)) {
             sw->items[i].reused = 1;
             sw->items[i].state = DONE;

@@ -40,10 +40,6 @@ int sweep_run(const scene *sc);
  * and figure (the merge).  Call before sweep_run. */
 void sweep_set_part(size_t part, size_t parts);
 
-/* A scene of one run writes into DIR itself: the files and run
- * directories of an earlier sweep there are removed.  A run_status. */
-int sweep_clean_single(const scene *sc);
-
 /* ---- for run/mpi.c ------------------------------------------------------ */
 
 /* Other ranks that compute runs (MPI).  Rank 0 calls serve() between waits
