@@ -438,15 +438,38 @@ double scene_row_value(const scene_config *cfg, size_t i, size_t j)
     return x;
 }
 
-double scene_param_value(const scene_config *cfg, scene_chain_param p, size_t point)
+/* ---- numbers as scene text ------------------------------------------------- */
+
+void scene_format_real(double x, char buf[SCENE_REAL_TEXT])
 {
-    const scene_reals *r = p == SCENE_PARAM_Q ? &cfg->chain.q : &cfg->chain.s;
-    if (r->n == 0) return NAN;
-    size_t row = (size_t)scene_var_find("chain", p == SCENE_PARAM_Q ? "q" : "s");
-    for (size_t k = 0; k < cfg->runs.n_swept; k++)
-        if (cfg->runs.swept_row[k] == row) return r->v[scene_point_index(cfg, point, k)];
-    /* Not resolved yet (before scene_validate): the list by point. */
-    return r->v[r->n > 1 && point < r->n ? point : 0];
+    /* Shortest representation that reads back exactly: tidy scenes, and
+     * the echo re-parses to the same doubles.  At most 24 characters
+     * (%.17g of a double), so buf cannot overflow. */
+    const size_t size = SCENE_REAL_TEXT;
+    int prec = 15;
+    snprintf(buf, size, "%.*g", prec, x);
+    if (strtod(buf, NULL) == x) {
+        /* 15 digits suffice: the shortest from 1 up (tidy values are short) */
+        for (prec = 1; prec < 15; prec++) {
+            snprintf(buf, size, "%.*g", prec, x);
+            if (strtod(buf, NULL) == x) break;
+        }
+    } else {
+        /* a value with 16 or 17 significant digits (most computed ones):
+         * two tries rather than 17, so that long lists echo quickly */
+        for (prec = 16; prec < 17; prec++) {
+            snprintf(buf, size, "%.*g", prec, x);
+            if (strtod(buf, NULL) == x) break;
+        }
+    }
+    /* %g switches to an exponent once it has fewer digits than the integer
+     * part: print 20 rather than 2e+01, keep 1e+06 and beyond short. */
+    double mag = fabs(x);
+    if (mag >= 1.0 && mag < 1e6) {
+        int digits = (int)floor(log10(mag)) + 1;
+        if (digits > prec) prec = digits;
+    }
+    snprintf(buf, size, "%.*g", prec, x);
 }
 
 /* ---- diagnostics -------------------------------------------------------------- */

@@ -205,12 +205,15 @@ typedef struct scene_config {
     scene_runs runs;
 } scene_config;
 
-#define SCENE_REAL_TEXT_SIZE 32 /* = SCENE_REAL_TEXT (defined below) */
+/* Shortest %g text of x that reads back to the same double (at most 24
+ * characters: SCENE_REAL_TEXT holds any).  scene.c. */
+#define SCENE_REAL_TEXT 32
+void scene_format_real(double x, char buf[SCENE_REAL_TEXT]);
+
+/* ---- the points of a sweep (scene_sweep.c) ------------------------------------ */
 
 /* The value of s or q at run `point` (its only value without a sweep). */
 double scene_param_value(const scene_config *cfg, scene_chain_param p, size_t point);
-
-/* ---- the points of a sweep (scene_sweep.c) ------------------------------------ */
 
 /* Index into the list of swept variable k (0 <= k < runs.n_swept) at run
  * `point`: grid: the last variable varies fastest; zip: `point`. */
@@ -223,7 +226,7 @@ int scene_swept_integer(const scene_config *cfg, size_t k);
 /* The value of swept variable k at `point` as text: %lld for integers,
  * scene_format_real for reals. */
 void scene_swept_text(const scene_config *cfg, size_t point, size_t k,
-                      char buf[SCENE_REAL_TEXT_SIZE]);
+                      char buf[SCENE_REAL_TEXT]);
 /* The name of run `point`: "NAME=VALUE" for each swept variable, joined by
  * ',' ("s=0.1", "q=0.05,exponent=2.5"); "" without a sweep.  malloc'd. */
 char *scene_point_name(const scene_config *cfg, size_t point);
@@ -335,11 +338,6 @@ void scene_write_doc(const scene *sc, FILE *fp);
 /* Prints the value of "group.key" in namelist syntax and a newline
  * (taper --get).  0, or -1 for an unknown variable (nothing printed). */
 int scene_print_value(const scene *sc, const char *name, FILE *fp);
-
-/* Shortest %g text of x that reads back to the same double (at most 24
- * characters: SCENE_REAL_TEXT holds any). */
-#define SCENE_REAL_TEXT 32
-void scene_format_real(double x, char buf[SCENE_REAL_TEXT]);
 
 /* ---- the table, for generic walkers (tests/bindings/scene_dump.c) ----------------- */
 

@@ -76,6 +76,17 @@ size_t scene_point_index(const scene_config *cfg, size_t point, size_t k)
     return (point / stride) % runs->swept_len[k];
 }
 
+double scene_param_value(const scene_config *cfg, scene_chain_param p, size_t point)
+{
+    const scene_reals *r = p == SCENE_PARAM_Q ? &cfg->chain.q : &cfg->chain.s;
+    if (r->n == 0) return NAN;
+    size_t row = (size_t)scene_var_find("chain", p == SCENE_PARAM_Q ? "q" : "s");
+    for (size_t k = 0; k < cfg->runs.n_swept; k++)
+        if (cfg->runs.swept_row[k] == row) return r->v[scene_point_index(cfg, point, k)];
+    /* Not resolved yet (before scene_validate): the list by point. */
+    return r->v[r->n > 1 && point < r->n ? point : 0];
+}
+
 double scene_swept_value(const scene_config *cfg, size_t point, size_t k)
 {
     if (k >= cfg->runs.n_swept) return NAN;
@@ -93,11 +104,11 @@ int scene_swept_integer(const scene_config *cfg, size_t k)
 }
 
 void scene_swept_text(const scene_config *cfg, size_t point, size_t k,
-                      char buf[SCENE_REAL_TEXT_SIZE])
+                      char buf[SCENE_REAL_TEXT])
 {
     double x = scene_swept_value(cfg, point, k);
     if (scene_swept_integer(cfg, k))
-        snprintf(buf, SCENE_REAL_TEXT_SIZE, "%lld", (long long)x);
+        snprintf(buf, SCENE_REAL_TEXT, "%lld", (long long)x);
     else
         scene_format_real(x, buf);
 }
@@ -109,7 +120,7 @@ char *scene_point_name(const scene_config *cfg, size_t point)
     FILE *fp = open_memstream(&text, &len);
     if (!fp) return NULL;
     for (size_t k = 0; k < cfg->runs.n_swept; k++) {
-        char num[SCENE_REAL_TEXT_SIZE];
+        char num[SCENE_REAL_TEXT];
         scene_swept_text(cfg, point, k, num);
         fprintf(fp, "%s%s=%s", k ? "," : "", scene_swept_name(cfg, k), num);
     }
