@@ -3,11 +3,12 @@ reduced masses of its binary collisions (no theory times, no integration)."""
 
 from __future__ import annotations
 
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
 from . import _core
+from ._columns import Columns
 
 __all__ = ["Chain", "chain", "CHAIN_COLUMNS"]
 
@@ -17,7 +18,7 @@ CHAIN_COLUMNS = ("k", "R", "m", "X0", "r", "mu")
 Real = Union[int, float]
 
 
-class Chain:
+class Chain(Columns):
     """A chain as taper_chain_alloc builds it.
 
     Columns (numpy arrays of length N, granule k at index k-1): ``k``
@@ -40,36 +41,6 @@ class Chain:
         self.profile = profile
         self.exponent = float(exponent)
         self.settings: Dict[str, Any] = dict(settings or {})
-
-    @property
-    def columns(self) -> Tuple[str, ...]:
-        return tuple(self._columns)
-
-    def __getitem__(self, name: str) -> np.ndarray:
-        return self._columns[name]
-
-    def __getattr__(self, name: str) -> np.ndarray:
-        columns = self.__dict__.get("_columns")
-        if columns is not None and name in columns:
-            return columns[name]
-        raise AttributeError(f"Chain has no column or attribute {name!r}")
-
-    def __contains__(self, name: object) -> bool:
-        return name in self._columns
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._columns)
-
-    def __len__(self) -> int:
-        """N, the number of granules."""
-        return len(self._columns["k"])
-
-    @property
-    def n_granules(self) -> int:
-        return len(self)
-
-    def __dir__(self) -> List[str]:
-        return sorted(set(super().__dir__()) | set(self._columns))
 
     def __repr__(self) -> str:
         return f"<taper.Chain {self.profile} N={len(self)} exponent={self.exponent:g}>"

@@ -7,11 +7,12 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, List, Mapping, Optional, Union
 
 import numpy as np
 
 from . import _core
+from ._columns import Columns
 
 __all__ = ["Result", "read_granules", "COLUMNS", "THEORY_COLUMNS"]
 
@@ -24,7 +25,7 @@ THEORY_COLUMNS = ("k", "R", "m", "X0", "theory_v", "theory_T", "theory_t")
 PathLike = Union[str, "os.PathLike[str]"]
 
 
-class Result:
+class Result(Columns):
     """One chain's per-granule columns and what the run reported.
 
     Columns are numpy arrays of length N, granule k at index k-1: ``k``
@@ -77,38 +78,6 @@ class Result:
                    status=d.get("status", "ok"), message=d.get("message", ""),
                    warnings=d.get("warnings"), x_final=d.get("x_final"),
                    v_final=d.get("v_final"), source=d.get("scene", source))
-
-    # -- columns --------------------------------------------------------------
-    @property
-    def columns(self) -> tuple:
-        """The names of the columns, in granules.tsv's order."""
-        return tuple(self._columns)
-
-    def __getitem__(self, name: str) -> np.ndarray:
-        return self._columns[name]
-
-    def __getattr__(self, name: str) -> np.ndarray:
-        columns = self.__dict__.get("_columns")
-        if columns is not None and name in columns:
-            return columns[name]
-        raise AttributeError(f"Result has no column or attribute {name!r}")
-
-    def __contains__(self, name: object) -> bool:
-        return name in self._columns
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._columns)
-
-    def __len__(self) -> int:
-        """N, the number of granules."""
-        return len(self._columns["k"]) if "k" in self._columns else 0
-
-    @property
-    def n_granules(self) -> int:
-        return len(self)
-
-    def __dir__(self) -> List[str]:
-        return sorted(set(super().__dir__()) | set(self._columns))
 
     # -- conservation ------------------------------------------------------------
     @property
