@@ -48,6 +48,7 @@
 #define TAPER_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -130,9 +131,11 @@ typedef enum taper_profile {
     TAPER_FORWARD_LINEAR = 2,        /* R_k = 1 - S (k-1),  S > 0, N < 1 + 1/S   */
     TAPER_BACKWARD_EXPONENTIAL = 3,  /* R_k = (1-q)^(1-k),  0 < q < 1            */
     TAPER_FORWARD_EXPONENTIAL = 4,   /* R_k = (1+q)^(1-k),  q > 0                */
-    TAPER_CUSTOM = 5                 /* R_k given, R_1 = 1 (the unit of length)  */
+    TAPER_CUSTOM = 5,                /* R_k given, R_1 = 1 (the unit of length)  */
+    TAPER_DECORATED = 6              /* R_k = pattern[(k-1) mod P], pattern[0] = 1:
+                                        small granules between large ones       */
 } taper_profile;
-#define TAPER_N_PROFILES 6
+#define TAPER_N_PROFILES 7
 
 /* "monodisperse", "backward_linear", "forward_linear",
  * "backward_exponential", "forward_exponential", "custom": the one list of
@@ -178,6 +181,112 @@ TAPER_API double taper_chain_spec_exponent(const taper_chain_spec *spec);
 /* The radii set (owned by the spec) and their number; NULL, 0 if none. */
 TAPER_API const double *taper_chain_spec_radii(const taper_chain_spec *spec, size_t *n);
 
+/* ---- Beyond the paper: ends, striker, static load, losses, materials ----
+ *
+ * Every setting below defaults to the paper's idealisation (free ends, the
+ * impulse v_1 = 1, no load, no losses, one material); with all of them at
+ * their defaults a chain is exactly the one above.  Physics and sources of
+ * each model: docs/physics.md.  All values are in the rescaled units of
+ * eq. (5) of arXiv:0905.4512 (lengths in R_1, velocities in the impulse or
+ * striker velocity); taper_unit_scale converts them to SI. */
+
+/* Decorated profile: the radii of one period, pattern[0] = 1 (the unit of
+ * length), every one finite and > 0; P >= 1.  NULL, 0 removes it.  Used by
+ * TAPER_DECORATED only (taper_chain_spec_check refuses it otherwise). */
+TAPER_API taper_status taper_chain_spec_set_pattern(taper_chain_spec *spec, const double *pattern,
+                                                    size_t p, taper_error *err);
+TAPER_API const double *taper_chain_spec_pattern(const taper_chain_spec *spec, size_t *p);
+
+/* Random perturbation of a chain, reproducible on every machine: the radius
+ * (or the mass) of granule k >= 2 is multiplied by 1 + amplitude u_k with
+ * u_k uniform in [-1, 1) drawn from (seed, k) alone, so that granule k gets
+ * the same u_k whatever N and whichever profile.  Granule 1 stays the unit.
+ * 0 <= amplitude < 1; amplitude 0 (the default) switches it off. */
+typedef enum taper_disorder {
+    TAPER_DISORDER_RADIUS = 0,
+    TAPER_DISORDER_MASS = 1
+} taper_disorder;
+#define TAPER_N_DISORDERS 2
+/* "radius", "mass"; NULL outside the enum. */
+TAPER_API const char *taper_disorder_name(taper_disorder kind);
+TAPER_API taper_status taper_disorder_from_name(const char *name, taper_disorder *kind,
+                                                taper_error *err);
+TAPER_API taper_status taper_chain_spec_set_disorder(taper_chain_spec *spec, taper_disorder kind,
+                                                     double amplitude, uint64_t seed,
+                                                     taper_error *err);
+TAPER_API taper_disorder taper_chain_spec_disorder(const taper_chain_spec *spec);
+TAPER_API double taper_chain_spec_disorder_amplitude(const taper_chain_spec *spec);
+TAPER_API uint64_t taper_chain_spec_disorder_seed(const taper_chain_spec *spec);
+
+/* Mixed chains: per-granule density and contact compliance c = (1 - nu^2)/E,
+ * each relative to granule 1's (both arrays are divided by their first
+ * entry), n == n_granules, every entry finite and > 0.  Masses become
+ * m_k = rho_k R_k^3 and contact factors r_k 2 c_1 / (c_k + c_{k+1}) (Hertz:
+ * 1/E* = c_k + c_{k+1}).  NULL, 0 removes them (one material). */
+TAPER_API taper_status taper_chain_spec_set_materials(taper_chain_spec *spec,
+                                                      const double *density,
+                                                      const double *compliance, size_t n,
+                                                      taper_error *err);
+
+/* The ends of a chain. */
+typedef enum taper_end {
+    TAPER_LEFT = 0,   /* granule 1's end, where the pulse starts              */
+    TAPER_RIGHT = 1   /* granule N's end                                       */
+} taper_end;
+#define TAPER_N_ENDS 2
+typedef enum taper_boundary {
+    TAPER_END_FREE = 0,  /* nothing (under a static load: the load pushes it)  */
+    TAPER_END_WALL = 1   /* a fixed flat wall touching the end granule at rest */
+} taper_boundary;
+#define TAPER_N_BOUNDARIES 2
+/* "free", "wall"; NULL outside the enum. */
+TAPER_API const char *taper_boundary_name(taper_boundary boundary);
+TAPER_API taper_status taper_boundary_from_name(const char *name, taper_boundary *boundary,
+                                                taper_error *err);
+/* A wall is a Hertz contact with a half-space: eq. (7) with R_{k+1} -> oo
+ * gives the factor sqrt(2 R_k), times 2 c_1 / (c_k + c_wall) for a wall of
+ * compliance c_wall >= 0 relative to granule 1's (0: rigid; 1: the wall is
+ * of granule 1's material).  A left wall and a striker exclude each other
+ * (taper_chain_spec_check). */
+TAPER_API taper_status taper_chain_spec_set_end(taper_chain_spec *spec, taper_end end,
+                                                taper_boundary boundary, double compliance,
+                                                taper_error *err);
+TAPER_API taper_boundary taper_chain_spec_end(const taper_chain_spec *spec, taper_end end);
+TAPER_API double taper_chain_spec_end_compliance(const taper_chain_spec *spec, taper_end end);
+
+/* A striker (granule 0) of radius > 0 (relative to R_1), density and
+ * compliance relative to granule 1's, hits granule 1 with unit velocity:
+ * granule 1 starts at rest.  Its mass is density radius^3 and its contact
+ * with granule 1 follows eq. (7) and the compliances.  radius 0 (the
+ * default) removes it: the impulse v_1 = 1 of the paper. */
+TAPER_API taper_status taper_chain_spec_set_striker(taper_chain_spec *spec, double radius,
+                                                    double density, double compliance,
+                                                    taper_error *err);
+TAPER_API double taper_chain_spec_striker_radius(const taper_chain_spec *spec);
+
+/* Precompression: a static compressive force F0 >= 0 through the chain
+ * (rescaled force, eq. (5)).  Every contact starts at its static overlap
+ * delta_k with r_k delta_k^(n-1) = F0; a free end is pushed by the constant
+ * load F0, a wall holds its end by its own overlap.  The state integrated
+ * is the displacement from that equilibrium, so granules ahead of the pulse
+ * are exactly at rest.  0 (the default): the paper's just-touching chain. */
+TAPER_API taper_status taper_chain_spec_set_load(taper_chain_spec *spec, double f0,
+                                                 taper_error *err);
+TAPER_API double taper_chain_spec_load(const taper_chain_spec *spec);
+
+/* Viscoelastic contacts (Kuwabara-Kono; for n = 5/2 the damping force is
+ * proportional to z^(1/2) dz/dt): every contact pushes with
+ * r_k (z^(n-1) + damping d(z^(n-1))/dt) while that is > 0, never pulls.
+ * damping >= 0 is a time (rescaled); 0: elastic. */
+TAPER_API taper_status taper_chain_spec_set_damping(taper_chain_spec *spec, double damping,
+                                                    taper_error *err);
+TAPER_API double taper_chain_spec_damping(const taper_chain_spec *spec);
+/* Hydrodynamic friction: a force -drag v_k on every granule (and the
+ * striker); drag >= 0; 0: none. */
+TAPER_API taper_status taper_chain_spec_set_drag(taper_chain_spec *spec, double drag,
+                                                 taper_error *err);
+TAPER_API double taper_chain_spec_drag(const taper_chain_spec *spec);
+
 /* Checks the relations between the settings, without building the chain:
  * TAPER_OK, or TAPER_EINVAL naming the setting to change. */
 TAPER_API taper_status taper_chain_spec_check(const taper_chain_spec *spec, taper_error *err);
@@ -203,6 +312,54 @@ TAPER_API const double *taper_chain_contact(const taper_chain *chain);  /* r_k, 
 /* Centre of granule k in the uncompressed chain, X0(1) = 0,
  * X0(k) = sum_{j<k} (R_j + R_{j+1})  (the paper's X_0 for every profile). */
 TAPER_API const double *taper_chain_rest_position(const taper_chain *chain);
+
+/* What the options above made of the chain (NaN where absent). */
+TAPER_API taper_boundary taper_chain_end(const taper_chain *chain, taper_end end);
+/* Contact factor of the wall at `end` (NaN for a free end). */
+TAPER_API double taper_chain_end_contact(const taper_chain *chain, taper_end end);
+TAPER_API double taper_chain_striker_radius(const taper_chain *chain);
+TAPER_API double taper_chain_striker_mass(const taper_chain *chain);
+/* Contact factor of the pair (striker, granule 1). */
+TAPER_API double taper_chain_striker_contact(const taper_chain *chain);
+TAPER_API double taper_chain_load(const taper_chain *chain);      /* F0 (0: none)       */
+TAPER_API double taper_chain_damping(const taper_chain *chain);   /* 0: elastic         */
+TAPER_API double taper_chain_drag(const taper_chain *chain);      /* 0: none            */
+/* NULL when the binary collision approximation (and so taper_theory_compute
+ * and taper_sim_theory) describes this chain's first pass; otherwise why
+ * not (for example "dissipation: the binary collision approximation of
+ * arXiv:0905.4512 is elastic"), and the theory columns are NaN.  A striker,
+ * mixed materials, disorder and walls keep the theory of the first pass; a
+ * decorated chain uses the effective chain of docs/physics.md. */
+TAPER_API const char *taper_chain_theory_note(const taper_chain *chain);
+
+/* ------------------------------------------------------------------ */
+/* Real units (Hertz contacts, n = 5/2)                               */
+/* ------------------------------------------------------------------ */
+/*
+ * The rescaling of eq. (5): y = R_1 alpha^(1/n) x, tau = (R_1/V_1)
+ * alpha^(1/n) t, with alpha of eq. (4) and a = sqrt(2) E / (3 (1 - nu^2))
+ * (Hertz, same material: a r_k of eq. (7) is (4/3) E* sqrt(R*)).
+ */
+typedef enum taper_dimension {
+    TAPER_DIM_LENGTH = 0,    /* m    */
+    TAPER_DIM_TIME = 1,      /* s    */
+    TAPER_DIM_VELOCITY = 2,  /* m/s  */
+    TAPER_DIM_MASS = 3,      /* kg   */
+    TAPER_DIM_FORCE = 4,     /* N    */
+    TAPER_DIM_ENERGY = 5,    /* J    */
+    TAPER_DIM_IMPULSE = 6    /* N s  */
+} taper_dimension;
+#define TAPER_N_DIMENSIONS 7
+/* "length", ...; and the SI unit "m", "s", "m/s", "kg", "N", "J", "N s".
+ * NULL outside the enum. */
+TAPER_API const char *taper_dimension_name(taper_dimension dim);
+TAPER_API const char *taper_dimension_unit(taper_dimension dim);
+/* The SI value of one rescaled unit of `dim` for granule 1 of radius [m],
+ * Young's modulus [Pa], Poisson ratio, density [kg/m^3] and impulse (or
+ * striker) velocity [m/s].  NaN for an argument out of its physical range
+ * (radius, young, density, velocity > 0, -1 < poisson < 1/2). */
+TAPER_API double taper_unit_scale(taper_dimension dim, double young, double poisson,
+                                  double density, double radius, double velocity);
 
 /* ------------------------------------------------------------------ */
 /* The equations of motion, for callers' own integrators               */
@@ -336,6 +493,28 @@ TAPER_API taper_status taper_solver_spec_set_t_max(taper_solver_spec *spec, doub
 /* Stop after this many internal steps with a partial result; 0: no limit. */
 TAPER_API taper_status taper_solver_spec_set_max_steps(taper_solver_spec *spec, long max_steps,
                                                        taper_error *err);
+/* Integrate until t_end even after every observable is known (to follow a
+ * reflection from a wall, or for the sampler); the run then ends with
+ * TAPER_OK at t_end.  0 (the default): stop once the observables are
+ * known. */
+TAPER_API taper_status taper_solver_spec_set_t_end(taper_solver_spec *spec, double t_end,
+                                                   taper_error *err);
+TAPER_API double taper_solver_spec_t_end(const taper_solver_spec *spec);
+
+/* Called at t = 0, interval, 2 interval, ... while the run lasts, with the
+ * sim positioned at that time: inside the call taper_sim_time,
+ * taper_sim_state, taper_sim_striker_state and taper_sim_forces read the
+ * state at the sample time (interpolated by CVODE to its own accuracy,
+ * without stopping the integration).  Return non-zero to stop the run
+ * (TAPER_EINTERRUPTED). */
+typedef struct taper_sim taper_sim;
+typedef int (*taper_sample_fn)(const taper_sim *sim, void *user);
+/* interval > 0 with a function, or fn NULL to remove the sampler. */
+TAPER_API taper_status taper_solver_spec_set_sampler(taper_solver_spec *spec, double interval,
+                                                     taper_sample_fn fn, void *user,
+                                                     taper_error *err);
+TAPER_API double taper_solver_spec_sample_interval(const taper_solver_spec *spec);
+
 /* Either may be NULL (none). */
 TAPER_API void taper_solver_spec_set_monitor(taper_solver_spec *spec, taper_monitor_fn monitor,
                                              void *user);
@@ -384,15 +563,33 @@ typedef enum taper_statistic {
     TAPER_STAT_MOMENTUM_ERROR = 12, /* |P(t_final) - P(0)| / max(P(0),
                                        sum m_k |v_k|): relative to the momentum
                                        in motion                               */
-    TAPER_STAT_COMPLETE = 13       /* 1 when every requested observable is known */
+    TAPER_STAT_COMPLETE = 13,      /* 1 when every requested observable is known */
+    /* The energy budget at t_final (docs/physics.md): every granule carries
+     * its kinetic energy and half of each closed contact's (a wall's
+     * contact: all of it); with a static load, energies are measured from
+     * the precompressed equilibrium. */
+    TAPER_STAT_ENERGY_INITIAL = 14,     /* E(0)                                  */
+    TAPER_STAT_ENERGY_DISSIPATED = 15,  /* by damping and drag until t_final     */
+    TAPER_STAT_ENERGY_TRANSMITTED = 16, /* in the far group: granules from the
+                                           last open contact to N, when they
+                                           move away or press on a right wall  */
+    TAPER_STAT_ENERGY_REFLECTED = 17,   /* in the near group (striker, granule 1
+                                           up to the first open contact) when it
+                                           moves back                          */
+    TAPER_STAT_ENERGY_IN_CHAIN = 18,    /* the rest                              */
+    TAPER_STAT_WALL_PEAK_FORCE_LEFT = 19,  /* largest wall force (NaN: no wall)  */
+    TAPER_STAT_WALL_PEAK_TIME_LEFT = 20,   /* its time (a root of the wall
+                                              contact's rate: exact)             */
+    TAPER_STAT_WALL_IMPULSE_LEFT = 21,     /* integral of the wall force         */
+    TAPER_STAT_WALL_PEAK_FORCE_RIGHT = 22,
+    TAPER_STAT_WALL_PEAK_TIME_RIGHT = 23,
+    TAPER_STAT_WALL_IMPULSE_RIGHT = 24
 } taper_statistic;
-#define TAPER_N_STATISTICS 14
+#define TAPER_N_STATISTICS 25
 
 /* "steps", "rhs_evals", ..., "complete" (the names of granules.tsv's
  * header); NULL outside the enum. */
 TAPER_API const char *taper_statistic_name(taper_statistic which);
-
-typedef struct taper_sim taper_sim;
 
 /* Prepares a run of `chain` (which must outlive the sim), and computes its
  * binary collision theory once (taper_sim_theory).  Copies spec (NULL: the
@@ -430,6 +627,17 @@ TAPER_API double taper_sim_statistic(const taper_sim *sim, taper_statistic which
  * for a NULL sim or one that has not run. */
 TAPER_API taper_status taper_sim_state(const taper_sim *sim, double *x, double *v,
                                        taper_error *err);
+/* The time the state readers see: t_final after a run, the sample time
+ * inside a sampler's call. */
+TAPER_API double taper_sim_time(const taper_sim *sim);
+/* Displacement and velocity of the striker (TAPER_EINVAL if none). */
+TAPER_API taper_status taper_sim_striker_state(const taper_sim *sim, double *x, double *v,
+                                               taper_error *err);
+/* Contact forces (caller-owned array of N + 1): force[k] of the contact
+ * (k, k+1) for k = 1..N-1, force[0] that on granule 1 from the left (the
+ * striker, a wall or the load; 0 when free), force[N] that on granule N from
+ * the right (a wall or the load).  Damping included; never negative. */
+TAPER_API taper_status taper_sim_forces(const taper_sim *sim, double *force, taper_error *err);
 
 
 /* --- Asymptotic laws (paper Secs. III-IV) --- */
