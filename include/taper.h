@@ -138,8 +138,8 @@ typedef enum taper_profile {
 #define TAPER_N_PROFILES 7
 
 /* "monodisperse", "backward_linear", "forward_linear",
- * "backward_exponential", "forward_exponential", "custom": the one list of
- * profile names (scene files, bindings and the bench all take it from
+ * "backward_exponential", "forward_exponential", "custom", "decorated": the
+ * one list of profile names (scene files, bindings and the bench all take it from
  * here).  NULL for a value outside the enum, so that
  * `for (i = 0; taper_profile_name(i); i++)` walks them. */
 TAPER_API const char *taper_profile_name(taper_profile profile);
@@ -227,6 +227,11 @@ TAPER_API taper_status taper_chain_spec_set_materials(taper_chain_spec *spec,
                                                       const double *density,
                                                       const double *compliance, size_t n,
                                                       taper_error *err);
+/* The materials set (owned by the spec, already relative to granule 1's:
+ * density[0] = compliance[0] = 1) and their number; NULL, NULL, 0 if none.
+ * Either output may be NULL. */
+TAPER_API size_t taper_chain_spec_materials(const taper_chain_spec *spec, const double **density,
+                                            const double **compliance);
 
 /* The ends of a chain. */
 typedef enum taper_end {
@@ -263,6 +268,8 @@ TAPER_API taper_status taper_chain_spec_set_striker(taper_chain_spec *spec, doub
                                                     double density, double compliance,
                                                     taper_error *err);
 TAPER_API double taper_chain_spec_striker_radius(const taper_chain_spec *spec);
+TAPER_API double taper_chain_spec_striker_density(const taper_chain_spec *spec);
+TAPER_API double taper_chain_spec_striker_compliance(const taper_chain_spec *spec);
 
 /* Precompression: a static compressive force F0 >= 0 through the chain
  * (rescaled force, eq. (5)).  Every contact starts at its static overlap
@@ -288,7 +295,15 @@ TAPER_API taper_status taper_chain_spec_set_drag(taper_chain_spec *spec, double 
 TAPER_API double taper_chain_spec_drag(const taper_chain_spec *spec);
 
 /* Checks the relations between the settings, without building the chain:
- * TAPER_OK, or TAPER_EINVAL naming the setting to change. */
+ * TAPER_OK, or TAPER_EINVAL naming the setting to change.  The fields the
+ * options above name: "left_end", "right_end", "left_wall_compliance",
+ * "right_wall_compliance" (set_end), "striker_radius", "striker_density",
+ * "striker_compliance", "load", "damping", "drag", "materials", "pattern",
+ * "disorder", "disorder_amplitude".  Relations refused: a pattern without
+ * the decorated profile or the reverse, pattern[0] != 1, materials for
+ * another number of granules than n_granules, a wall compliance on a free
+ * end, striker density or compliance without a striker, a striker with a
+ * left wall. */
 TAPER_API taper_status taper_chain_spec_check(const taper_chain_spec *spec, taper_error *err);
 
 typedef struct taper_chain taper_chain;

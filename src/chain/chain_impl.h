@@ -8,7 +8,9 @@
 
 #include "core/taper_internal.h"
 
-/* Settings of a chain; every value in its range (the setters see to it). */
+/* Settings of a chain; every value in its range (the setters see to it).
+ * The options after `n_radii` are those of issue 15 (taper.h, "Beyond the
+ * paper"); each default is the paper's idealisation. */
 struct taper_chain_spec {
     taper_profile profile;
     size_t n_granules;  /* N                                             */
@@ -16,7 +18,25 @@ struct taper_chain_spec {
     double exponent;    /* contact exponent n                             */
     double *radii;      /* owned copy, n_radii of them; NULL: none        */
     size_t n_radii;
+    double *pattern;    /* decorated profile: one period; NULL: none      */
+    size_t n_pattern;
+    taper_disorder disorder;      /* what the disorder multiplies         */
+    double disorder_amplitude;    /* 0 <= a < 1; 0: none                  */
+    uint64_t disorder_seed;
+    double *density;    /* mixed chains, relative to granule 1's; NULL:   */
+    double *compliance; /* one material.  n_materials of each             */
+    size_t n_materials;
+    taper_boundary end[TAPER_N_ENDS];
+    double end_compliance[TAPER_N_ENDS]; /* of a wall, relative to c_1    */
+    double striker_radius;        /* 0: no striker, the impulse v_1 = 1   */
+    double striker_density, striker_compliance;
+    double load;        /* static force F0                                */
+    double damping;     /* Kuwabara-Kono time                             */
+    double drag;        /* hydrodynamic friction coefficient              */
 };
+
+/* Room for the reason the theory does not apply (taper_chain_theory_note). */
+#define CHAIN_NOTE_SIZE 320
 
 /* The chain: plain arrays, granule k at index k-1 (see taper.h). */
 struct taper_chain {
@@ -24,9 +44,31 @@ struct taper_chain {
     taper_profile profile;
     double exponent;    /* contact exponent n                           */
     double *radius;     /* R_k                                          */
-    double *mass;       /* m_k = R_k^3                                  */
+    double *mass;       /* m_k = rho_k R_k^3 (times the mass disorder)  */
     double *contact;    /* r_k for the pair (k, k+1); [n-1] = NaN       */
     double *rest;       /* X0(k)                                        */
+    taper_boundary end[TAPER_N_ENDS];
+    double end_contact[TAPER_N_ENDS];     /* NaN for a free end         */
+    double striker_radius, striker_mass, striker_contact; /* NaN: none  */
+    double load, damping, drag;
+    size_t pattern_period;                /* P of a decorated chain; 0  */
+    char theory_note[CHAIN_NOTE_SIZE];    /* "" when the theory applies */
 };
+
+/* chain_options.c: the relations between the settings of issue 15 (ends,
+ * striker, pattern, materials), for taper_chain_spec_check. */
+taper_status chain_options_check(const taper_chain_spec *spec, taper_error *err);
+/* chain_options.c: releases what the options own (pattern, materials). */
+void chain_options_free(taper_chain_spec *spec);
+/* chain_options.c: the defaults of the options (the paper's chain). */
+void chain_options_default(taper_chain_spec *spec);
+
+/* disorder.c: u_k in [-1, 1) for granule k of the given seed, identical on
+ * every machine (docs/physics.md, "Disorder"). */
+double chain_disorder_uniform(uint64_t seed, uint64_t k);
+
+/* theory.c: why the binary collision approximation does not describe
+ * the chain (written into chain->theory_note), or "" when it does. */
+void chain_theory_note(taper_chain *chain);
 
 #endif

@@ -18,6 +18,7 @@ static const char *const profile_names[TAPER_N_PROFILES] = {
     [TAPER_BACKWARD_EXPONENTIAL] = "backward_exponential",
     [TAPER_FORWARD_EXPONENTIAL] = "forward_exponential",
     [TAPER_CUSTOM] = "custom",
+    [TAPER_DECORATED] = "decorated",
 };
 
 const char *taper_profile_name(taper_profile profile)
@@ -58,6 +59,7 @@ taper_chain_spec *taper_chain_spec_alloc(taper_error *err)
     spec->exponent = 2.5;
     spec->radii = NULL;
     spec->n_radii = 0;
+    chain_options_default(spec);
     taper_ok(err);
     return spec;
 }
@@ -66,6 +68,7 @@ void taper_chain_spec_free(taper_chain_spec *spec)
 {
     if (!spec) return;
     free(spec->radii);
+    chain_options_free(spec);
     free(spec);
 }
 
@@ -282,5 +285,6 @@ taper_status taper_chain_spec_check(const taper_chain_spec *spec, taper_error *e
     case TAPER_CUSTOM: status = check_custom(spec, err); break;
     default: break;
     }
+    if (status == TAPER_OK) status = chain_options_check(spec, err);
     return status == TAPER_OK ? taper_ok(err) : status;
 }
