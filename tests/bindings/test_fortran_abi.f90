@@ -37,7 +37,42 @@ program test_fortran_abi
        integer(c_int), value :: type, field
        integer(c_size_t) :: n
      end function layout
+     function c_enum(i) bind(C, name="taper_test_enum") result(v)
+       import :: c_int, c_long
+       integer(c_int), value :: i
+       integer(c_long) :: v
+     end function c_enum
+     function c_n_enums() bind(C, name="taper_test_n_enums") result(n)
+       import :: c_int
+       integer(c_int) :: n
+     end function c_n_enums
   end interface
+  ! The module's constants in the order of fortran_abi.c's list of the C values.
+  integer(c_long), parameter :: ENUMS(*) = [integer(c_long) :: &
+       TAPER_MONODISPERSE, TAPER_BACKWARD_LINEAR, TAPER_FORWARD_LINEAR, TAPER_BACKWARD_EXPONENTIAL, &
+       TAPER_FORWARD_EXPONENTIAL, TAPER_CUSTOM, TAPER_DECORATED, TAPER_N_PROFILES, &
+       TAPER_DISORDER_RADIUS, TAPER_DISORDER_MASS, TAPER_N_DISORDERS, &
+       TAPER_LEFT, TAPER_RIGHT, TAPER_N_ENDS, TAPER_END_FREE, TAPER_END_WALL, TAPER_N_BOUNDARIES, &
+       TAPER_DIM_LENGTH, TAPER_DIM_TIME, TAPER_DIM_VELOCITY, TAPER_DIM_MASS, TAPER_DIM_FORCE, &
+       TAPER_DIM_ENERGY, TAPER_DIM_IMPULSE, TAPER_N_DIMENSIONS, &
+       TAPER_ADAMS, TAPER_BDF, TAPER_N_METHODS, &
+       TAPER_T_PASS, TAPER_T_RES, TAPER_V_PEAK, TAPER_T_PEAK, TAPER_X_PASS, TAPER_N_OBSERVABLES, &
+       TAPER_THEORY_V, TAPER_THEORY_MU, TAPER_THEORY_T_RES, TAPER_THEORY_T, &
+       TAPER_N_THEORY_QUANTITIES, &
+       TAPER_STAT_STEPS, TAPER_STAT_RHS_EVALS, TAPER_STAT_ROOT_EVALS, TAPER_STAT_JAC_EVALS, &
+       TAPER_STAT_NONLIN_ITERS, TAPER_STAT_ERR_TEST_FAILS, TAPER_STAT_WINDOW_CHANGES, &
+       TAPER_STAT_RESTARTS, TAPER_STAT_MAX_WINDOW, TAPER_STAT_GRANULE_REACHED, TAPER_STAT_T_FINAL, &
+       TAPER_STAT_ENERGY_ERROR, TAPER_STAT_MOMENTUM_ERROR, TAPER_STAT_COMPLETE, &
+       TAPER_STAT_ENERGY_INITIAL, TAPER_STAT_ENERGY_DISSIPATED, TAPER_STAT_ENERGY_TRANSMITTED, &
+       TAPER_STAT_ENERGY_REFLECTED, TAPER_STAT_ENERGY_IN_CHAIN, TAPER_STAT_WALL_PEAK_FORCE_LEFT, &
+       TAPER_STAT_WALL_PEAK_TIME_LEFT, TAPER_STAT_WALL_IMPULSE_LEFT, &
+       TAPER_STAT_WALL_PEAK_FORCE_RIGHT, TAPER_STAT_WALL_PEAK_TIME_RIGHT, &
+       TAPER_STAT_WALL_IMPULSE_RIGHT, TAPER_N_STATISTICS, &
+       TAPER_FIT_POWER, TAPER_FIT_EXPONENTIAL, TAPER_FIT_DIVERGENCE_B, TAPER_FIT_DIVERGENCE_C, &
+       TAPER_FIT_DIVERGENCE_M, TAPER_N_FIT_MODELS, &
+       TAPER_OK, TAPER_EINVAL, TAPER_ENOMEM, TAPER_ERANGE, TAPER_ESOLVER, TAPER_EINTERRUPTED, &
+       TAPER_ELIMIT, int(TAPER_MESSAGE_SIZE, c_long), TAPER_N_GRANULES_MIN, TAPER_N_GRANULES_MAX, &
+       TAPER_MAX_ORDER_ADAMS, TAPER_MAX_ORDER_BDF]
   type(taper_error), target :: e
   type(taper_progress), target :: pr
   type(c_ptr) :: cs, ss, chain, sim, dyn, fs, fr
@@ -54,6 +89,16 @@ program test_fortran_abi
   call same(1, "taper_progress", c_sizeof(pr), [off(c_loc(pr%granule), c_loc(pr)), &
        off(c_loc(pr%target), c_loc(pr)), off(c_loc(pr%t), c_loc(pr)), off(c_loc(pr%steps), c_loc(pr)), &
        off(c_loc(pr%window_lo), c_loc(pr)), off(c_loc(pr%window_hi), c_loc(pr))])
+
+  ! Every enum value and count of the module is the header's.
+  if (c_n_enums() /= size(ENUMS)) call fail("fortran_abi.c and ENUMS list different constants")
+  do i = 1, min(size(ENUMS), int(c_n_enums()))
+     if (ENUMS(i) /= c_enum(int(i - 1, c_int))) then
+        print '(a,i0,a,i0,a,i0)', "FAIL: constant ", i, " of ENUMS is ", ENUMS(i), " in the module, ", &
+             c_enum(int(i - 1, c_int)), " in taper.h"
+        fails = fails + 1
+     end if
+  end do
 
   ! The library's names: each list ends in '' (NULL), and reads back.
   if (taper_version() /= TAPER_VERSION_STRING) call fail("version "//taper_version())

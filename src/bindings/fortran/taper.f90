@@ -66,8 +66,18 @@ module taper
   ! ---- enums ------------------------------------------------------------------
   integer(c_int), parameter, public :: TAPER_MONODISPERSE = 0, TAPER_BACKWARD_LINEAR = 1, &
        TAPER_FORWARD_LINEAR = 2, TAPER_BACKWARD_EXPONENTIAL = 3, &
-       TAPER_FORWARD_EXPONENTIAL = 4, TAPER_CUSTOM = 5
-  integer, parameter, public :: TAPER_N_PROFILES = 6
+       TAPER_FORWARD_EXPONENTIAL = 4, TAPER_CUSTOM = 5, TAPER_DECORATED = 6
+  integer, parameter, public :: TAPER_N_PROFILES = 7
+  integer(c_int), parameter, public :: TAPER_DISORDER_RADIUS = 0, TAPER_DISORDER_MASS = 1
+  integer, parameter, public :: TAPER_N_DISORDERS = 2
+  integer(c_int), parameter, public :: TAPER_LEFT = 0, TAPER_RIGHT = 1
+  integer, parameter, public :: TAPER_N_ENDS = 2
+  integer(c_int), parameter, public :: TAPER_END_FREE = 0, TAPER_END_WALL = 1
+  integer, parameter, public :: TAPER_N_BOUNDARIES = 2
+  integer(c_int), parameter, public :: TAPER_DIM_LENGTH = 0, TAPER_DIM_TIME = 1, &
+       TAPER_DIM_VELOCITY = 2, TAPER_DIM_MASS = 3, TAPER_DIM_FORCE = 4, TAPER_DIM_ENERGY = 5, &
+       TAPER_DIM_IMPULSE = 6
+  integer, parameter, public :: TAPER_N_DIMENSIONS = 7
   integer(c_int), parameter, public :: TAPER_ADAMS = 0, TAPER_BDF = 1
   integer, parameter, public :: TAPER_N_METHODS = 2
   integer(c_int), parameter, public :: TAPER_T_PASS = 0, TAPER_T_RES = 1, TAPER_V_PEAK = 2, &
@@ -80,8 +90,14 @@ module taper
        TAPER_STAT_ROOT_EVALS = 2, TAPER_STAT_JAC_EVALS = 3, TAPER_STAT_NONLIN_ITERS = 4, &
        TAPER_STAT_ERR_TEST_FAILS = 5, TAPER_STAT_WINDOW_CHANGES = 6, TAPER_STAT_RESTARTS = 7, &
        TAPER_STAT_MAX_WINDOW = 8, TAPER_STAT_GRANULE_REACHED = 9, TAPER_STAT_T_FINAL = 10, &
-       TAPER_STAT_ENERGY_ERROR = 11, TAPER_STAT_MOMENTUM_ERROR = 12, TAPER_STAT_COMPLETE = 13
-  integer, parameter, public :: TAPER_N_STATISTICS = 14
+       TAPER_STAT_ENERGY_ERROR = 11, TAPER_STAT_MOMENTUM_ERROR = 12, TAPER_STAT_COMPLETE = 13, &
+       TAPER_STAT_ENERGY_INITIAL = 14, TAPER_STAT_ENERGY_DISSIPATED = 15, &
+       TAPER_STAT_ENERGY_TRANSMITTED = 16, TAPER_STAT_ENERGY_REFLECTED = 17, &
+       TAPER_STAT_ENERGY_IN_CHAIN = 18, TAPER_STAT_WALL_PEAK_FORCE_LEFT = 19, &
+       TAPER_STAT_WALL_PEAK_TIME_LEFT = 20, TAPER_STAT_WALL_IMPULSE_LEFT = 21, &
+       TAPER_STAT_WALL_PEAK_FORCE_RIGHT = 22, TAPER_STAT_WALL_PEAK_TIME_RIGHT = 23, &
+       TAPER_STAT_WALL_IMPULSE_RIGHT = 24
+  integer, parameter, public :: TAPER_N_STATISTICS = 25
   integer(c_int), parameter, public :: TAPER_LAW_V_OF_K = 0, TAPER_LAW_T_RES_OF_K = 1, &
        TAPER_LAW_T_OF_K = 2, TAPER_LAW_K_OF_T = 3, TAPER_LAW_V_OF_T = 4, &
        TAPER_LAW_X_OF_T = 5, TAPER_LAW_C_OF_T = 6, TAPER_LAW_FWD_V_OF_K = 7, &
@@ -108,12 +124,26 @@ module taper
 
   ! ---- the C API ---------------------------------------------------------------
   public :: c_taper_version, c_taper_strerror, c_taper_profile_name, c_taper_method_name, &
-            c_taper_fit_model_name, c_taper_statistic_name
+            c_taper_fit_model_name, c_taper_statistic_name, c_taper_disorder_name, &
+            c_taper_boundary_name, c_taper_dimension_name, c_taper_dimension_unit
   public :: taper_chain_spec_alloc, taper_chain_spec_free, taper_chain_spec_set_profile, &
             taper_chain_spec_set_n_granules, taper_chain_spec_set_s, taper_chain_spec_set_q, &
             taper_chain_spec_set_exponent, taper_chain_spec_set_radii, taper_chain_spec_profile, &
             taper_chain_spec_n_granules, taper_chain_spec_s, taper_chain_spec_q, &
             taper_chain_spec_exponent, taper_chain_spec_radii, taper_chain_spec_check
+  public :: taper_chain_spec_set_pattern, taper_chain_spec_pattern, &
+            taper_chain_spec_set_disorder, taper_chain_spec_disorder, &
+            taper_chain_spec_disorder_amplitude, taper_chain_spec_disorder_seed, &
+            taper_chain_spec_set_materials, taper_chain_spec_materials, taper_chain_spec_set_end, taper_chain_spec_end, &
+            taper_chain_spec_end_compliance, taper_chain_spec_set_striker, &
+            taper_chain_spec_striker_radius, taper_chain_spec_striker_density, &
+            taper_chain_spec_striker_compliance, taper_chain_spec_set_load, taper_chain_spec_load, &
+            taper_chain_spec_set_damping, taper_chain_spec_damping, taper_chain_spec_set_drag, &
+            taper_chain_spec_drag
+  public :: taper_chain_end, taper_chain_end_contact, taper_chain_striker_radius, &
+            taper_chain_striker_mass, taper_chain_striker_contact, taper_chain_load, &
+            taper_chain_damping, taper_chain_drag, c_taper_chain_theory_note
+  public :: taper_unit_scale
   public :: taper_chain_alloc, taper_chain_free, taper_chain_size, taper_chain_exponent, &
             taper_chain_profile, taper_chain_radius, taper_chain_mass, taper_chain_contact, &
             taper_chain_rest_position
@@ -127,9 +157,12 @@ module taper
             taper_solver_spec_set_max_steps, taper_solver_spec_set_monitor, &
             taper_solver_spec_set_log, taper_solver_spec_method, taper_solver_spec_rtol, &
             taper_solver_spec_atol, taper_solver_spec_last_granule, taper_solver_spec_window, &
-            taper_solver_spec_max_order, taper_solver_spec_t_max, taper_solver_spec_max_steps
+            taper_solver_spec_max_order, taper_solver_spec_t_max, taper_solver_spec_max_steps, &
+            taper_solver_spec_set_t_end, taper_solver_spec_t_end, taper_solver_spec_set_sampler, &
+            taper_solver_spec_sample_interval
   public :: taper_sim_alloc, taper_sim_free, taper_sim_run, taper_sim_observable, &
-            taper_sim_theory, taper_sim_statistic, taper_sim_state
+            taper_sim_theory, taper_sim_statistic, taper_sim_state, taper_sim_time, &
+            taper_sim_striker_state, taper_sim_forces
   public :: taper_asymptotic_exponent, taper_asymptotic_A, taper_asymptotic_lnA, &
             taper_asymptotic_eta, taper_asymptotic_f, taper_asymptotic_position_exponent, &
             taper_asymptotic_speed_exponent, taper_asymptotic_timescale, taper_asymptotic_M, &
@@ -145,7 +178,9 @@ module taper
   public :: taper_version, taper_strerror, taper_profile_name, taper_method_name, &
             taper_fit_model_name, taper_statistic_name, taper_profile_from_name, &
             taper_method_from_name, taper_fit_model_from_name, taper_message, taper_field, &
-            taper_observable, taper_theory, taper_chain_array, c_string
+            taper_observable, taper_theory, taper_chain_array, c_string, taper_disorder_name, &
+            taper_disorder_from_name, taper_boundary_name, taper_boundary_from_name, &
+            taper_dimension_name, taper_dimension_unit, taper_chain_theory_note
 
   interface
      ! ---- version, errors, names: strings come back as C pointers (helpers below)
@@ -202,6 +237,42 @@ module taper
        type(taper_error), intent(inout) :: err
        integer(c_int) :: status
      end function c_taper_fit_model_from_name
+     function c_taper_disorder_name(kind) bind(C, name="taper_disorder_name") result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: kind
+       type(c_ptr) :: s
+     end function c_taper_disorder_name
+     function c_taper_boundary_name(boundary) bind(C, name="taper_boundary_name") result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: boundary
+       type(c_ptr) :: s
+     end function c_taper_boundary_name
+     function c_taper_dimension_name(dim) bind(C, name="taper_dimension_name") result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: dim
+       type(c_ptr) :: s
+     end function c_taper_dimension_name
+     function c_taper_dimension_unit(dim) bind(C, name="taper_dimension_unit") result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: dim
+       type(c_ptr) :: s
+     end function c_taper_dimension_unit
+     function c_taper_disorder_from_name(name, kind, err) &
+          bind(C, name="taper_disorder_from_name") result(status)
+       import :: c_char, c_int, taper_error
+       character(kind=c_char), intent(in) :: name(*)
+       integer(c_int), intent(out) :: kind
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function c_taper_disorder_from_name
+     function c_taper_boundary_from_name(name, boundary, err) &
+          bind(C, name="taper_boundary_from_name") result(status)
+       import :: c_char, c_int, taper_error
+       character(kind=c_char), intent(in) :: name(*)
+       integer(c_int), intent(out) :: boundary
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function c_taper_boundary_from_name
 
      ! ---- chain settings
      function taper_chain_spec_alloc(err) bind(C, name="taper_chain_spec_alloc") result(spec)
@@ -302,6 +373,160 @@ module taper
        integer(c_int) :: status
      end function taper_chain_spec_check
 
+     ! ---- chain settings beyond the paper (ends, striker, load, losses,
+     !      materials, decorated profile, disorder); all default to the paper's
+     ! Copies p radii of one period (pattern(1) = 1); (c_null_ptr, 0) removes it.
+     function taper_chain_spec_set_pattern(spec, pattern, p, err) &
+          bind(C, name="taper_chain_spec_set_pattern") result(status)
+       import :: c_ptr, c_int, c_size_t, taper_error
+       type(c_ptr), value :: spec, pattern
+       integer(c_size_t), value :: p
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_pattern
+     function taper_chain_spec_pattern(spec, p) bind(C, name="taper_chain_spec_pattern") result(a)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: spec
+       integer(c_size_t), intent(out) :: p
+       type(c_ptr) :: a
+     end function taper_chain_spec_pattern
+     ! seed: C's uint64_t; Fortran has no unsigned integers, so seeds of
+     ! 2^63 and above are passed as their two's-complement negative value.
+     function taper_chain_spec_set_disorder(spec, kind, amplitude, seed, err) &
+          bind(C, name="taper_chain_spec_set_disorder") result(status)
+       import :: c_ptr, c_int, c_double, c_int64_t, taper_error
+       type(c_ptr), value :: spec
+       integer(c_int), value :: kind
+       real(c_double), value :: amplitude
+       integer(c_int64_t), value :: seed
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_disorder
+     function taper_chain_spec_disorder(spec) bind(C, name="taper_chain_spec_disorder") result(k)
+       import :: c_ptr, c_int
+       type(c_ptr), value :: spec
+       integer(c_int) :: k
+     end function taper_chain_spec_disorder
+     function taper_chain_spec_disorder_amplitude(spec) &
+          bind(C, name="taper_chain_spec_disorder_amplitude") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_disorder_amplitude
+     function taper_chain_spec_disorder_seed(spec) bind(C, name="taper_chain_spec_disorder_seed") &
+          result(seed)
+       import :: c_ptr, c_int64_t
+       type(c_ptr), value :: spec
+       integer(c_int64_t) :: seed
+     end function taper_chain_spec_disorder_seed
+     ! density, compliance: c_loc of arrays of n = n_granules values, or
+     ! (c_null_ptr, c_null_ptr, 0) for one material.
+     function taper_chain_spec_set_materials(spec, density, compliance, n, err) &
+          bind(C, name="taper_chain_spec_set_materials") result(status)
+       import :: c_ptr, c_int, c_size_t, taper_error
+       type(c_ptr), value :: spec, density, compliance
+       integer(c_size_t), value :: n
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_materials
+     ! The materials set (relative to granule 1's), their number n, 0 if none:
+     ! call c_f_pointer(density, rho, [n]).
+     function taper_chain_spec_materials(spec, density, compliance) &
+          bind(C, name="taper_chain_spec_materials") result(n)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: spec
+       type(c_ptr), intent(out) :: density, compliance
+       integer(c_size_t) :: n
+     end function taper_chain_spec_materials
+     ! end: TAPER_LEFT or TAPER_RIGHT; boundary: TAPER_END_FREE or TAPER_END_WALL.
+     function taper_chain_spec_set_end(spec, end, boundary, compliance, err) &
+          bind(C, name="taper_chain_spec_set_end") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       integer(c_int), value :: end, boundary
+       real(c_double), value :: compliance
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_end
+     function taper_chain_spec_end(spec, end) bind(C, name="taper_chain_spec_end") result(b)
+       import :: c_ptr, c_int
+       type(c_ptr), value :: spec
+       integer(c_int), value :: end
+       integer(c_int) :: b
+     end function taper_chain_spec_end
+     function taper_chain_spec_end_compliance(spec, end) &
+          bind(C, name="taper_chain_spec_end_compliance") result(x)
+       import :: c_ptr, c_int, c_double
+       type(c_ptr), value :: spec
+       integer(c_int), value :: end
+       real(c_double) :: x
+     end function taper_chain_spec_end_compliance
+     function taper_chain_spec_set_striker(spec, radius, density, compliance, err) &
+          bind(C, name="taper_chain_spec_set_striker") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: radius, density, compliance
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_striker
+     function taper_chain_spec_striker_radius(spec) &
+          bind(C, name="taper_chain_spec_striker_radius") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_striker_radius
+     function taper_chain_spec_striker_density(spec) &
+          bind(C, name="taper_chain_spec_striker_density") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_striker_density
+     function taper_chain_spec_striker_compliance(spec) &
+          bind(C, name="taper_chain_spec_striker_compliance") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_striker_compliance
+     function taper_chain_spec_set_load(spec, f0, err) bind(C, name="taper_chain_spec_set_load") &
+          result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: f0
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_load
+     function taper_chain_spec_load(spec) bind(C, name="taper_chain_spec_load") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_load
+     function taper_chain_spec_set_damping(spec, damping, err) &
+          bind(C, name="taper_chain_spec_set_damping") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: damping
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_damping
+     function taper_chain_spec_damping(spec) bind(C, name="taper_chain_spec_damping") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_damping
+     function taper_chain_spec_set_drag(spec, drag, err) bind(C, name="taper_chain_spec_set_drag") &
+          result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: drag
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_drag
+     function taper_chain_spec_drag(spec) bind(C, name="taper_chain_spec_drag") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_drag
+
      ! ---- chains
      function taper_chain_alloc(spec, err) bind(C, name="taper_chain_alloc") result(chain)
        import :: c_ptr, taper_error
@@ -348,6 +573,66 @@ module taper
        type(c_ptr), value :: chain
        type(c_ptr) :: a
      end function taper_chain_rest_position
+     ! What the options made of the chain (NaN where absent).
+     function taper_chain_end(chain, end) bind(C, name="taper_chain_end") result(b)
+       import :: c_ptr, c_int
+       type(c_ptr), value :: chain
+       integer(c_int), value :: end
+       integer(c_int) :: b
+     end function taper_chain_end
+     function taper_chain_end_contact(chain, end) bind(C, name="taper_chain_end_contact") result(x)
+       import :: c_ptr, c_int, c_double
+       type(c_ptr), value :: chain
+       integer(c_int), value :: end
+       real(c_double) :: x
+     end function taper_chain_end_contact
+     function taper_chain_striker_radius(chain) bind(C, name="taper_chain_striker_radius") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: chain
+       real(c_double) :: x
+     end function taper_chain_striker_radius
+     function taper_chain_striker_mass(chain) bind(C, name="taper_chain_striker_mass") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: chain
+       real(c_double) :: x
+     end function taper_chain_striker_mass
+     function taper_chain_striker_contact(chain) bind(C, name="taper_chain_striker_contact") &
+          result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: chain
+       real(c_double) :: x
+     end function taper_chain_striker_contact
+     function taper_chain_load(chain) bind(C, name="taper_chain_load") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: chain
+       real(c_double) :: x
+     end function taper_chain_load
+     function taper_chain_damping(chain) bind(C, name="taper_chain_damping") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: chain
+       real(c_double) :: x
+     end function taper_chain_damping
+     function taper_chain_drag(chain) bind(C, name="taper_chain_drag") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: chain
+       real(c_double) :: x
+     end function taper_chain_drag
+     ! NULL (c_string: '') when the binary collision theory describes the
+     ! chain, else why not (taper_chain_theory_note below).
+     function c_taper_chain_theory_note(chain) bind(C, name="taper_chain_theory_note") result(s)
+       import :: c_ptr
+       type(c_ptr), value :: chain
+       type(c_ptr) :: s
+     end function c_taper_chain_theory_note
+
+     ! ---- real units (Hertz, n = 5/2): SI value of one rescaled unit of dim
+     function taper_unit_scale(dim, young, poisson, density, radius, velocity) &
+          bind(C, name="taper_unit_scale") result(x)
+       import :: c_int, c_double
+       integer(c_int), value :: dim
+       real(c_double), value :: young, poisson, density, radius, velocity
+       real(c_double) :: x
+     end function taper_unit_scale
 
      ! ---- the equations of motion for one's own integrator (state of length 2N:
      ! v_k at y(2k-1), z_k at y(2k) in Fortran's numbering)
@@ -474,6 +759,41 @@ module taper
        type(taper_error), intent(inout) :: err
        integer(c_int) :: status
      end function taper_solver_spec_set_max_steps
+     function taper_solver_spec_set_t_end(spec, t_end, err) &
+          bind(C, name="taper_solver_spec_set_t_end") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: t_end
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_t_end
+     function taper_solver_spec_t_end(spec) bind(C, name="taper_solver_spec_t_end") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_solver_spec_t_end
+     ! fn: c_funloc of a bind(C) function (c_null_funptr removes the sampler)
+     !   integer(c_int) function f(sim, user) bind(C)
+     !     type(c_ptr), value :: sim, user
+     ! called at t = 0, interval, 2 interval, ...; inside it taper_sim_time,
+     ! taper_sim_state, taper_sim_striker_state and taper_sim_forces read the
+     ! state at the sample time; non-zero stops the run.
+     function taper_solver_spec_set_sampler(spec, interval, fn, user, err) &
+          bind(C, name="taper_solver_spec_set_sampler") result(status)
+       import :: c_ptr, c_funptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: interval
+       type(c_funptr), value :: fn
+       type(c_ptr), value :: user
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_sampler
+     function taper_solver_spec_sample_interval(spec) &
+          bind(C, name="taper_solver_spec_sample_interval") result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_solver_spec_sample_interval
      ! monitor: c_funloc of a bind(C) function
      !   integer(c_int) function f(progress, user) bind(C)
      !     type(taper_progress), intent(in) :: progress; type(c_ptr), value :: user
@@ -581,6 +901,30 @@ module taper
        type(taper_error), intent(inout) :: err
        integer(c_int) :: status
      end function taper_sim_state
+     function taper_sim_time(sim) bind(C, name="taper_sim_time") result(t)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: sim
+       real(c_double) :: t
+     end function taper_sim_time
+     ! x, v: the striker's displacement and velocity (TAPER_EINVAL if none).
+     function taper_sim_striker_state(sim, x, v, err) bind(C, name="taper_sim_striker_state") &
+          result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: sim
+       real(c_double), intent(out) :: x, v
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_sim_striker_state
+     ! force: an array of N + 1 values, force(1) on granule 1 from the left,
+     ! force(k + 1) of the contact (k, k+1), force(N + 1) on granule N from
+     ! the right (C's force[0..N]).
+     function taper_sim_forces(sim, force, err) bind(C, name="taper_sim_forces") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: sim
+       real(c_double), intent(out) :: force(*)
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_sim_forces
 
      ! ---- asymptotic laws
      function taper_asymptotic_exponent(law, n) bind(C, name="taper_asymptotic_exponent") result(p)
@@ -865,6 +1209,56 @@ contains
     integer(c_int) :: status
     status = c_taper_fit_model_from_name(trim(name)//c_null_char, model, err)
   end function taper_fit_model_from_name
+
+  ! "radius", "mass"; "free", "wall"; "length", ... and its SI unit "m", ...
+  ! ('' outside each enum).
+  function taper_disorder_name(kind) result(s)
+    integer(c_int), intent(in) :: kind
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_disorder_name(kind))
+  end function taper_disorder_name
+
+  function taper_boundary_name(boundary) result(s)
+    integer(c_int), intent(in) :: boundary
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_boundary_name(boundary))
+  end function taper_boundary_name
+
+  function taper_dimension_name(dim) result(s)
+    integer(c_int), intent(in) :: dim
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_dimension_name(dim))
+  end function taper_dimension_name
+
+  function taper_dimension_unit(dim) result(s)
+    integer(c_int), intent(in) :: dim
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_dimension_unit(dim))
+  end function taper_dimension_unit
+
+  function taper_disorder_from_name(name, kind, err) result(status)
+    character(len=*), intent(in) :: name
+    integer(c_int), intent(out) :: kind
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = c_taper_disorder_from_name(trim(name)//c_null_char, kind, err)
+  end function taper_disorder_from_name
+
+  function taper_boundary_from_name(name, boundary, err) result(status)
+    character(len=*), intent(in) :: name
+    integer(c_int), intent(out) :: boundary
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = c_taper_boundary_from_name(trim(name)//c_null_char, boundary, err)
+  end function taper_boundary_from_name
+
+  ! '' when the binary collision theory (taper_theory) describes the chain's
+  ! first pass; otherwise why not (dissipation, precompression, ...).
+  function taper_chain_theory_note(chain) result(s)
+    type(c_ptr), intent(in) :: chain
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_chain_theory_note(chain))
+  end function taper_chain_theory_note
 
   ! The message of a failed call.
   function taper_message(err) result(s)
