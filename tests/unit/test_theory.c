@@ -6,7 +6,11 @@
  * against eq. (18) evaluated independently and against GSL
  * quadrature of the integral that precedes it, the monodisperse constant,
  * several contact exponents, and the formula-only theory columns of the
- * paper's Tables II (ln A(q)) and III (f(q)).
+ * paper's Tables II (ln A(q)) and III (f(q)).  The options of issue 15
+ * (docs/physics.md, "Theory columns"): a striker as granule 0 of an
+ * extended chain, materials and disorder through m_k and r_k, the effective
+ * chain of a decorated chain, and NaN columns with a note for a static
+ * load, losses and decorated chains outside the effective chain.
  */
 #include "test_chains.h"
 #include "test_util.h"
@@ -14,6 +18,7 @@
 #include "taper.h"
 
 #include <gsl/gsl_errno.h>
+#include <stdint.h>
 #include <gsl/gsl_integration.h>
 #include <stdlib.h>
 #include <string.h>
@@ -264,6 +269,212 @@ static void test_tables_2_3(void **state)
     }
 }
 
+
+/* A spec of N granules of `profile` (its parameter set by the caller). */
+static taper_chain_spec *spec_n(taper_profile profile, size_t n)
+{
+    taper_error err;
+    taper_chain_spec *spec = taper_chain_spec_alloc(&err);
+    assert_non_null(spec);
+    test_chain_ok(taper_chain_spec_set_profile(spec, profile, &err), &err);
+    test_chain_ok(taper_chain_spec_set_n_granules(spec, n, &err), &err);
+    return spec;
+}
+
+static taper_chain *build(taper_chain_spec *spec)
+{
+    taper_error err;
+    taper_chain *c = taper_chain_alloc(spec, &err);
+    if (!c) print_error("cannot build the chain: %s\n", err.message);
+    assert_non_null(c);
+    taper_chain_spec_free(spec);
+    return c;
+}
+
+/* eq. (9) and eqs. (18)-(19) over a chain given by its masses and contact
+ * factors (walked granules), from v_1 = v1 and time t0: the recursion
+ * written out here once more, for chains whose radii do not give m and r. */
+static void check_masses(const theory *th, const double *m, const double *r, size_t n_walked,
+                         size_t stride, double v1, double t0, double n, double tol)
+{
+    double v = v1, t = t0;
+    for (size_t K = 1; K <= n_walked; K++) {
+        size_t i = (K - 1) * stride;
+        assert_double_rel(th->v[i], v, tol);
+        for (size_t j = i + 1; j < i + stride && j < th->n; j++)
+            assert_true(isnan(th->v[j]) && isnan(th->T[j]) && isnan(th->t[j]) && isnan(th->mu[j]));
+        if (K == n_walked) {
+            assert_true(isnan(th->T[i]) && isnan(th->t[i]) && isnan(th->mu[i]));
+            break;
+        }
+        double mu = m[K - 1] * m[K] / (m[K - 1] + m[K]);
+        double T = closed_form_T(mu, r[K - 1], v, n);
+        t += T;
+        assert_double_rel(th->mu[i], mu, tol);
+        assert_double_rel(th->T[i], T, tol);
+        assert_double_rel(th->t[i], t, tol);
+        v *= 2.0 * m[K - 1] / (m[K - 1] + m[K]);
+    }
+}
+
+/* A striker is granule 0 of an extended chain: v_1 = 2 m_s / (m_s + m_1),
+ * and every t_k includes the striker's collision time.  A striker equal to
+ * granule 1 makes the extended chain a monodisperse chain of N + 1: the
+ * columns are those of that chain shifted by one granule. */
+static void test_striker(void **state)
+{
+    (void)state;
+    taper_error err;
+    taper_chain_spec *spec = spec_n(TAPER_BACKWARD_LINEAR, 40);
+    test_chain_ok(taper_chain_spec_set_s(spec, 0.2, &err), &err);
+    test_chain_ok(taper_chain_spec_set_striker(spec, 1.5, 2.0, 0.5, &err), &err);
+    taper_chain *c = build(spec);
+    theory th = compute(c);
+    double ms = 2.0 * 1.5 * 1.5 * 1.5;
+    double rs = sqrt(2.0 * 1.5 / 2.5) * 2.0 / (0.5 + 1.0); /* eq. (7), Hertz compliances */
+    double Ts = closed_form_T(ms / (ms + 1.0), rs, 1.0, 2.5);
+    double m[40], r[40];
+    for (size_t k = 1; k <= 40; k++) {
+        double R = 1.0 + 0.2 * (double)(k - 1), Rn = R + 0.2;
+        m[k - 1] = R * R * R;
+        r[k - 1] = sqrt(2.0 * R * Rn / (R + Rn));
+    }
+    check_masses(&th, m, r, 40, 1, 2.0 * ms / (ms + 1.0), Ts, 2.5, 1e-12);
+    release(&th);
+    taper_chain_free(c);
+
+    spec = spec_n(TAPER_MONODISPERSE, 30);
+    test_chain_ok(taper_chain_spec_set_striker(spec, 1.0, 1.0, 1.0, &err), &err);
+    c = build(spec);
+    th = compute(c);
+    taper_chain *plain = make(TAPER_MONODISPERSE, 31, 0, 0, 2.5);
+    theory ref = compute(plain);
+    for (size_t k = 1; k < 30; k++) {
+        assert_double_rel(th.v[k - 1], ref.v[k], 1e-15);
+        assert_double_rel(th.T[k - 1], ref.T[k], 1e-14);
+        assert_double_rel(th.t[k - 1], ref.t[k], 1e-13);
+    }
+    release(&th);
+    release(&ref);
+    taper_chain_free(c);
+    taper_chain_free(plain);
+}
+
+/* Materials and disorder only change m_k and r_k: the recursion over the
+ * chain's own masses and contact factors. */
+static void test_materials_disorder(void **state)
+{
+    (void)state;
+    taper_error err;
+    double rho[25], cc[25];
+    for (int i = 0; i < 25; i++) {
+        rho[i] = 1.0 + 0.5 * (i % 3);
+        cc[i] = 1.0 / (1.0 + (i % 4));
+    }
+    for (int which = 0; which < 3; which++) {
+        taper_chain_spec *spec = spec_n(TAPER_BACKWARD_EXPONENTIAL, 25);
+        test_chain_ok(taper_chain_spec_set_q(spec, 0.05, &err), &err);
+        if (which == 0) test_chain_ok(taper_chain_spec_set_materials(spec, rho, cc, 25, &err), &err);
+        if (which >= 1)
+            test_chain_ok(taper_chain_spec_set_disorder(spec, which == 1 ? TAPER_DISORDER_RADIUS
+                                                                          : TAPER_DISORDER_MASS,
+                                                        0.4, UINT64_C(12345), &err), &err);
+        taper_chain *c = build(spec);
+        assert_null(taper_chain_theory_note(c));
+        theory th = compute(c);
+        check_masses(&th, taper_chain_mass(c), taper_chain_contact(c), 25, 1, 1.0, 0.0, 2.5, 1e-12);
+        release(&th);
+        taper_chain_free(c);
+    }
+}
+
+/* A decorated chain is walked as its effective chain: one granule per
+ * period of mass sum m, contacts in series
+ * r_eff = (sum r_j^(-1/(n-1)))^(-(n-1)), v_1 = m_1 / M_1; columns at the
+ * large granules, NaN at the small ones.  Pattern 1, 0.3, 0.2 by hand. */
+static void test_decorated_effective(void **state)
+{
+    (void)state;
+    taper_error err;
+    const double pattern[3] = {1.0, 0.3, 0.2};
+    const size_t N = 3 * 12 + 2; /* the last period cut short */
+    taper_chain_spec *spec = spec_n(TAPER_DECORATED, N);
+    test_chain_ok(taper_chain_spec_set_pattern(spec, pattern, 3, &err), &err);
+    taper_chain *c = build(spec);
+    assert_null(taper_chain_theory_note(c));
+    theory th = compute(c);
+    const double n = 2.5;
+    double M = 1.0 + 0.027 + 0.008;
+    double r1 = sqrt(2.0 * 0.3 / 1.3), r2 = sqrt(2.0 * 0.3 * 0.2 / 0.5), r3 = sqrt(2.0 * 0.2 / 1.2);
+    double reff = pow(pow(r1, -1.0 / (n - 1)) + pow(r2, -1.0 / (n - 1)) + pow(r3, -1.0 / (n - 1)),
+                      -(n - 1));
+    double m[13], r[13];
+    for (int K = 0; K < 13; K++) {
+        m[K] = M;
+        r[K] = reff;
+    }
+    m[12] = 1.0 + 0.027; /* the last period: granules 37 and 38 only */
+    check_masses(&th, m, r, 13, 3, 1.0 / M, 0.0, n, 1e-12);
+    /* Equal effective granules: v constant, T constant. */
+    assert_double_rel(th.T[0], th.T[30], 1e-12);
+    release(&th);
+    taper_chain_free(c);
+    /* Two contacts of factor r in series: r 2^(1-n) (half the overlap each). */
+    const double two[2] = {1.0, 0.5};
+    spec = spec_n(TAPER_DECORATED, 9);
+    test_chain_ok(taper_chain_spec_set_pattern(spec, two, 2, &err), &err);
+    c = build(spec);
+    th = compute(c);
+    double rr = sqrt(2.0 * 0.5 / 1.5);
+    assert_double_rel(th.T[0], closed_form_T(1.125 / 2.0, rr * pow(2.0, 1.0 - n), 1.0 / 1.125, n),
+                      1e-12);
+    release(&th);
+    taper_chain_free(c);
+    /* P = 1 is the monodisperse chain. */
+    const double one[1] = {1.0};
+    spec = spec_n(TAPER_DECORATED, 9);
+    test_chain_ok(taper_chain_spec_set_pattern(spec, one, 1, &err), &err);
+    c = build(spec);
+    th = compute(c);
+    taper_chain *plain = make(TAPER_MONODISPERSE, 9, 0, 0, 2.5);
+    theory ref = compute(plain);
+    assert_memory_equal(th.T, ref.T, 8 * sizeof(double));
+    release(&th);
+    release(&ref);
+    taper_chain_free(c);
+    taper_chain_free(plain);
+}
+
+/* Outside the approximation the columns are NaN, TAPER_OK, and the note
+ * says why: a static load, damping, drag, a decorated chain whose "small"
+ * granules are not light. */
+static void test_not_applicable(void **state)
+{
+    (void)state;
+    taper_error err;
+    const char *needles[4] = {"precompression", "dissipation", "dissipation", "granule 2 has mass"};
+    for (int which = 0; which < 4; which++) {
+        taper_chain_spec *spec = spec_n(which == 3 ? TAPER_DECORATED : TAPER_MONODISPERSE, 10);
+        const double pattern[2] = {1.0, 0.7};
+        if (which == 0) test_chain_ok(taper_chain_spec_set_load(spec, 1e-3, &err), &err);
+        if (which == 1) test_chain_ok(taper_chain_spec_set_damping(spec, 1e-3, &err), &err);
+        if (which == 2) test_chain_ok(taper_chain_spec_set_drag(spec, 1e-3, &err), &err);
+        if (which == 3) test_chain_ok(taper_chain_spec_set_pattern(spec, pattern, 2, &err), &err);
+        taper_chain *c = build(spec);
+        const char *note = taper_chain_theory_note(c);
+        assert_non_null(note);
+        assert_non_null(strstr(note, needles[which]));
+        double v[10], mu[10], T[10], t[10];
+        for (int i = 0; i < 10; i++) v[i] = mu[i] = T[i] = t[i] = 1.0;
+        err.status = TAPER_EINVAL;
+        assert_int_equal(taper_theory_compute(c, v, mu, T, t, &err), TAPER_OK);
+        assert_int_equal(err.status, TAPER_OK);
+        for (int i = 0; i < 10; i++)
+            assert_true(isnan(v[i]) && isnan(mu[i]) && isnan(T[i]) && isnan(t[i]));
+        taper_chain_free(c);
+    }
+}
+
 static void test_errors(void **state)
 {
     (void)state;
@@ -309,6 +520,10 @@ int main(void)
         cmocka_unit_test(test_monodisperse_constant),
         cmocka_unit_test(test_paper_mu),
         cmocka_unit_test(test_tables_2_3),
+        cmocka_unit_test(test_striker),
+        cmocka_unit_test(test_materials_disorder),
+        cmocka_unit_test(test_decorated_effective),
+        cmocka_unit_test(test_not_applicable),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests_name("theory", tests, NULL, NULL);
