@@ -52,7 +52,27 @@ printf "&chain profile = 'backward_linear', s = nan, n_granules = 10 /\n" > "$tm
 refuse nan "&chain s: .*not a finite number"
 printf "&solver rtol = inf /\n" > "$tmp/inf.nml"
 refuse inf "&solver rtol: .*not a finite number"
+# A misspelt key: the C driver's FILE:LINE: &group key: form (issue 18),
+# whichever group and line; gfortran alone names neither file line nor key.
+same_place() { # NAME: both drivers' messages start with the same FILE:LINE: &group key:
+    for prog in "$driver" "$fortran"; do
+        "$prog" "$tmp/$1.nml" > /dev/null 2> "$tmp/$1.$(basename "$prog").err" || :
+    done
+    c=$(sed -n 's/^\([^:]*:[0-9]*: &[a-z]* [a-z_]*\):.*/\1/p' "$tmp/$1.$(basename "$driver").err" | head -n 1)
+    f=$(sed -n 's/^\([^:]*:[0-9]*: &[a-z]* [a-z_]*\):.*/\1/p' "$tmp/$1.$(basename "$fortran").err" | head -n 1)
+    if [ -z "$c" ] || [ "$c" != "$f" ]; then
+        echo "FAIL: $1.nml: taper says '$(cat "$tmp/$1.$(basename "$driver").err")', taper_nml '$(cat "$tmp/$1.$(basename "$fortran").err")'" >&2
+        bad=1
+    fi
+}
 printf "&chain n_granule = 10 /\n" > "$tmp/misspelt.nml"
-refuse misspelt "n_granule"
+refuse misspelt "misspelt.nml:1: &chain n_granule: unknown key: did you mean n_granules?"
+same_place misspelt
+printf "! a scene\n&chain\n  profile = 'monodisperse',\n  n_granules = 20 /\n&solver\n  rtol = 1e-8,\n\n  windw = .true. /\n" > "$tmp/misspelt_later.nml"
+refuse misspelt_later "misspelt_later.nml:8: &solver windw: unknown key: did you mean window?"
+same_place misspelt_later
+printf "&chain n_granules = 20 /\n&fit model = 'power',\n  k_mn = 3 /\n" > "$tmp/misspelt_fit.nml"
+refuse misspelt_fit "misspelt_fit.nml:3: &fit k_mn: unknown key: did you mean k_min?"
+same_place misspelt_fit
 [ "$bad" -eq 0 ] || exit 1
-echo "taper_nml refuses garbage, empty files, nan, inf and misspelt keys like taper"
+echo "taper_nml refuses garbage, empty files, nan, inf and misspelt keys like taper (FILE:LINE: &group key:)"

@@ -92,6 +92,21 @@ program taper_nml
   namelist /chain/ profile, n_granules, s, q, exponent, radii
   namelist /solver/ method, rtol, atol, window, last_granule, t_max, max_steps, numerics
   namelist /output/ dir, progress, threads, columns, every, max_energy_error, max_momentum_error
+  ! The keys of every group, for the message on an unknown key (the
+  ! namelists above and in read_fit, read_table, read_figure, read_sweep).
+  character(len=*), parameter :: KEYS_CHAIN = "profile, n_granules, s, q, exponent, radii", &
+       KEYS_SOLVER = "method, rtol, atol, window, last_granule, t_max, max_steps, numerics", &
+       KEYS_OUTPUT = "dir, progress, threads, columns, every, max_energy_error, " // &
+       "max_momentum_error", &
+       KEYS_FIT = "model, x, y, k_min, k_max, p, report, factor, label, theory", &
+       KEYS_TABLE = "name, caption, digits, paper_theory, paper_numerics", &
+       KEYS_FIGURE = "name, title, x, y, curves, log_x, log_y, every, k_max, x_label, " // &
+       "y_label, inset, inset_reference", &
+       KEYS_SWEEP = "mode"
+  ! While locate_error re-reads part of a group (probing), check_read
+  ! records the status in probe_ios instead of reporting it.
+  logical :: probing = .false.
+  integer :: probe_ios = 0
 
   character(len=LEN_STR) :: path, arg
   logical :: dump, n_given
@@ -352,22 +367,10 @@ contains
        call quit(2)
     end if
     ! Each group is optional: rewind and look for it; end of file = absent.
-    read (unit, nml=chain, iostat=ios, iomsg=msg)
-    call check_read(file, unit, "chain", ios, msg)
-    rewind (unit)
-    read (unit, nml=solver, iostat=ios, iomsg=msg)
-    call check_read(file, unit, "solver", ios, msg)
-    rewind (unit)
-    read (unit, nml=output, iostat=ios, iomsg=msg)
-    call check_read(file, unit, "output", ios, msg)
-    rewind (unit)
-    call read_fit(file, unit)
-    rewind (unit)
-    call read_table(file, unit)
-    rewind (unit)
-    call read_figure(file, unit)
-    rewind (unit)
-    call read_sweep(file, unit)
+    do g = 1, size(GROUPS)
+       if (g > 1) rewind (unit)
+       call read_group(file, unit, trim(GROUPS(g)))
+    end do
     ! READ skips whatever is not a group: a file with none ran the default
     ! chain.  The C parser refuses it; so does this program.
     do g = 1, size(GROUPS)
@@ -380,8 +383,36 @@ contains
     close (unit)
   end subroutine read_scene
 
+  ! READ(unit, NML=group) of one group, checked by check_read.  Recursive:
+  ! check_read's locate_error calls it again on part of the file.
+  recursive subroutine read_group(file, unit, group)
+    character(len=*), intent(in) :: file, group
+    integer, intent(in) :: unit
+    integer :: ios
+    character(len=512) :: msg
+    select case (group)
+    case ("chain")
+       read (unit, nml=chain, iostat=ios, iomsg=msg)
+       call check_read(file, unit, group, ios, msg)
+    case ("solver")
+       read (unit, nml=solver, iostat=ios, iomsg=msg)
+       call check_read(file, unit, group, ios, msg)
+    case ("output")
+       read (unit, nml=output, iostat=ios, iomsg=msg)
+       call check_read(file, unit, group, ios, msg)
+    case ("fit")
+       call read_fit(file, unit)
+    case ("table")
+       call read_table(file, unit)
+    case ("figure")
+       call read_figure(file, unit)
+    case ("sweep")
+       call read_sweep(file, unit)
+    end select
+  end subroutine read_group
+
   ! &fit with its table defaults, if the file has it; copied to fit_*.
-  subroutine read_fit(file, unit)
+  recursive subroutine read_fit(file, unit)
     character(len=*), intent(in) :: file
     integer, intent(in) :: unit
     character(len=LEN_STR) :: model, x, y, report, label, theory
@@ -415,7 +446,7 @@ contains
   end subroutine read_fit
 
   ! &table with its table defaults, if the file has it; copied to table_*.
-  subroutine read_table(file, unit)
+  recursive subroutine read_table(file, unit)
     character(len=*), intent(in) :: file
     integer, intent(in) :: unit
     character(len=LEN_STR) :: name, caption
@@ -439,7 +470,7 @@ contains
   end subroutine read_table
 
   ! &sweep with its table default, if the file has it; copied to sweep_mode.
-  subroutine read_sweep(file, unit)
+  recursive subroutine read_sweep(file, unit)
     character(len=*), intent(in) :: file
     integer, intent(in) :: unit
     character(len=LEN_STR) :: mode
@@ -453,7 +484,7 @@ contains
   end subroutine read_sweep
 
   ! &figure with its table defaults, if the file has it; copied to figure_*.
-  subroutine read_figure(file, unit)
+  recursive subroutine read_figure(file, unit)
     character(len=*), intent(in) :: file
     integer, intent(in) :: unit
     character(len=LEN_STR) :: name, title, x, y, curves, x_label, y_label
@@ -540,12 +571,16 @@ contains
   ! of file means the group is absent -- unless the file has the group's
   ! header, then the file ended inside it (an unterminated string, a missing
   ! '/'), which is an error too.
-  subroutine check_read(file, unit, group, ios, msg)
+  recursive subroutine check_read(file, unit, group, ios, msg)
     character(len=*), intent(in) :: file, group, msg
     integer, intent(in) :: unit, ios
+    if (probing) then
+       probe_ios = ios
+       return
+    end if
     if (ios > 0) then
-       write (error_unit, '(a)') trim(file)//": &"//group//": "//trim(msg)
-       call quit(2)
+       close (unit)    ! report_read_error reopens the file as a stream, and quits
+       call report_read_error(file, group, msg)
     end if
     if (ios < 0) then
        if (has_group(unit, group)) then
@@ -555,6 +590,336 @@ contains
        end if
     end if
   end subroutine check_read
+
+  ! A READ of &group failed with gfortran's message msg: say where, as the C
+  ! driver does (FILE:LINE: &group key: message, exit 2).  gfortran gives no
+  ! line, and the file position after a failed READ is undefined, so the
+  ! line is found by reading again: the first line j such that the group's
+  ! text up to line j, closed by '/', fails too (binary search over
+  ! prefixes; a prefix that fails contains the error).  The key is the name
+  ! gfortran could not match, if it stands as a key on that line; else the
+  ! last "name =" before the error.
+  recursive subroutine report_read_error(file, group, msg)
+    character(len=*), intent(in) :: file, group, msg
+    character(len=*), parameter :: NO_MATCH = "Cannot match namelist object name "
+    character(len=:), allocatable :: bytes, name, key
+    integer(int64), allocatable :: starts(:)
+    integer :: line, head, k
+    character(len=16) :: line_text
+    call file_lines(file, bytes, starts)
+    head = header_line(bytes, starts, group)
+    line = 0
+    if (head > 0) line = locate_error(file, group, bytes, starts, head)
+    name = ""
+    k = index(msg, NO_MATCH)
+    if (k > 0) name = trim(adjustl(msg(k + len(NO_MATCH):)))
+    if (line == 0) then
+       write (error_unit, '(a)') trim(file)//": &"//group//": "//trim(msg)
+       call quit(2)
+    end if
+    ! gfortran may fail a line later than the value it could not match
+    ! (exponent = 'abc' fails at the next key): blame the first line of the
+    ! group, up to the failing one, where that token stands.
+    if (len(name) > 0 .and. .not. is_key_on(line_of(bytes, starts, line), name)) then
+       do k = head, line
+          if (index(lower(line_of(bytes, starts, k)), lower(name)) > 0) then
+             line = k
+             exit
+          end if
+       end do
+    end if
+    write (line_text, '(i0)') line
+    if (len(name) > 0 .and. is_key_on(line_of(bytes, starts, line), name)) then
+       write (error_unit, '(a)') trim(file)//":"//trim(line_text)//": &"//group//" "//name// &
+            ": unknown key"//suggestion(name, group_keys(group))//" (&"//group//" has: "// &
+            group_keys(group)//")"
+    else
+       key = last_key(bytes, starts, head, line)
+       if (len(key) > 0) then
+          write (error_unit, '(a)') trim(file)//":"//trim(line_text)//": &"//group//" "//key// &
+               ": "//trim(msg)
+       else
+          write (error_unit, '(a)') trim(file)//":"//trim(line_text)//": &"//group//": "//trim(msg)
+       end if
+    end if
+    call quit(2)
+  end subroutine report_read_error
+
+  ! The whole file and the byte offset where each line starts (a last entry
+  ! one past the end).
+  subroutine file_lines(file, bytes, starts)
+    character(len=*), intent(in) :: file
+    character(len=:), allocatable, intent(out) :: bytes
+    integer(int64), allocatable, intent(out) :: starts(:)
+    integer(int64) :: size, k, n
+    integer :: unit, ios
+    open (newunit=unit, file=file, access="stream", form="unformatted", status="old", &
+         action="read", iostat=ios)
+    size = 0
+    if (ios == 0) inquire (unit=unit, size=size)
+    allocate (character(len=max(size, 0_int64)) :: bytes)
+    if (ios == 0 .and. size > 0) read (unit, iostat=ios) bytes
+    if (ios == 0) close (unit)
+    n = 1
+    do k = 1, size
+       if (bytes(k:k) == achar(10)) n = n + 1
+    end do
+    allocate (starts(n + 1))
+    starts(1) = 1
+    n = 1
+    do k = 1, size
+       if (bytes(k:k) /= achar(10)) cycle
+       n = n + 1
+       starts(n) = k + 1
+    end do
+    starts(n + 1) = size + 2      ! so that line n ends at size (starts(n+1) - 2)
+    if (size > 0) then
+       if (bytes(size:size) == achar(10)) starts(n + 1) = size + 1
+    end if
+  end subroutine file_lines
+
+  ! Line j without its newline.
+  function line_of(bytes, starts, j) result(l)
+    character(len=*), intent(in) :: bytes
+    integer(int64), intent(in) :: starts(:)
+    integer, intent(in) :: j
+    character(len=:), allocatable :: l
+    integer(int64) :: e
+    e = min(starts(j + 1) - 2, int(len(bytes), int64))
+    if (e >= starts(j) .and. j < size(starts)) then
+       l = bytes(starts(j):e)
+    else
+       l = ""
+    end if
+  end function line_of
+
+  ! The first line holding the header &group, 0 if none.
+  integer function header_line(bytes, starts, group) result(j)
+    character(len=*), intent(in) :: bytes, group
+    integer(int64), intent(in) :: starts(:)
+    do j = 1, size(starts) - 1
+       if (header_in(line_of(bytes, starts, j), group)) return
+    end do
+    j = 0
+  end function header_line
+
+  ! The first line j >= head such that lines head..j, closed by '/', fail
+  ! to read as &group; 0 if even the whole rest reads (no line to blame).
+  recursive integer function locate_error(file, group, bytes, starts, head) result(j)
+    character(len=*), intent(in) :: file, group, bytes
+    integer(int64), intent(in) :: starts(:)
+    integer, intent(in) :: head
+    integer :: lo, hi, mid
+    lo = head
+    hi = size(starts) - 1
+    if (.not. prefix_fails(file, group, bytes, starts, head, hi)) then
+       j = 0
+       return
+    end if
+    do while (lo < hi)
+       mid = (lo + hi) / 2
+       if (prefix_fails(file, group, bytes, starts, head, mid)) then
+          hi = mid
+       else
+          lo = mid + 1
+       end if
+    end do
+    j = lo
+  end function locate_error
+
+  ! Whether lines head..last, closed by '/', fail to read as &group (a
+  ! scratch file, read by read_group with check_read only recording).
+  recursive logical function prefix_fails(file, group, bytes, starts, head, last)
+    character(len=*), intent(in) :: file, group, bytes
+    integer(int64), intent(in) :: starts(:)
+    integer, intent(in) :: head, last
+    integer :: unit, ios
+    integer(int64) :: e
+    open (newunit=unit, status="scratch", access="stream", form="formatted", iostat=ios)
+    if (ios /= 0) then
+       prefix_fails = .false.
+       return
+    end if
+    e = min(starts(last + 1) - 1, int(len(bytes), int64))
+    write (unit, '(a)') bytes(starts(head):e)//new_line("a")//"/"
+    rewind (unit)
+    probing = .true.
+    probe_ios = 0
+    call read_group(file, unit, group)
+    probing = .false.
+    close (unit)
+    prefix_fails = probe_ios > 0
+  end function prefix_fails
+
+  ! Whether name stands as a key on line: a whole word followed by '=' or '('.
+  logical function is_key_on(line, name)
+    character(len=*), intent(in) :: line, name
+    integer :: k, from, e
+    is_key_on = .false.
+    from = 1
+    do
+       k = index(lower(line(from:)), lower(name))
+       if (k == 0) return
+       k = from + k - 1
+       e = k + len(name)
+       from = k + 1
+       if (k > 1) then
+          if (is_name_char(line(k - 1:k - 1))) cycle
+       end if
+       do while (e <= len(line))
+          if (line(e:e) /= " " .and. line(e:e) /= achar(9)) exit
+          e = e + 1
+       end do
+       if (e > len(line)) cycle
+       if (line(e:e) == "=" .or. line(e:e) == "(") then
+          is_key_on = .true.
+          return
+       end if
+    end do
+  end function is_key_on
+
+  logical function is_name_char(c)
+    character, intent(in) :: c
+    is_name_char = (c >= "a" .and. c <= "z") .or. (c >= "A" .and. c <= "Z") .or. &
+         (c >= "0" .and. c <= "9") .or. c == "_"
+  end function is_name_char
+
+  ! The last "name =" (outside quotes and comments) on lines head..last.
+  function last_key(bytes, starts, head, last) result(key)
+    character(len=*), intent(in) :: bytes
+    integer(int64), intent(in) :: starts(:)
+    integer, intent(in) :: head, last
+    character(len=:), allocatable :: key, l
+    character :: quote
+    integer :: j, k, b, e
+    key = ""
+    do j = head, last
+       l = line_of(bytes, starts, j)
+       quote = " "
+       do k = 1, len(l)
+          if (quote /= " ") then
+             if (l(k:k) == quote) quote = " "
+             cycle
+          end if
+          if (l(k:k) == "'" .or. l(k:k) == '"') then
+             quote = l(k:k)
+          else if (l(k:k) == "!") then
+             exit
+          else if (l(k:k) == "=") then
+             e = k - 1
+             do while (e >= 1)
+                if (l(e:e) /= " " .and. l(e:e) /= achar(9)) exit
+                e = e - 1
+             end do
+             if (e >= 1) then
+                if (l(e:e) == ")") then      ! name(i) = ...
+                   do while (e >= 1)
+                      if (l(e:e) == "(") exit
+                      e = e - 1
+                   end do
+                   e = e - 1
+                end if
+             end if
+             b = e
+             do while (b >= 1)
+                if (.not. is_name_char(l(b:b))) exit
+                b = b - 1
+             end do
+             if (e > b) key = l(b + 1:e)
+          end if
+       end do
+    end do
+  end function last_key
+
+  ! The keys of a group, as listed in the messages.
+  function group_keys(group) result(keys)
+    character(len=*), intent(in) :: group
+    character(len=:), allocatable :: keys
+    select case (group)
+    case ("chain")
+       keys = KEYS_CHAIN
+    case ("solver")
+       keys = KEYS_SOLVER
+    case ("output")
+       keys = KEYS_OUTPUT
+    case ("fit")
+       keys = KEYS_FIT
+    case ("table")
+       keys = KEYS_TABLE
+    case ("figure")
+       keys = KEYS_FIGURE
+    case default
+       keys = KEYS_SWEEP
+    end select
+  end function group_keys
+
+  ! ": did you mean KEY?" for the key of the list nearest to name (at most
+  ! two edits away), as the C driver suggests; '' if none is that near.
+  function suggestion(name, keys) result(s)
+    character(len=*), intent(in) :: name, keys
+    character(len=:), allocatable :: s, best, word
+    integer :: k, e, d, best_d
+    s = ""
+    best = ""
+    best_d = 3
+    k = 1
+    do while (k <= len(keys))
+       e = index(keys(k:), ",")
+       if (e == 0) then
+          e = len(keys) + 1
+       else
+          e = k + e - 1
+       end if
+       word = trim(adjustl(keys(k:e - 1)))
+       d = edit_distance(lower(name), word)
+       if (d < best_d .and. d < len(name)) then
+          best_d = d
+          best = word
+       end if
+       k = e + 1
+    end do
+    if (len(best) > 0) s = ": did you mean "//best//"?"
+  end function suggestion
+
+  ! Levenshtein distance.
+  integer function edit_distance(a, b) result(d)
+    character(len=*), intent(in) :: a, b
+    integer :: row(0:len(b)), prev, tmp, i, j
+    do j = 0, len(b)
+       row(j) = j
+    end do
+    do i = 1, len(a)
+       prev = row(0)
+       row(0) = i
+       do j = 1, len(b)
+          tmp = row(j)
+          row(j) = min(row(j) + 1, row(j - 1) + 1, prev + merge(0, 1, a(i:i) == b(j:j)))
+          prev = tmp
+       end do
+    end do
+    d = row(len(b))
+  end function edit_distance
+
+  ! Whether a line holds the header &group (or $group), as gfortran looks for
+  ! one: '&' or '$' outside comments, the name in any case, then a separator.
+  logical function header_in(line, group)
+    character(len=*), intent(in) :: line, group
+    integer :: k, n, e
+    header_in = .false.
+    n = index(line, "!") - 1
+    if (n < 0) n = len_trim(line)
+    do k = 1, n
+       if (line(k:k) /= "&" .and. line(k:k) /= "$") cycle
+       e = k + len(group)
+       if (e > n) cycle
+       if (lower(line(k + 1:e)) /= lower(group)) cycle
+       if (e < n) then     ! the name must end there
+          if (index(" ,/;"//achar(9), line(e + 1:e + 1)) == 0) cycle
+       end if
+       header_in = .true.
+       return
+    end do
+  end function header_in
 
   ! Whether the file has a header &group (or $group), as gfortran looks for
   ! one: '&' or '$' outside comments, the name in any case, then a separator.
