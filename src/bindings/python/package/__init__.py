@@ -29,10 +29,10 @@ See docs/python.md.
 from __future__ import annotations
 
 import os
-from typing import List, Optional, Sequence, Union
+from typing import Any, List, Optional, Sequence, Union
 
 from . import _core, asymptotic
-from ._chain import CHAIN_COLUMNS, Chain, chain
+from ._chain import BEYOND_PAPER, CHAIN_COLUMNS, Chain, chain
 from ._core import InvalidArgumentError, SceneError, TaperError, collision_time
 from ._fit import FitResult, fit
 from .result import COLUMNS, THEORY_COLUMNS, Result, read_granules
@@ -42,7 +42,8 @@ __all__ = [
     "chain", "fit", "asymptotic",
     "Result", "Chain", "FitResult", "TaperError", "InvalidArgumentError", "SceneError",
     "PROFILES", "METHODS", "STATISTICS", "OBSERVABLES", "THEORY_QUANTITIES", "LAWS",
-    "FIT_MODELS", "COLUMNS", "THEORY_COLUMNS", "CHAIN_COLUMNS", "__version__",
+    "FIT_MODELS", "COLUMNS", "THEORY_COLUMNS", "CHAIN_COLUMNS", "BEYOND_PAPER",
+    "BOUNDARIES", "DISORDERS", "__version__",
 ]
 
 #: Profile names, in the library's order (taper_profile_name).
@@ -60,6 +61,10 @@ THEORY_QUANTITIES = _core.THEORY_QUANTITIES
 LAWS = _core.LAWS
 #: The models of taper.fit (taper_fit_model_name).
 FIT_MODELS = _core.FIT_MODELS
+#: What a chain end can be (taper_boundary_name): "free", "wall".
+BOUNDARIES = _core.BOUNDARIES
+#: What disorder perturbs (taper_disorder_name): "radius", "mass".
+DISORDERS = _core.DISORDERS
 
 Real = Union[int, float]
 
@@ -76,13 +81,23 @@ def _given(**kw: object) -> dict:
     return {k: v for k, v in kw.items() if v is not None}
 
 
+def _beyond_paper(kw: dict, func: str) -> dict:
+    """The chain settings of BEYOND_PAPER among kw; any other name is a
+    TypeError, as for a missing keyword."""
+    for k in kw:
+        if k not in BEYOND_PAPER:
+            raise TypeError(f"{func}() got an unexpected keyword argument '{k}'")
+    return kw
+
+
 def simulate(*, profile: Optional[str] = None, s: Optional[Real] = None,
              q: Optional[Real] = None, n_granules: Optional[int] = None,
              exponent: Optional[Real] = None, radii: Optional[Sequence[float]] = None,
              method: Optional[str] = None, rtol: Optional[Real] = None,
              atol: Optional[Real] = None, window: Optional[bool] = None,
              last_granule: Optional[int] = None, max_order: Optional[int] = None,
-             t_max: Optional[Real] = None, max_steps: Optional[int] = None) -> Result:
+             t_max: Optional[Real] = None, max_steps: Optional[int] = None,
+             t_end: Optional[Real] = None, **beyond_paper: Any) -> Result:
     """Builds a chain, integrates its dynamics and returns a Result.
 
     Chain (``&chain`` of a scene): ``profile`` (one of PROFILES, default
@@ -95,7 +110,24 @@ def simulate(*, profile: Optional[str] = None, s: Optional[Real] = None,
     (in units of each granule's binary-collision scale), ``window`` (integrate
     only the granules that can move; exact), ``last_granule`` (stop once its
     observables are known; 0: the whole chain), ``max_order``, ``t_max`` and
-    ``max_steps`` (0: no limit; reaching one gives a partial result).
+    ``max_steps`` (0: no limit; reaching one gives a partial result),
+    ``t_end`` (go on integrating until t_end after every observable is
+    known, e.g. to follow a reflection from a wall; 0: stop then).
+
+    Beyond the paper (taper.h, docs/physics.md; every default is the
+    paper's chain), named as the library's fields (see BEYOND_PAPER):
+    ``left_end``/``right_end`` ("free" or "wall"),
+    ``left_wall_compliance``/``right_wall_compliance`` (a wall's (1-nu^2)/E
+    relative to granule 1's, 0: rigid), ``striker_radius`` (0: the impulse
+    v_1 = 1), ``striker_density``, ``striker_compliance``, ``load`` (static
+    force F0), ``damping`` (Kuwabara-Kono time), ``drag`` (force -drag v),
+    ``pattern`` (the radii of one period of the "decorated" profile),
+    ``materials`` (a pair (density, compliance) of N values each, relative
+    to granule 1's), ``disorder`` ("radius" or "mass"),
+    ``disorder_amplitude`` (0 <= a < 1), ``disorder_seed``.  The energy
+    budget is in ``stats`` (energy_initial, energy_dissipated,
+    energy_transmitted, energy_reflected, energy_in_chain) with the wall
+    forces (wall_peak_force_left, ...).
 
     Returns the columns of granules.tsv (bit for bit what the driver writes
     for the same scene), the statistics, conservation errors and status.  A
@@ -111,20 +143,24 @@ def simulate(*, profile: Optional[str] = None, s: Optional[Real] = None,
     d = _core.simulate(**_given(profile=profile, s=s, q=q, n_granules=n_granules,
                                 exponent=exponent, radii=radii, method=method, rtol=rtol,
                                 atol=atol, window=window, last_granule=last_granule,
-                                max_order=max_order, t_max=t_max, max_steps=max_steps))
+                                max_order=max_order, t_max=t_max, max_steps=max_steps,
+                                t_end=t_end, **_beyond_paper(beyond_paper, "simulate")))
     return Result._from_core(d, "simulate")
 
 
 def theory(*, profile: Optional[str] = None, s: Optional[Real] = None,
            q: Optional[Real] = None, n_granules: Optional[int] = None,
            exponent: Optional[Real] = None,
-           radii: Optional[Sequence[float]] = None) -> Result:
+           radii: Optional[Sequence[float]] = None, **beyond_paper: Any) -> Result:
     """The binary collision approximation of a chain, without integrating:
     columns ``k R m X0 theory_v theory_T theory_t`` (v_k of eq. (9), T_k of
     eq. (18), t_k of eq. (19) of arXiv:0905.4512).  Chain keywords as for
-    simulate()."""
+    simulate(), those beyond the paper included (where the binary collision
+    approximation does not describe the chain, e.g. with damping, the theory
+    columns are NaN: taper_chain_theory_note)."""
     d = _core.theory(**_given(profile=profile, s=s, q=q, n_granules=n_granules,
-                              exponent=exponent, radii=radii))
+                              exponent=exponent, radii=radii,
+                              **_beyond_paper(beyond_paper, "theory")))
     return Result._from_core(d, "theory")
 
 

@@ -111,7 +111,14 @@ static PyObject *raise_library(const taper_error *err)
 
 /* ---- settings ------------------------------------------------------------- */
 
-typedef enum kind { K_PROFILE, K_METHOD, K_REAL, K_SIZE, K_INT, K_LONG, K_BOOL, K_RADII } kind;
+typedef enum kind {
+    K_PROFILE, K_METHOD, K_REAL, K_SIZE, K_INT, K_LONG, K_BOOL, K_RADII,
+    K_BOUNDARY,  /* "free" or "wall" (taper_boundary_from_name)          */
+    K_DISORDER,  /* "radius" or "mass" (taper_disorder_from_name)        */
+    K_SEED,      /* an integer in [0, 2^64)                             */
+    K_PATTERN,   /* a sequence of reals, like radii                     */
+    K_MATERIALS  /* a pair (density, compliance) of sequences of reals  */
+} kind;
 
 typedef struct setting {
     const char *name;  /* scene variable = setter suffix */
@@ -128,6 +135,16 @@ static const setting settings[] = {
     {"method", 0, K_METHOD},     {"rtol", 0, K_REAL},       {"atol", 0, K_REAL},
     {"window", 0, K_BOOL},       {"last_granule", 0, K_SIZE}, {"max_order", 0, K_INT},
     {"t_max", 0, K_REAL},        {"max_steps", 0, K_LONG},
+    /* Beyond the paper (taper.h, issue 15): named as the library's fields. */
+    {"left_end", 1, K_BOUNDARY},            {"right_end", 1, K_BOUNDARY},
+    {"left_wall_compliance", 1, K_REAL},    {"right_wall_compliance", 1, K_REAL},
+    {"striker_radius", 1, K_REAL},          {"striker_density", 1, K_REAL},
+    {"striker_compliance", 1, K_REAL},      {"load", 1, K_REAL},
+    {"damping", 1, K_REAL},                 {"drag", 1, K_REAL},
+    {"pattern", 1, K_PATTERN},              {"materials", 1, K_MATERIALS},
+    {"disorder", 1, K_DISORDER},            {"disorder_amplitude", 1, K_REAL},
+    {"disorder_seed", 1, K_SEED},
+    {"t_end", 0, K_REAL},
 };
 #define N_SETTINGS (sizeof settings / sizeof settings[0])
 
@@ -218,9 +235,76 @@ static int get_str(const char *name, PyObject *v, const char **out)
     return 0;
 }
 
-/* Applies one keyword to its spec through the library setter. */
+/* The settings whose library setter takes several values at once
+ * (taper_chain_spec_set_end, _set_striker, _set_disorder): collected over
+ * all keywords, then set together (apply_pending), so that the order of the
+ * keywords does not matter.  given[i]: keyword i of the group was passed. */
+typedef struct pending {
+    int end_given[TAPER_N_ENDS], end_compliance_given[TAPER_N_ENDS];
+    taper_boundary end[TAPER_N_ENDS];
+    double end_compliance[TAPER_N_ENDS];
+    int striker_given[3];          /* radius, density, compliance */
+    double striker[3];
+    int disorder_given[3];         /* kind, amplitude, seed       */
+    taper_disorder disorder;
+    double disorder_amplitude;
+    uint64_t disorder_seed;
+} pending;
+
+/* A real sequence as a contiguous one-dimensional array of doubles (a new
+ * reference), or NULL with a TypeError naming `name`. */
+static PyArrayObject *real_sequence(const char *name, PyObject *v)
+{
+    if (PyUnicode_Check(v) || PyBytes_Check(v) || is_bool(v)) {
+        type_error(name, "a sequence of real numbers", v);
+        return NULL;
+    }
+    PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(v, NPY_DOUBLE, 0, 0, NPY_ARRAY_CARRAY_RO);
+    if (!a) {
+        if (PyErr_ExceptionMatches(PyExc_TypeError) || PyErr_ExceptionMatches(PyExc_ValueError)) {
+            PyErr_Clear();
+            type_error(name, "a sequence of real numbers", v);
+        }
+        return NULL;
+    }
+    if (PyArray_NDIM(a) != 1) {
+        Py_DECREF(a);
+        PyErr_Format(PyExc_TypeError, "%s must be a one-dimensional sequence of real numbers", name);
+        return NULL;
+    }
+    return a;
+}
+
+/* The pair (density, compliance) of a materials keyword, each a sequence of
+ * reals; NULL, NULL for None (one material). */
+static int materials_pair(PyObject *v, PyArrayObject **rho, PyArrayObject **c)
+{
+    *rho = *c = NULL;
+    if (v == Py_None) return 0;
+    if (!PySequence_Check(v) || PyUnicode_Check(v) || PySequence_Size(v) != 2) {
+        if (PyErr_Occurred()) PyErr_Clear();
+        PyErr_Format(PyExc_TypeError,
+                     "materials must be a pair (density, compliance) of sequences of real "
+                     "numbers, not %.100s", Py_TYPE(v)->tp_name);
+        return -1;
+    }
+    PyObject *first = PySequence_GetItem(v, 0), *second = PySequence_GetItem(v, 1);
+    if (first && second) {
+        *rho = real_sequence("materials density", first);
+        if (*rho) *c = real_sequence("materials compliance", second);
+    }
+    Py_XDECREF(first);
+    Py_XDECREF(second);
+    if (*rho && *c) return 0;
+    Py_XDECREF(*rho);
+    *rho = NULL;
+    return -1;
+}
+
+/* Applies one keyword to its spec through the library setter (or records
+ * it in *pd for apply_pending). */
 static int apply_setting(const setting *st, PyObject *v, taper_chain_spec *cs, taper_solver_spec *ss,
-                         Py_ssize_t *n_radii)
+                         Py_ssize_t *n_radii, pending *pd)
 {
     taper_error err;
     taper_status rc = TAPER_OK;
@@ -245,11 +329,26 @@ static int apply_setting(const setting *st, PyObject *v, taper_chain_spec *cs, t
     case K_REAL: {
         double x;
         if (get_real(name, v, &x) < 0) return -1;
-        if (strcmp(name, "s") == 0) rc = taper_chain_spec_set_s(cs, x, &err);
+        if (strcmp(name, "left_wall_compliance") == 0 || strcmp(name, "right_wall_compliance") == 0) {
+            int e = name[0] == 'l' ? TAPER_LEFT : TAPER_RIGHT;
+            pd->end_compliance_given[e] = 1;
+            pd->end_compliance[e] = x;
+        } else if (strncmp(name, "striker_", 8) == 0) {
+            int i = strcmp(name, "striker_radius") == 0 ? 0 : strcmp(name, "striker_density") == 0 ? 1 : 2;
+            pd->striker_given[i] = 1;
+            pd->striker[i] = x;
+        } else if (strcmp(name, "disorder_amplitude") == 0) {
+            pd->disorder_given[1] = 1;
+            pd->disorder_amplitude = x;
+        } else if (strcmp(name, "load") == 0) rc = taper_chain_spec_set_load(cs, x, &err);
+        else if (strcmp(name, "damping") == 0) rc = taper_chain_spec_set_damping(cs, x, &err);
+        else if (strcmp(name, "drag") == 0) rc = taper_chain_spec_set_drag(cs, x, &err);
+        else if (strcmp(name, "s") == 0) rc = taper_chain_spec_set_s(cs, x, &err);
         else if (strcmp(name, "q") == 0) rc = taper_chain_spec_set_q(cs, x, &err);
         else if (strcmp(name, "exponent") == 0) rc = taper_chain_spec_set_exponent(cs, x, &err);
         else if (strcmp(name, "rtol") == 0) rc = taper_solver_spec_set_rtol(ss, x, &err);
         else if (strcmp(name, "atol") == 0) rc = taper_solver_spec_set_atol(ss, x, &err);
+        else if (strcmp(name, "t_end") == 0) rc = taper_solver_spec_set_t_end(ss, x, &err);
         else rc = taper_solver_spec_set_t_max(ss, x, &err);
         break;
     }
@@ -277,6 +376,91 @@ static int apply_setting(const setting *st, PyObject *v, taper_chain_spec *cs, t
         int b;
         if (get_bool(name, v, &b) < 0) return -1;
         rc = taper_solver_spec_set_window(ss, b, &err);
+        break;
+    }
+    case K_BOUNDARY: {
+        const char *s;
+        taper_boundary b;
+        if (get_str(name, v, &s) < 0) return -1;
+        rc = taper_boundary_from_name(s, &b, &err);
+        if (rc == TAPER_OK) {
+            int e = name[0] == 'l' ? TAPER_LEFT : TAPER_RIGHT;
+            pd->end_given[e] = 1;
+            pd->end[e] = b;
+        } else {
+            err.field = name;  /* the library's from_name names "boundary": the keyword is ours */
+        }
+        break;
+    }
+    case K_DISORDER: {
+        const char *s;
+        taper_disorder d;
+        if (get_str(name, v, &s) < 0) return -1;
+        rc = taper_disorder_from_name(s, &d, &err);
+        if (rc == TAPER_OK) {
+            pd->disorder_given[0] = 1;
+            pd->disorder = d;
+        }
+        break;
+    }
+    case K_SEED: {
+        if (is_bool(v) || !PyIndex_Check(v)) {
+            type_error(name, "an integer", v);
+            return -1;
+        }
+        PyObject *i = PyNumber_Index(v);
+        if (!i) return -1;
+        unsigned long long x = PyLong_AsUnsignedLongLong(i);
+        Py_DECREF(i);
+        if (x == (unsigned long long)-1 && PyErr_Occurred()) {
+            PyErr_Clear();
+            PyObject *text = PyUnicode_FromFormat("%s = %S is out of range (0 to 2**64 - 1)", name, v);
+            if (text) raise_with(InvalidArgumentError, PyUnicode_AsUTF8(text), TAPER_EINVAL, name,
+                                 PyUnicode_AsUTF8(text));
+            Py_XDECREF(text);
+            return -1;
+        }
+        pd->disorder_given[2] = 1;
+        pd->disorder_seed = (uint64_t)x;
+        break;
+    }
+    case K_PATTERN: {
+        if (v == Py_None) {
+            rc = taper_chain_spec_set_pattern(cs, NULL, 0, &err);
+            break;
+        }
+        PyArrayObject *a = real_sequence(name, v);
+        if (!a) return -1;
+        Py_ssize_t n = PyArray_DIM(a, 0);
+        rc = taper_chain_spec_set_pattern(cs, n ? (const double *)PyArray_DATA(a) : NULL, (size_t)n,
+                                          &err);
+        Py_DECREF(a);
+        break;
+    }
+    case K_MATERIALS: {
+        PyArrayObject *rho, *c;
+        if (materials_pair(v, &rho, &c) < 0) return -1;
+        if (!rho) {
+            rc = taper_chain_spec_set_materials(cs, NULL, NULL, 0, &err);
+            break;
+        }
+        Py_ssize_t n = PyArray_DIM(rho, 0);
+        if (PyArray_DIM(c, 0) != n) {
+            Py_DECREF(rho);
+            Py_DECREF(c);
+            PyObject *text = PyUnicode_FromFormat(
+                "materials: density has %zd values, compliance %zd: one of each per granule",
+                n, PyArray_DIM(c, 0));
+            if (text) raise_with(InvalidArgumentError, PyUnicode_AsUTF8(text), TAPER_EINVAL, name,
+                                 PyUnicode_AsUTF8(text));
+            Py_XDECREF(text);
+            return -1;
+        }
+        rc = taper_chain_spec_set_materials(cs, n ? (const double *)PyArray_DATA(rho) : NULL,
+                                            n ? (const double *)PyArray_DATA(c) : NULL, (size_t)n,
+                                            &err);
+        Py_DECREF(rho);
+        Py_DECREF(c);
         break;
     }
     case K_RADII: {
@@ -319,6 +503,43 @@ static int apply_setting(const setting *st, PyObject *v, taper_chain_spec *cs, t
     return 0;
 }
 
+/* The grouped settings of *pd through their setters, each value not given
+ * taken from the spec (its default). */
+static int apply_pending(const pending *pd, taper_chain_spec *cs)
+{
+    taper_error err;
+    for (int e = 0; e < TAPER_N_ENDS; e++) {
+        if (!pd->end_given[e] && !pd->end_compliance_given[e]) continue;
+        taper_boundary b = pd->end_given[e] ? pd->end[e] : taper_chain_spec_end(cs, (taper_end)e);
+        double c = pd->end_compliance_given[e] ? pd->end_compliance[e]
+                                               : taper_chain_spec_end_compliance(cs, (taper_end)e);
+        if (taper_chain_spec_set_end(cs, (taper_end)e, b, c, &err) != TAPER_OK) {
+            raise_library(&err);
+            return -1;
+        }
+    }
+    if (pd->striker_given[0] || pd->striker_given[1] || pd->striker_given[2]) {
+        double r = pd->striker_given[0] ? pd->striker[0] : taper_chain_spec_striker_radius(cs);
+        double rho = pd->striker_given[1] ? pd->striker[1] : taper_chain_spec_striker_density(cs);
+        double c = pd->striker_given[2] ? pd->striker[2] : taper_chain_spec_striker_compliance(cs);
+        if (taper_chain_spec_set_striker(cs, r, rho, c, &err) != TAPER_OK) {
+            raise_library(&err);
+            return -1;
+        }
+    }
+    if (pd->disorder_given[0] || pd->disorder_given[1] || pd->disorder_given[2]) {
+        taper_disorder d = pd->disorder_given[0] ? pd->disorder : taper_chain_spec_disorder(cs);
+        double a = pd->disorder_given[1] ? pd->disorder_amplitude
+                                         : taper_chain_spec_disorder_amplitude(cs);
+        uint64_t seed = pd->disorder_given[2] ? pd->disorder_seed : taper_chain_spec_disorder_seed(cs);
+        if (taper_chain_spec_set_disorder(cs, d, a, seed, &err) != TAPER_OK) {
+            raise_library(&err);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 /* Reads the keywords into fresh specs (ss may be NULL: chain settings only).
  * An unknown keyword is a TypeError naming it. */
 static int parse_settings(PyObject *kwargs, taper_chain_spec *cs, taper_solver_spec *ss,
@@ -329,6 +550,8 @@ static int parse_settings(PyObject *kwargs, taper_chain_spec *cs, taper_solver_s
     Py_ssize_t pos = 0;
     Py_ssize_t n_radii = -1;
     int n_given = 0;
+    pending pd;
+    memset(&pd, 0, sizeof pd);
     while (PyDict_Next(kwargs, &pos, &key, &value)) {
         const char *k = PyUnicode_AsUTF8(key);
         if (!k) return -1;
@@ -340,9 +563,10 @@ static int parse_settings(PyObject *kwargs, taper_chain_spec *cs, taper_solver_s
             return -1;
         }
         if (value == Py_None && st->kind != K_RADII) continue; /* None: the library's default */
-        if (apply_setting(st, value, cs, ss, &n_radii) < 0) return -1;
+        if (apply_setting(st, value, cs, ss, &n_radii, &pd) < 0) return -1;
         if (strcmp(k, "n_granules") == 0) n_given = 1;
     }
+    if (apply_pending(&pd, cs) < 0) return -1;
     /* As in a scene: with radii, n_granules may be left out (N = number of
      * radii). */
     if (n_radii > 0 && !n_given) {
@@ -406,6 +630,49 @@ static int theory_columns(PyObject *cols, const double *const *q, size_t n)
     return 0;
 }
 
+/* The chain settings of issue 15 (ends, striker, load, losses, pattern,
+ * materials, disorder) into d, from the spec's getters. */
+static int beyond_paper_settings(PyObject *d, const taper_chain_spec *cs)
+{
+    static const char *const end_keys[TAPER_N_ENDS] = {"left_end", "right_end"};
+    static const char *const wall_keys[TAPER_N_ENDS] = {"left_wall_compliance",
+                                                        "right_wall_compliance"};
+    for (int e = 0; e < TAPER_N_ENDS; e++) {
+        const char *b = taper_boundary_name(taper_chain_spec_end(cs, (taper_end)e));
+        if (put(d, end_keys[e], PyUnicode_FromString(b ? b : "")) < 0 ||
+            put(d, wall_keys[e], PyFloat_FromDouble(taper_chain_spec_end_compliance(cs, (taper_end)e))) < 0)
+            return -1;
+    }
+    size_t n_pattern = 0;
+    const double *pattern = taper_chain_spec_pattern(cs, &n_pattern);
+    const double *rho = NULL, *c = NULL;
+    size_t n_materials = taper_chain_spec_materials(cs, &rho, &c);
+    const char *disorder = taper_disorder_name(taper_chain_spec_disorder(cs));
+    PyObject *materials = Py_None;
+    if (n_materials > 0) {
+        PyObject *a = double_array(rho, n_materials), *b = double_array(c, n_materials);
+        materials = a && b ? PyTuple_Pack(2, a, b) : NULL;
+        Py_XDECREF(a);
+        Py_XDECREF(b);
+        if (!materials) return -1;
+    } else {
+        Py_INCREF(materials);
+    }
+    if (put(d, "materials", materials) < 0 ||
+        put(d, "striker_radius", PyFloat_FromDouble(taper_chain_spec_striker_radius(cs))) < 0 ||
+        put(d, "striker_density", PyFloat_FromDouble(taper_chain_spec_striker_density(cs))) < 0 ||
+        put(d, "striker_compliance", PyFloat_FromDouble(taper_chain_spec_striker_compliance(cs))) < 0 ||
+        put(d, "load", PyFloat_FromDouble(taper_chain_spec_load(cs))) < 0 ||
+        put(d, "damping", PyFloat_FromDouble(taper_chain_spec_damping(cs))) < 0 ||
+        put(d, "drag", PyFloat_FromDouble(taper_chain_spec_drag(cs))) < 0 ||
+        put(d, "pattern", pattern ? double_array(pattern, n_pattern) : Py_NewRef(Py_None)) < 0 ||
+        put(d, "disorder", PyUnicode_FromString(disorder ? disorder : "")) < 0 ||
+        put(d, "disorder_amplitude", PyFloat_FromDouble(taper_chain_spec_disorder_amplitude(cs))) < 0 ||
+        put(d, "disorder_seed", PyLong_FromUnsignedLongLong(taper_chain_spec_disorder_seed(cs))) < 0)
+        return -1;
+    return 0;
+}
+
 /* The resolved settings (every default filled in), from the specs' getters. */
 static PyObject *settings_dict(const taper_chain_spec *cs, const taper_solver_spec *ss)
 {
@@ -421,6 +688,7 @@ static PyObject *settings_dict(const taper_chain_spec *cs, const taper_solver_sp
         put(d, "exponent", PyFloat_FromDouble(taper_chain_spec_exponent(cs))) < 0 ||
         put(d, "radii", radii ? double_array(radii, n_radii) : Py_NewRef(Py_None)) < 0)
         goto fail;
+    if (beyond_paper_settings(d, cs) < 0) goto fail;
     if (ss) {
         const char *method = taper_method_name(taper_solver_spec_method(ss));
         if (put(d, "method", PyUnicode_FromString(method ? method : "")) < 0 ||
@@ -430,7 +698,8 @@ static PyObject *settings_dict(const taper_chain_spec *cs, const taper_solver_sp
             put(d, "last_granule", PyLong_FromSize_t(taper_solver_spec_last_granule(ss))) < 0 ||
             put(d, "max_order", PyLong_FromLong(taper_solver_spec_max_order(ss))) < 0 ||
             put(d, "t_max", PyFloat_FromDouble(taper_solver_spec_t_max(ss))) < 0 ||
-            put(d, "max_steps", PyLong_FromLong(taper_solver_spec_max_steps(ss))) < 0)
+            put(d, "max_steps", PyLong_FromLong(taper_solver_spec_max_steps(ss))) < 0 ||
+            put(d, "t_end", PyFloat_FromDouble(taper_solver_spec_t_end(ss))) < 0)
             goto fail;
     }
     return d;
@@ -538,7 +807,8 @@ static PyObject *stats_dict(const taper_sim *sim)
         PyObject *v;
         if (i == TAPER_STAT_COMPLETE) v = PyBool_FromLong(x != 0);
         else if (i == TAPER_STAT_T_FINAL || i == TAPER_STAT_ENERGY_ERROR ||
-                 i == TAPER_STAT_MOMENTUM_ERROR || !isfinite(x) || x != floor(x) ||
+                 i == TAPER_STAT_MOMENTUM_ERROR || i >= TAPER_STAT_ENERGY_INITIAL ||
+                 !isfinite(x) || x != floor(x) ||
                  fabs(x) > 9.0e15)
             v = PyFloat_FromDouble(x);
         else v = PyLong_FromLongLong((long long)x);
@@ -612,7 +882,8 @@ static PyObject *run_specs(const taper_chain_spec *cs, const taper_solver_spec *
                 TAPER_OK ||
             taper_solver_spec_set_t_max(ss, taper_solver_spec_t_max(ss_in), &err) != TAPER_OK ||
             taper_solver_spec_set_max_steps(ss, taper_solver_spec_max_steps(ss_in), &err) !=
-                TAPER_OK) {
+                TAPER_OK ||
+            taper_solver_spec_set_t_end(ss, taper_solver_spec_t_end(ss_in), &err) != TAPER_OK) {
             raise_library(&err);
             goto fail;
         }
@@ -815,6 +1086,8 @@ static const char *quantity_name_i(int i)
     return taper_theory_quantity_name((taper_theory_quantity)i);
 }
 static const char *fit_model_name_i(int i) { return taper_fit_model_name((taper_fit_model)i); }
+static const char *boundary_name_i(int i) { return taper_boundary_name((taper_boundary)i); }
+static const char *disorder_name_i(int i) { return taper_disorder_name((taper_disorder)i); }
 
 static PyObject *py_version(PyObject *self, PyObject *unused)
 {
@@ -901,7 +1174,11 @@ static PyObject *py_chain(PyObject *self, PyObject *args, PyObject *kwargs)
     if (put(out, "columns", Py_NewRef(cols)) < 0 ||
         put(out, "settings", settings_dict(cs, NULL)) < 0 ||
         put(out, "profile", PyUnicode_FromString(profile ? profile : "")) < 0 ||
-        put(out, "exponent", PyFloat_FromDouble(taper_chain_exponent(chain))) < 0)
+        put(out, "exponent", PyFloat_FromDouble(taper_chain_exponent(chain))) < 0 ||
+        put(out, "theory_note", taper_chain_theory_note(chain)
+                                    ? PyUnicode_FromString(taper_chain_theory_note(chain))
+                                    : Py_NewRef(Py_None)) < 0 ||
+        put(out, "striker_mass", PyFloat_FromDouble(taper_chain_striker_mass(chain))) < 0)
         goto fail;
     Py_DECREF(cols);
     taper_chain_free(chain);
@@ -1239,7 +1516,9 @@ PyMODINIT_FUNC PyInit__core(void)
         PyModule_AddObject(m, "OBSERVABLES", names_tuple(observable_name_i)) < 0 ||
         PyModule_AddObject(m, "THEORY_QUANTITIES", names_tuple(quantity_name_i)) < 0 ||
         PyModule_AddObject(m, "LAWS", names_tuple(law_name_i)) < 0 ||
-        PyModule_AddObject(m, "FIT_MODELS", names_tuple(fit_model_name_i)) < 0) {
+        PyModule_AddObject(m, "FIT_MODELS", names_tuple(fit_model_name_i)) < 0 ||
+        PyModule_AddObject(m, "BOUNDARIES", names_tuple(boundary_name_i)) < 0 ||
+        PyModule_AddObject(m, "DISORDERS", names_tuple(disorder_name_i)) < 0) {
         Py_DECREF(m);
         return NULL;
     }

@@ -17,6 +17,8 @@ OBSERVABLES: Tuple[str, ...]
 THEORY_QUANTITIES: Tuple[str, ...]
 LAWS: Tuple[str, ...]
 FIT_MODELS: Tuple[str, ...]
+BOUNDARIES: Tuple[str, ...]
+DISORDERS: Tuple[str, ...]
 
 def simulate(**settings: Any) -> Dict[str, Any]: ...
 def theory(**chain_settings: Any) -> Dict[str, Any]: ...

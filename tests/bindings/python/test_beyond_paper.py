@@ -1,0 +1,155 @@
+"""The chain settings beyond the paper (taper.h, issue 15) through the Python
+package: every keyword reaches its library setter, a refusal names the
+keyword, the paper's defaults given explicitly change nothing, and the
+physics each option brings is there (disorder reproducible and independent
+of N, masses and contact factors of mixed materials, the striker's energy,
+the energy budget closing, damping and drag slowing the pulse, a load
+speeding it up, a wall pushing back)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import taper
+
+BUDGET = ("energy_initial", "energy_dissipated", "energy_transmitted", "energy_reflected",
+          "energy_in_chain")
+WALL = ("wall_peak_force_left", "wall_peak_time_left", "wall_impulse_left",
+        "wall_peak_force_right", "wall_peak_time_right", "wall_impulse_right")
+
+
+def test_names_follow_the_header():
+    assert len(taper.PROFILES) == 7 and taper.PROFILES[6] == "decorated"
+    assert len(taper.STATISTICS) == 25
+    assert set(BUDGET + WALL) <= set(taper.STATISTICS)
+    assert taper.BOUNDARIES == ("free", "wall")
+    assert taper.DISORDERS == ("radius", "mass")
+
+
+def test_the_paper_defaults_given_explicitly_change_nothing():
+    plain = taper.simulate(profile="backward_linear", s=0.1, n_granules=40)
+    given = taper.simulate(profile="backward_linear", s=0.1, n_granules=40, left_end="free",
+                           right_end="free", striker_radius=0, load=0, damping=0, drag=0,
+                           disorder_amplitude=0, materials=None, pattern=None, t_end=0)
+    for c in ("t_pass", "v_peak", "T_res", "t_peak"):
+        assert np.array_equal(getattr(plain, c), getattr(given, c), equal_nan=True), c
+    assert plain.stats["steps"] == given.stats["steps"]
+
+
+def test_settings_read_back_in_any_keyword_order():
+    c = taper.chain(n_granules=10, left_wall_compliance=0.5, left_end="wall",
+                    right_end="Wall", striker_density=None)
+    assert c.settings["left_end"] == "wall" and c.settings["left_wall_compliance"] == 0.5
+    assert c.settings["right_end"] == "wall" and c.settings["right_wall_compliance"] == 0
+    c = taper.chain(n_granules=10, striker_density=2.0, striker_radius=0.5,
+                    disorder_seed=2**64 - 1, disorder_amplitude=0.2, disorder="mass")
+    s = c.settings
+    assert (s["striker_radius"], s["striker_density"]) == (0.5, 2.0)
+    assert (s["disorder"], s["disorder_amplitude"], s["disorder_seed"]) == ("mass", 0.2, 2**64 - 1)
+    # striker mass = density radius^3
+    assert c.striker_mass == pytest.approx(2.0 * 0.5**3, rel=1e-15)
+
+
+@pytest.mark.parametrize("kw, field", [
+    (dict(damping=-1.0), "damping"),
+    (dict(drag=math.inf), "drag"),
+    (dict(load=-0.1), "load"),
+    (dict(left_end="glue"), "left_end"),
+    (dict(right_wall_compliance=-1.0, right_end="wall"), "right_wall_compliance"),
+    (dict(striker_radius=-1.0), "striker_radius"),
+    (dict(disorder="volume"), "disorder"),
+    (dict(disorder_amplitude=1.0), "disorder_amplitude"),
+    (dict(disorder_seed=-1), "disorder_seed"),
+    (dict(materials=([1.0, 2.0], [1.0])), "materials"),
+])
+def test_refusals_name_the_keyword(kw, field):
+    with pytest.raises(taper.InvalidArgumentError) as e:
+        taper.chain(n_granules=10, **kw)
+    assert e.value.field == field, e.value
+
+
+def test_wrong_types_and_names():
+    with pytest.raises(TypeError, match="materials"):
+        taper.chain(n_granules=3, materials=[1.0, 2.0, 3.0])
+    with pytest.raises(TypeError, match="left_end"):
+        taper.chain(left_end=1)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'dampin'"):
+        taper.simulate(dampin=0.1)
+
+
+def test_decorated_profile_repeats_its_pattern():
+    c = taper.chain(profile="decorated", pattern=[1.0, 0.5, 0.25], n_granules=7)
+    assert list(c.R) == [1.0, 0.5, 0.25, 1.0, 0.5, 0.25, 1.0]
+    assert np.allclose(c.m, c.R**3, rtol=1e-15)
+    with pytest.raises(taper.InvalidArgumentError):   # a pattern needs the decorated profile
+        taper.chain(pattern=[1.0, 0.5], n_granules=4)
+
+
+def test_disorder_is_reproducible_and_independent_of_n():
+    kw = dict(disorder="radius", disorder_amplitude=0.1, disorder_seed=7)
+    a = taper.chain(n_granules=10, **kw).R
+    b = taper.chain(n_granules=50, **kw).R
+    assert a[0] == 1.0 and np.all(np.abs(a - 1) <= 0.1) and np.any(a != 1)
+    assert np.array_equal(a, b[:10])                   # u_k from (seed, k) alone
+    assert np.array_equal(a, taper.chain(n_granules=10, **kw).R)
+    assert not np.array_equal(a, taper.chain(n_granules=10, **dict(kw, disorder_seed=8)).R)
+    m = taper.chain(n_granules=10, disorder="mass", disorder_amplitude=0.1, disorder_seed=7)
+    assert np.all(m.R == 1) and np.allclose(m.m / m.m[0] - 1, a - 1, rtol=1e-12, atol=0)
+
+
+def test_materials_set_masses_and_contact_factors():
+    rho = np.array([2.0, 4.0, 2.0, 8.0])
+    c = np.array([1.0, 3.0, 1.0, 0.5])
+    mixed = taper.chain(n_granules=4, materials=(rho, c))
+    plain = taper.chain(n_granules=4)
+    assert np.allclose(mixed.m, rho / rho[0], rtol=1e-15)              # m_k = rho_k R_k^3
+    rel = c / c[0]
+    want = plain.r[:3] * 2 * rel[0] / (rel[:3] + rel[1:])               # r_k 2 c_1/(c_k + c_k+1)
+    assert np.allclose(mixed.r[:3], want, rtol=1e-14)
+    d, cc = mixed.settings["materials"]
+    assert np.allclose(d, rho / rho[0]) and np.allclose(cc, rel)
+
+
+def test_striker_energy_and_budget():
+    r = taper.simulate(n_granules=30, striker_radius=0.5, striker_density=3.0)
+    e0 = r.stats["energy_initial"]
+    assert e0 == pytest.approx(0.5 * 3.0 * 0.5**3, rel=1e-12)        # the striker's alone
+    assert r.stats["energy_dissipated"] == 0
+    parts = sum(r.stats[k] for k in BUDGET[2:])
+    assert abs(parts - e0) <= 1e-6 * e0, r.stats
+
+
+def test_damping_dissipates_and_the_budget_closes():
+    elastic = taper.simulate(n_granules=40)
+    damped = taper.simulate(n_granules=40, damping=0.05)
+    s = damped.stats
+    assert s["energy_dissipated"] > 1e-3 * s["energy_initial"]
+    parts = s["energy_dissipated"] + s["energy_transmitted"] + s["energy_reflected"] + \
+        s["energy_in_chain"]
+    assert abs(parts - s["energy_initial"]) <= 1e-6 * s["energy_initial"], s
+    assert damped.v_peak[30] < elastic.v_peak[30]
+    assert np.all(np.isnan(damped.theory_v))                          # outside the theory
+
+
+def test_drag_slows_and_a_load_speeds_the_pulse():
+    plain = taper.simulate(n_granules=40)
+    dragged = taper.simulate(n_granules=40, drag=0.05)
+    loaded = taper.simulate(n_granules=40, load=0.1)
+    assert dragged.t_pass[30] > plain.t_pass[30] and dragged.v_peak[30] < plain.v_peak[30]
+    assert loaded.t_pass[30] < plain.t_pass[30]      # precompression raises the sound speed
+    assert taper.chain(n_granules=40, load=0.1).theory_note
+
+
+def test_a_wall_pushes_back():
+    free = taper.simulate(n_granules=20, t_end=40.0)
+    walled = taper.simulate(n_granules=20, right_end="wall", t_end=40.0)
+    for k in WALL:
+        assert math.isnan(free.stats[k]), k
+    assert math.isnan(walled.stats["wall_peak_force_left"])
+    assert walled.stats["wall_peak_force_right"] > 0
+    assert 0 < walled.stats["wall_peak_time_right"] <= 40.0
+    # elastic, rigid wall: the impulse it gives is at most twice the momentum
+    # that reaches it, and the pulse comes back (the chain ends moving left)
+    assert 0 < walled.stats["wall_impulse_right"] <= 2.0 + 1e-6
+    assert walled.stats["t_final"] == pytest.approx(40.0)
