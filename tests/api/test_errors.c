@@ -391,6 +391,30 @@ static void names(void)
     CHECK(i == TAPER_N_FIT_MODELS, "%d fit model names", i);
     for (i = 0; taper_statistic_name((taper_statistic)i); i++) continue;
     CHECK(i == TAPER_N_STATISTICS, "%d statistic names", i);
+    /* The enums of issue 15: boundaries and disorders round-trip, the
+     * dimensions each have a name and an SI unit. */
+    for (i = 0; taper_boundary_name((taper_boundary)i); i++) {
+        taper_boundary b = (taper_boundary)-1;
+        CHECK(taper_boundary_from_name(taper_boundary_name((taper_boundary)i), &b, &err) ==
+                      TAPER_OK && b == (taper_boundary)i && cleared(&err),
+              "boundary %d", i);
+    }
+    CHECK(i == TAPER_N_BOUNDARIES, "%d boundary names", i);
+    for (i = 0; taper_disorder_name((taper_disorder)i); i++) {
+        taper_disorder d = (taper_disorder)-1;
+        CHECK(taper_disorder_from_name(taper_disorder_name((taper_disorder)i), &d, &err) ==
+                      TAPER_OK && d == (taper_disorder)i && cleared(&err),
+              "disorder %d", i);
+    }
+    CHECK(i == TAPER_N_DISORDERS, "%d disorder names", i);
+    for (i = 0; taper_dimension_name((taper_dimension)i); i++)
+        CHECK(taper_dimension_unit((taper_dimension)i) != NULL, "dimension %d has no unit", i);
+    CHECK(i == TAPER_N_DIMENSIONS && taper_dimension_unit((taper_dimension)i) == NULL,
+          "%d dimension names", i);
+    taper_boundary bd;
+    CHECK(taper_boundary_from_name("glue", &bd, &err) != TAPER_OK && err.field != NULL &&
+              strstr(err.message, "wall"),
+          "unknown boundary: field %s '%s'", FIELD(err), err.message);
     taper_profile p;
     CHECK(taper_profile_from_name("BACKWARD_Linear", &p, &err) == TAPER_OK &&
               p == TAPER_BACKWARD_LINEAR,
