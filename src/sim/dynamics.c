@@ -1,6 +1,9 @@
 /*
  * dynamics.c -- right-hand side of eq. (6) in the variables
  * of dynamics.h.  This is the hot path: no allocation, no pow() for n = 5/2.
+ * Chains with options (walls, striker, load, losses) have their own
+ * right-hand side, taper_dyn_rhs_general, chosen once by the sim: the
+ * paper's chain runs the plain one, unchanged.
  */
 #include "dynamics.h"
 
@@ -22,7 +25,8 @@ int taper_dyn_init(taper_dyn *d, size_t n, double exponent, const double *mass,
         return -1;
     }
     for (size_t k = 1; k <= n; k++) {
-        d->inv_mass[k - 1] = 1.0 / mass[k - 1];
+        /* mass 0: a wall (sim.c), which never moves */
+        d->inv_mass[k - 1] = mass[k - 1] > 0.0 ? 1.0 / mass[k - 1] : 0.0;
         d->rho[k - 1] = k < n ? pow(contact[k - 1], 1.0 / (exponent - 1.0)) : 0.0;
     }
     d->lo = 1;
@@ -85,6 +89,18 @@ void taper_dyn_energy_momentum(const taper_dyn *d, const double *y, double *ener
                                double *momentum)
 {
     double e = 0.0, p = 0.0;
+    if (d->general) { /* walls have mass 0; energies from the equilibrium */
+        for (size_t k = d->lo; k <= d->hi; k++) {
+            double v = taper_dyn_v(d, y, k);
+            e += 0.5 * d->mass[k - 1] * v * v;
+            p += d->mass[k - 1] * v;
+            if (k < d->n) e += taper_dyn_contact_energy(d, k, taper_dyn_z(d, y, k));
+        }
+        if (d->lo > 1) e += taper_dyn_contact_energy(d, d->lo - 1, y[0]);
+        *energy = e;
+        *momentum = p;
+        return;
+    }
     for (size_t k = d->lo; k <= d->hi; k++) {
         double v = taper_dyn_v(d, y, k), z = taper_dyn_z(d, y, k);
         e += 0.5 * d->mass[k - 1] * v * v;
@@ -101,6 +117,149 @@ void taper_dyn_energy_momentum(const taper_dyn *d, const double *y, double *ener
 
 double taper_dyn_peak_function(const taper_dyn *d, const double *y, size_t k)
 {
+    if (d->dissipative) {
+        double left, right;
+        taper_dyn_peak_terms(d, y, k, &left, &right);
+        return left - right;
+    }
     double left = k > 1 ? d->rho[k - 2] * taper_dyn_z(d, y, k - 1) : 0.0;
     return left - d->rho[k - 1] * taper_dyn_z(d, y, k);
+}
+
+/* ---- chains with options ------------------------------------------------ */
+static double overlap(const taper_dyn *d, size_t k, double z)
+{
+    return d->delta ? d->delta[k - 1] + z : z;
+}
+
+static double power_law(const taper_dyn *d, double s)
+{
+    return d->hertz ? s * sqrt(s) : pow(s, d->exponent - 1.0);
+}
+
+double taper_dyn_elastic_force(const taper_dyn *d, size_t k, double z)
+{
+    double s = overlap(d, k, z);
+    if (!(s > 0.0)) return 0.0;
+    return d->contact[k - 1] * power_law(d, s);
+}
+
+double taper_dyn_contact_force(const taper_dyn *d, size_t k, double z, double zdot)
+{
+    double s = overlap(d, k, z);
+    if (!(s > 0.0)) return 0.0;
+    double p = power_law(d, s);
+    /* d(s^(n-1))/dt = (n-1) s^(n-2) dz/dt */
+    double f = d->damping > 0.0 ? p + d->damping * (d->exponent - 1.0) * (p / s) * zdot : p;
+    return f > 0.0 ? d->contact[k - 1] * f : 0.0;
+}
+
+void taper_dyn_rhs_general(const taper_dyn *d, const double *y, double *ydot)
+{
+    const size_t lo = d->lo, hi = d->hi;
+    size_t shift = 0;
+    double force_left = d->load; /* a free first body is pushed by the load */
+    if (lo > 1) {
+        force_left = taper_dyn_contact_force(d, lo - 1, y[0], d->v_left - y[1]);
+        ydot[0] = d->v_left - y[1];
+        shift = 1;
+    }
+    const double *yv = y + shift;
+    double *fv = ydot + shift;
+    for (size_t k = lo, i = 0; k <= hi; k++, i += 2) {
+        const double v = yv[i], v_next = k < hi ? yv[i + 2] : 0.0;
+        /* Beyond hi: the static F0 of the contact outside the window, or the
+         * load on a free last body (a wall body has inverse mass 0). */
+        double force = k < hi ? taper_dyn_contact_force(d, k, yv[i + 1], v - v_next) : d->load;
+        fv[i] = (force_left - force - d->drag * v) * d->inv_mass[k - 1];
+        fv[i + 1] = v - v_next;
+        force_left = force;
+    }
+}
+
+/* (1 + u)^n - 1 - n u without the cancellation of its first terms for
+ * small u (the energy of a weak pulse in a strongly loaded chain). */
+static double excess_power(double n, double u)
+{
+    if (fabs(u) < 0.05) {
+        double term = n * u, sum = 0.0;
+        for (int j = 2; j < 60; j++) {
+            term *= (n - j + 1) / j * u;
+            sum += term;
+            if (fabs(term) <= 1e-18 * fabs(sum)) break;
+        }
+        return sum;
+    }
+    return pow(1.0 + u, n) - 1.0 - n * u;
+}
+
+double taper_dyn_contact_energy(const taper_dyn *d, size_t k, double z)
+{
+    const double n = d->exponent, r = d->contact[k - 1];
+    if (!d->delta) return z > 0.0 ? r / n * pow(z, n) : 0.0;
+    const double delta = d->delta[k - 1], u0 = r * pow(delta, n) / n;
+    if (!(delta + z > 0.0)) return -u0 - d->load * z;
+    return u0 * excess_power(n, z / delta);
+}
+
+double taper_dyn_window_force(const taper_dyn *d, const double *y, size_t k)
+{
+    if (k + 1 == d->lo)
+        return taper_dyn_contact_force(d, k, y[0], d->v_left - taper_dyn_v(d, y, d->lo));
+    if (k >= d->hi) return d->load;
+    return taper_dyn_contact_force(d, k, taper_dyn_z(d, y, k),
+                                   taper_dyn_v(d, y, k) - taper_dyn_v(d, y, k + 1));
+}
+
+/* Force on body k from the left: its contact k-1, or the load on a free
+ * first body. */
+static double force_from_left(const taper_dyn *d, const double *y, size_t k)
+{
+    return k > 1 ? taper_dyn_window_force(d, y, k - 1) : d->load;
+}
+
+double taper_dyn_acceleration(const taper_dyn *d, const double *y, size_t k)
+{
+    if (k < d->lo || k > d->hi) return 0.0;
+    double right = k < d->n ? taper_dyn_window_force(d, y, k) : d->load;
+    return (force_from_left(d, y, k) - right - d->drag * taper_dyn_v(d, y, k)) * d->inv_mass[k - 1];
+}
+
+void taper_dyn_peak_terms(const taper_dyn *d, const double *y, size_t k, double *left,
+                          double *right)
+{
+    if (!d->dissipative) {
+        *left = k > 1 ? d->rho[k - 2] * taper_dyn_z(d, y, k - 1) : 0.0;
+        *right = d->rho[k - 1] * taper_dyn_z(d, y, k);
+        return;
+    }
+    *left = force_from_left(d, y, k);
+    *right = (k < d->n ? taper_dyn_window_force(d, y, k) : d->load) + d->drag * taper_dyn_v(d, y, k);
+}
+
+/* Dissipated power of contact k: (F - F_elastic) dz/dt >= 0 (the clipped
+ * force never pulls: where it is 0, -F_elastic dz/dt > 0). */
+static double contact_loss(const taper_dyn *d, size_t k, double z, double zdot)
+{
+    if (!(d->damping > 0.0)) return 0.0;
+    return (taper_dyn_contact_force(d, k, z, zdot) - taper_dyn_elastic_force(d, k, z)) * zdot;
+}
+
+void taper_dyn_quadrature_rhs(const taper_dyn *d, const double *y, double *out)
+{
+    const size_t lo = d->lo, hi = d->hi;
+    out[0] = out[1] = out[2] = 0.0;
+    /* Left wall: body 1, its contact with granule 1 (body 2) in the window
+     * or in the gap slot; further out it is open (granule 1 flies freely). */
+    if (d->wall_left && lo <= 2 && hi >= 2) out[0] = taper_dyn_window_force(d, y, 1);
+    /* Right wall: body n; beyond the window its contact is static. */
+    if (d->wall_right) out[1] = hi == d->n ? taper_dyn_window_force(d, y, d->n - 1) : d->load;
+    double loss = 0.0;
+    if (lo > 1) loss += contact_loss(d, lo - 1, y[0], d->v_left - taper_dyn_v(d, y, lo));
+    for (size_t k = lo; k <= hi; k++) {
+        const double v = taper_dyn_v(d, y, k);
+        if (k < hi) loss += contact_loss(d, k, taper_dyn_z(d, y, k), v - taper_dyn_v(d, y, k + 1));
+        loss += d->drag * v * v;
+    }
+    out[2] = loss;
 }

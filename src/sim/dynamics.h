@@ -34,6 +34,20 @@ typedef struct taper_dyn {
     double *rho;            /* r_k^(1/(n-1)), rho_N = 0 (peak function)     */
     size_t lo, hi;          /* integrated granules                          */
     double v_left;          /* frozen velocity of granule lo-1 (lo > 1)     */
+    /* Beyond the paper (taper.h, "Beyond the paper"; set by the sim after
+     * taper_dyn_init, all zero for the paper's chain).  Bodies of zero mass
+     * are walls: inverse mass 0, they never move.  general: some option is
+     * on and taper_dyn_rhs_general is the right-hand side; the paper's chain
+     * keeps taper_dyn_rhs, untouched (the hot path). */
+    int general;
+    int dissipative;        /* damping > 0 or drag > 0                      */
+    double load;            /* F0: static force through every contact, and
+                               on a free first and last body               */
+    const double *delta;    /* static overlaps, r_k delta_k^(n-1) = F0 (NULL
+                               without a load); z is measured from them     */
+    double damping;         /* Kuwabara-Kono time (rescaled)               */
+    double drag;            /* force -drag v on every body                  */
+    int wall_left, wall_right; /* body 1 / body n is a wall                 */
 } taper_dyn;
 
 static inline size_t taper_idx_v(size_t k) { return 2 * (k - 1); }
@@ -55,6 +69,32 @@ double taper_dyn_force_slope(const taper_dyn *d, size_t k, double z);
 
 /* y and ydot point at absolute index taper_dyn_begin(d). */
 void taper_dyn_rhs(const taper_dyn *d, const double *y, double *ydot);
+
+/* ---- chains with options (d->general) ------------------------------------
+ * Contact k pushes with r_k (s^(n-1) + damping d(s^(n-1))/dt), s = delta_k +
+ * z_k, while that is > 0, never pulls (Kuwabara and Kono, Jpn. J. Appl.
+ * Phys. 26, 1230 (1987); Brilliantov et al., Phys. Rev. E 53, 5382 (1996)
+ * for the form).  The contact (hi, hi+1) outside the window carries the
+ * static force F0 (granules ahead are at rest in equilibrium); a free end is
+ * pushed by F0; every body feels -drag v. */
+double taper_dyn_contact_force(const taper_dyn *d, size_t k, double z, double zdot);
+/* The elastic part alone, r_k s^(n-1) theta(s). */
+double taper_dyn_elastic_force(const taper_dyn *d, size_t k, double z);
+void taper_dyn_rhs_general(const taper_dyn *d, const double *y, double *ydot);
+/* Energy of contact k measured from the equilibrium,
+ * U(delta + z) - U(delta) - F0 z with U(s) = r s^n / n for s > 0: convex,
+ * zero at rest; the sum over contacts includes the potential of the loads
+ * on free ends (their -F0 z terms telescope to -F0 (x_1 - x_N)). */
+double taper_dyn_contact_energy(const taper_dyn *d, size_t k, double z);
+/* Total force of contact k (lo - 1 <= k <= hi, k >= 1) in the window state:
+ * the gap slot for k = lo - 1, the static F0 for k = hi. */
+double taper_dyn_window_force(const taper_dyn *d, const double *y, size_t k);
+/* Acceleration of body k (lo <= k <= hi) in the window state. */
+double taper_dyn_acceleration(const taper_dyn *d, const double *y, size_t k);
+/* The quadratures of a run with walls or losses: out[0], out[1] the forces
+ * of the left and right walls, out[2] the power dissipated by damping and
+ * drag, sum over contacts of (F - F_elastic) dz/dt plus drag sum v^2. */
+void taper_dyn_quadrature_rhs(const taper_dyn *d, const double *y, double *out);
 
 /* Velocity and compression of granule k (lo <= k <= hi) in the window state;
  * compression of k = lo - 1 is the boundary gap. */
@@ -79,5 +119,14 @@ void taper_dyn_energy_momentum(const taper_dyn *d, const double *y, double *ener
  * contact of k is closed, and unlike the force difference it is never
  * identically zero on an interval (CVODE rejects such root functions). */
 double taper_dyn_peak_function(const taper_dyn *d, const double *y, size_t k);
+/* The two terms of the peak function, g = left - right.  Elastic chains
+ * (with or without a load: rho_k delta_k = F0^(1/(n-1)) for every contact,
+ * so the shifted terms of a closed contact differ by the same constant):
+ * rho_{k-1} z_{k-1} and rho_k z_k.  Dissipative chains: the forces
+ * themselves, F_{k-1} and F_k + drag v_k (k's acceleration times m_k; the
+ * caller arms it only while v_k > 0, where it cannot vanish on an
+ * interval). */
+void taper_dyn_peak_terms(const taper_dyn *d, const double *y, size_t k, double *left,
+                          double *right);
 
 #endif

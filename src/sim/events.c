@@ -48,6 +48,19 @@
  *
  * Either way a granule at rest is unarmed: its functions would be exactly
  * zero, which CVODE takes for a root at every step.
+ *
+ * Walls (one slot each after the gap slot): the largest force of a wall is
+ * where its force stops growing, dF/dt crossing zero downward while the
+ * contact pushes.  Elastic contacts: F = r s^(n-1) grows with the
+ * compression s, so the function is the rate of compression dz/dt; with
+ * Kuwabara-Kono damping dF/dt = r (n-1) s^(n-2) [dz/dt + damping ((n-2)
+ * (dz/dt)^2 / s + d^2z/dt^2)], whose bracket is the function.  Every
+ * maximum is a root; the largest is kept (walls.peak_force).
+ *
+ * Chains with damping or drag: the acceleration of k is no longer
+ * F_{k-1} - F_k over m_k, and the peak function is the force balance itself,
+ * F_{k-1} - F_k - drag v_k (taper_dyn_peak_terms); armed only while v_k > 0,
+ * where drag keeps it off zero even with both contacts open.
  */
 #include "sim.h"
 
@@ -131,8 +144,12 @@ static void ring_values(const taper_sim *sim, const double *y, double *g_pass, d
         double g = 1.0;
         if (k <= last_peak && !(p->events[k - 1] & TAPER_EV_PEAK) &&
             y[taper_idx_v(k) - begin] > v_peak) {
-            const double left = k > 1 ? d->rho[k - 2] * y[taper_idx_z(k - 1) - begin] : 0.0;
-            g = left - d->rho[k - 1] * y[taper_idx_z(k) - begin];
+            if (d->dissipative) {
+                g = taper_dyn_peak_function(d, y, k);
+            } else {
+                const double left = k > 1 ? d->rho[k - 2] * y[taper_idx_z(k - 1) - begin] : 0.0;
+                g = left - d->rho[k - 1] * y[taper_idx_z(k) - begin];
+            }
         }
         g_peak[slot] = g;
         if (++slot == nk) slot = 0;
@@ -162,6 +179,13 @@ static double velocity_from_behind(const taper_sim *sim, const double *y, size_t
 static int genuine_peak_root(const taper_sim *sim, const double *y, size_t k)
 {
     const taper_dyn *d = &sim->dyn;
+    if (d->dissipative) { /* forces: against their sizes and the contact's force scale */
+        double l, r;
+        taper_dyn_peak_terms(d, y, k, &l, &r);
+        double scale = d->contact[k - 1] * pow(sim->z_scale[k - 1], sim->exponent - 1.0);
+        double g = fabs(l - r);
+        return g <= GENUINE_ROOT * (fabs(l) + fabs(r)) || g <= 1e-9 * (isfinite(scale) ? scale : 0.0);
+    }
     double left = k > 1 ? d->rho[k - 2] * taper_dyn_z(d, y, k - 1) : 0.0;
     double right = d->rho[k - 1] * taper_dyn_z(d, y, k);
     double typical = (k > 1 ? d->rho[k - 2] * sim->z_scale[k - 2] : 0.0) + d->rho[k - 1] * sim->z_scale[k - 1];
@@ -171,6 +195,48 @@ static int genuine_peak_root(const taper_sim *sim, const double *y, size_t k)
     double g = fabs(left - right);
     return g <= GENUINE_ROOT * (fabs(left) + fabs(right)) || g <= 1e-9 * typical ||
            g <= ROOT_TIME_RESOLUTION * fabs(rate) * fabs(sim->t);
+}
+
+/* A wall's contact: k (bodies k, k+1) and the granule's body g, and
+ * whether the window holds it (a left wall's contact in the window or its
+ * gap slot; a right wall's once the window reaches it). */
+static int wall_contact(const taper_sim *sim, int end, size_t *k, size_t *g)
+{
+    const taper_dyn *d = &sim->dyn;
+    if (end == TAPER_LEFT) {
+        *k = 1, *g = 2;
+        return d->lo <= 2 && d->hi >= 2;
+    }
+    *k = d->n - 1, *g = d->n - 1;
+    return d->hi == d->n;
+}
+
+/* The wall's dF/dt up to a positive factor while its contact pushes, +1
+ * otherwise (see the top of this file). */
+static double wall_rate(const taper_sim *sim, const double *y, int end)
+{
+    const taper_dyn *d = &sim->dyn;
+    size_t k, g;
+    if (!wall_contact(sim, end, &k, &g)) return 1.0;
+    const double sign = end == TAPER_LEFT ? -1.0 : 1.0; /* dz/dt = sign v_g: the wall rests */
+    const double z = k + 1 == d->lo ? y[0] : taper_dyn_z(d, y, k);
+    const double zdot = sign * taper_dyn_v(d, y, g);
+    if (!(taper_dyn_contact_force(d, k, z, zdot) > 0.0)) return 1.0;
+    if (!(d->damping > 0.0)) return zdot;
+    const double s = (d->delta ? d->delta[k - 1] : 0.0) + z;
+    const double zddot = sign * taper_dyn_acceleration(d, y, g);
+    return zdot + d->damping * ((d->exponent - 2.0) * zdot * zdot / s + zddot);
+}
+
+static void record_wall(taper_sim *sim, const double *y, int end)
+{
+    size_t k, g;
+    if (!wall_contact(sim, end, &k, &g)) return;
+    const double force = taper_dyn_window_force(&sim->dyn, y, k);
+    if (force > sim->walls.peak_force[end]) {
+        sim->walls.peak_force[end] = force;
+        sim->walls.peak_time[end] = sim->t;
+    }
 }
 
 int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
@@ -183,16 +249,28 @@ int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
     ring_values(sim, y, g, g + np);
     g[np + nk] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1] : -1.0;
     g[np + nk + 1] = d->lo > 1 ? y[0] - sim->out.gap_watch[d->lo - 2] : -1.0;
+    size_t slot = np + nk + 2;
+    if (sim->model.wall_left) g[slot++] = wall_rate(sim, y, TAPER_LEFT);
+    if (sim->model.wall_right) g[slot] = wall_rate(sim, y, TAPER_RIGHT);
     return 0;
 }
 
-size_t taper_events_slots(const taper_sim *sim) { return sim->pulse.pass_slots + sim->pulse.peak_slots + 2; }
+static size_t wall_slots(const taper_sim *sim)
+{
+    return (size_t)(sim->model.wall_left != 0) + (size_t)(sim->model.wall_right != 0);
+}
+
+size_t taper_events_slots(const taper_sim *sim)
+{
+    return sim->pulse.pass_slots + sim->pulse.peak_slots + 2 + wall_slots(sim);
+}
 
 void taper_events_directions(const taper_sim *sim, int *directions)
 {
     const size_t np = sim->pulse.pass_slots, nk = sim->pulse.peak_slots;
     for (size_t i = 0; i < taper_events_slots(sim); i++) directions[i] = 1;
     for (size_t i = 0; i < nk; i++) directions[np + i] = -1;
+    for (size_t i = 0; i < wall_slots(sim); i++) directions[np + nk + 2 + i] = -1;
 }
 
 /* Slots a ring needs so that granules first..last all have one. */
@@ -225,6 +303,7 @@ int taper_events_fit_rings(taper_sim *sim)
 static double acceleration(const taper_sim *sim, const double *y, size_t k)
 {
     const taper_dyn *d = &sim->dyn;
+    if (d->general) return taper_dyn_acceleration(d, y, k);
     if (k < d->lo || k > d->hi) return 0.0;
     double left = k > 1 ? taper_dyn_force(d, k - 1, taper_dyn_z(d, y, k - 1)) : 0.0;
     double right = k < d->hi ? taper_dyn_force(d, k, taper_dyn_z(d, y, k)) : 0.0;
@@ -315,6 +394,9 @@ taper_root_report taper_events_record(taper_sim *sim, const int *roots_found)
     for (size_t k = sim->pulse.next_peak; k < sim->pulse.next_peak + nk; k++)
         if (roots_found[np + (k - 1) % nk] < 0 && k <= sim->target) record_peak(sim, y, k);
     advance_rings(sim, y);
+    size_t slot = np + nk + 2;
+    if (sim->model.wall_left && roots_found[slot++] < 0) record_wall(sim, y, TAPER_LEFT);
+    if (sim->model.wall_right && roots_found[slot] < 0) record_wall(sim, y, TAPER_RIGHT);
     return (taper_root_report){
         .grow = roots_found[np + nk] > 0,
         .gap_closed = roots_found[np + nk + 1] > 0,

@@ -60,14 +60,14 @@ static taper_status check_spec(const taper_solver_spec *s, size_t n, taper_error
 
 static int alloc_arrays(taper_sim *sim)
 {
-    const size_t n = sim->n;
+    const size_t n = sim->n, granules = sim->model.granules;
     for (int i = 0; i < TAPER_N_OBSERVABLES; i++) {
         sim->pulse.obs[i] = malloc(n * sizeof(double));
         if (!sim->pulse.obs[i]) return -1;
         for (size_t k = 0; k < n; k++) sim->pulse.obs[i][k] = NAN;
     }
     for (int i = 0; i < TAPER_N_THEORY_QUANTITIES; i++) {
-        sim->theory[i] = malloc(n * sizeof(double));
+        sim->theory[i] = malloc(granules * sizeof(double));
         if (!sim->theory[i]) return -1;
     }
     sim->out.x_free = calloc(n, sizeof(double));
@@ -80,7 +80,35 @@ static int alloc_arrays(taper_sim *sim)
     if (!sim->out.x_free || !sim->out.v_free || !sim->out.gap_watch || !sim->grow_z ||
         !sim->pulse.events || !sim->v_scale || !sim->z_scale)
         return -1;
-    return taper_dyn_init(&sim->dyn, n, sim->exponent, sim->mass, sim->contact);
+    if (taper_dyn_init(&sim->dyn, n, sim->exponent, sim->mass, sim->contact) != 0) return -1;
+    taper_model_configure(&sim->model, &sim->dyn);
+    return 0;
+}
+
+/* Binary-collision z_max of a pair of reduced mass mu and factor r met at
+ * velocity v: (n mu v^2 / (2 r))^(1/n). */
+static double collision_compression(double n, double mu, double r, double v)
+{
+    return pow(n * mu / (2.0 * r) * v * v, 1.0 / n);
+}
+
+/* Where the chain's theory is NaN (a load or losses: the binary collision
+ * approximation is elastic and unloaded), the scales come from the same
+ * elastic recursion, eq. (9): v_{k+1} = 2 m_k v_k / (m_k + m_{k+1}), granule
+ * 1 struck at velocity 1 (by the striker: 2 m_s / (m_s + m_1)).  The pulse
+ * is weaker than that with losses; a larger scale only loosens atol, which
+ * rtol then governs.  mu gets the reduced masses. */
+static void elastic_scales(const taper_sim *sim, double *v, double *mu)
+{
+    const taper_model *m = &sim->model;
+    const double *mass = sim->mass + m->off;
+    const size_t N = m->granules;
+    v[0] = m->striker ? 2.0 * sim->mass[0] / (sim->mass[0] + mass[0]) : 1.0;
+    for (size_t k = 1; k < N; k++) {
+        v[k] = 2.0 * mass[k - 1] * v[k - 1] / (mass[k - 1] + mass[k]);
+        mu[k - 1] = mass[k - 1] * mass[k] / (mass[k - 1] + mass[k]);
+    }
+    mu[N - 1] = NAN;
 }
 
 /* The binary collision theory of the chain, once per run: its v_k and mu_k
@@ -88,26 +116,53 @@ static int alloc_arrays(taper_sim *sim)
  * taper_sim_theory.  Velocity and compression scales of granule k: v_k
  * (eq. (9)) and z_max = (n mu_k / (2 r_k) v_k^2)^(1/n), the maximum
  * compression of the collision k, k+1.  Floored so that weights stay
- * finite. */
+ * finite.  The bodies at the ends: a striker moves at 1 and meets granule 1
+ * (reduced mass m_s m_1 / (m_s + m_1)); a wall contact is met by its end
+ * granule at that granule's velocity (reduced mass: the granule's). */
 static taper_status theory_and_scales(taper_sim *sim, taper_error *err)
 {
-    const size_t n = sim->n;
+    const taper_model *m = &sim->model;
+    const size_t n = m->granules, off = m->off;
     const double *mu = sim->theory[TAPER_THEORY_MU];
     taper_status status = taper_theory_compute(sim->chain, sim->theory[TAPER_THEORY_V],
                                                sim->theory[TAPER_THEORY_MU],
                                                sim->theory[TAPER_THEORY_T_RES],
                                                sim->theory[TAPER_THEORY_T], err);
     if (status != TAPER_OK) return status;
-    for (size_t k = 0; k < n; k++) sim->v_scale[k] = sim->theory[TAPER_THEORY_V][k];
+    double *v_scale = sim->v_scale + off, *z_scale = sim->z_scale + off;
+    const double *contact = sim->contact + off;
+    double *own_mu = NULL;
+    if (!isfinite(sim->theory[TAPER_THEORY_V][0])) {
+        own_mu = malloc(n * sizeof(double));
+        if (!own_mu) return taper_fail(err, TAPER_ENOMEM, "cannot allocate the tolerance scales");
+        elastic_scales(sim, v_scale, own_mu);
+        mu = own_mu;
+    } else {
+        for (size_t k = 0; k < n; k++) v_scale[k] = sim->theory[TAPER_THEORY_V][k];
+    }
     /* In place, in this order: z_N uses the floored v_{N-1}. */
     for (size_t k = 1; k <= n; k++) {
         size_t j = k < n ? k : n - 1; /* z_N = x_N: scale of the last contact */
-        double v = sim->v_scale[j - 1];
-        double z = pow(sim->exponent * mu[j - 1] / (2.0 * sim->contact[j - 1]) * v * v,
+        double v = v_scale[j - 1];
+        double z = pow(sim->exponent * mu[j - 1] / (2.0 * contact[j - 1]) * v * v,
                        1.0 / sim->exponent);
-        sim->v_scale[k - 1] = fmax(sim->v_scale[k - 1], 1e-280);
-        sim->z_scale[k - 1] = isfinite(z) ? fmax(z, 1e-280) : 1.0;
+        v_scale[k - 1] = fmax(v_scale[k - 1], 1e-280);
+        z_scale[k - 1] = isfinite(z) ? fmax(z, 1e-280) : 1.0;
     }
+    const double *mass = sim->mass + off;
+    if (m->wall_right) { /* z_N: the wall's compression */
+        double z = collision_compression(sim->exponent, mass[n - 1], contact[n - 1], v_scale[n - 1]);
+        z_scale[n - 1] = isfinite(z) ? fmax(z, 1e-280) : 1.0;
+        sim->v_scale[sim->n - 1] = v_scale[n - 1];
+        sim->z_scale[sim->n - 1] = 1.0; /* the wall body has no contact after it */
+    }
+    if (off) {
+        double mu0 = m->striker ? sim->mass[0] * mass[0] / (sim->mass[0] + mass[0]) : mass[0];
+        double z = collision_compression(sim->exponent, mu0, sim->contact[0], 1.0);
+        sim->v_scale[0] = 1.0;
+        sim->z_scale[0] = isfinite(z) ? fmax(z, 1e-280) : 1.0;
+    }
+    free(own_mu);
     return TAPER_OK;
 }
 
@@ -130,11 +185,17 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
         return NULL;
     }
     sim->chain = chain;
-    sim->n = n;
+    if (taper_model_init(&sim->model, chain) != 0) {
+        taper_sim_free(sim);
+        taper_fail(err, TAPER_ENOMEM, "cannot allocate the bodies of %zu granules", n);
+        return NULL;
+    }
+    const taper_model *m = &sim->model;
+    sim->n = m->bodies;
     sim->exponent = taper_chain_exponent(chain);
-    sim->mass = taper_chain_mass(chain);
-    sim->contact = taper_chain_contact(chain);
-    sim->rest = taper_chain_rest_position(chain);
+    sim->mass = m->mass;
+    sim->contact = m->contact;
+    sim->rest = m->rest;
     sim->spec = *spec;
     if (alloc_arrays(sim) != 0) {
         taper_sim_free(sim);
@@ -145,16 +206,26 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
         taper_sim_free(sim);
         return NULL;
     }
-    sim->target = spec->last_granule ? spec->last_granule : n;
-    sim->pass_limit = sim->target < n ? sim->target : n - 1;
+    const size_t target = spec->last_granule ? spec->last_granule : n;
+    sim->target = target + m->off;
+    sim->pass_limit = (target < n ? target : n - 1) + m->off;
     taper_pulse *p = &sim->pulse;
-    p->next_pass = 1;
-    p->next_peak = 2;
-    p->obs[TAPER_V_PEAK][0] = 1.0; /* the impulse itself */
-    p->obs[TAPER_T_PEAK][0] = 0.0;
+    /* The body with the impulse (granule 1, or the striker) peaks at t = 0;
+     * a left wall before it has no events. */
+    const size_t i0 = m->impulse;
+    p->next_pass = i0;
+    p->next_peak = i0 + 1;
+    p->obs[TAPER_V_PEAK][i0 - 1] = 1.0; /* the impulse itself */
+    p->obs[TAPER_T_PEAK][i0 - 1] = 0.0;
     p->v_ref = 1.0;
     p->z_ref = 1.0;
-    p->events[0] |= TAPER_EV_PEAK;
+    for (size_t k = 1; k <= i0; k++) p->events[k - 1] |= TAPER_EV_PEAK | (k < i0 ? TAPER_EV_PASS : 0u);
+    for (int e = 0; e < TAPER_N_ENDS; e++) {
+        sim->walls.peak_force[e] = sim->walls.peak_time[e] = NAN;
+        sim->stats.wall_impulse[e] = NAN;
+    }
+    if (m->wall_left) sim->walls.peak_force[TAPER_LEFT] = 0.0;
+    if (m->wall_right) sim->walls.peak_force[TAPER_RIGHT] = 0.0;
     p->pass_slots = TAPER_RING_SLOTS;
     p->peak_slots = TAPER_RING_SLOTS;
     /* Rings that grow need a precursor without crossings, as the Hertzian
@@ -179,6 +250,7 @@ void taper_sim_free(taper_sim *sim)
     free(cv->message);
     free(cv->roots);
     taper_dyn_release(&sim->dyn);
+    taper_model_release(&sim->model);
     for (int i = 0; i < TAPER_N_OBSERVABLES; i++) free(sim->pulse.obs[i]);
     for (int i = 0; i < TAPER_N_THEORY_QUANTITIES; i++) free(sim->theory[i]);
     free(sim->out.x_free);
@@ -247,7 +319,7 @@ int taper_sim_recall_granule(taper_sim *sim)
 const double *taper_sim_observable(const taper_sim *sim, taper_observable which)
 {
     if (!sim || (int)which < 0 || (int)which >= TAPER_N_OBSERVABLES) return NULL;
-    return sim->pulse.obs[which];
+    return sim->pulse.obs[which] + sim->model.off;
 }
 
 const double *taper_sim_theory(const taper_sim *sim, taper_theory_quantity which)
@@ -271,6 +343,17 @@ static const char *const statistic_names[TAPER_N_STATISTICS] = {
     [TAPER_STAT_ENERGY_ERROR] = "energy_error",
     [TAPER_STAT_MOMENTUM_ERROR] = "momentum_error",
     [TAPER_STAT_COMPLETE] = "complete",
+    [TAPER_STAT_ENERGY_INITIAL] = "energy_initial",
+    [TAPER_STAT_ENERGY_DISSIPATED] = "energy_dissipated",
+    [TAPER_STAT_ENERGY_TRANSMITTED] = "energy_transmitted",
+    [TAPER_STAT_ENERGY_REFLECTED] = "energy_reflected",
+    [TAPER_STAT_ENERGY_IN_CHAIN] = "energy_in_chain",
+    [TAPER_STAT_WALL_PEAK_FORCE_LEFT] = "wall_peak_force_left",
+    [TAPER_STAT_WALL_PEAK_TIME_LEFT] = "wall_peak_time_left",
+    [TAPER_STAT_WALL_IMPULSE_LEFT] = "wall_impulse_left",
+    [TAPER_STAT_WALL_PEAK_FORCE_RIGHT] = "wall_peak_force_right",
+    [TAPER_STAT_WALL_PEAK_TIME_RIGHT] = "wall_peak_time_right",
+    [TAPER_STAT_WALL_IMPULSE_RIGHT] = "wall_impulse_right",
 };
 
 const char *taper_statistic_name(taper_statistic which)
@@ -298,17 +381,28 @@ double taper_sim_statistic(const taper_sim *sim, taper_statistic which)
     case TAPER_STAT_ENERGY_ERROR: return s->energy_error;
     case TAPER_STAT_MOMENTUM_ERROR: return s->momentum_error;
     case TAPER_STAT_COMPLETE: return (double)s->complete;
+    case TAPER_STAT_ENERGY_INITIAL: return s->energy_initial;
+    case TAPER_STAT_ENERGY_DISSIPATED: return s->energy_dissipated;
+    case TAPER_STAT_ENERGY_TRANSMITTED: return s->energy_transmitted;
+    case TAPER_STAT_ENERGY_REFLECTED: return s->energy_reflected;
+    case TAPER_STAT_ENERGY_IN_CHAIN: return s->energy_in_chain;
+    case TAPER_STAT_WALL_PEAK_FORCE_LEFT: return sim->walls.peak_force[TAPER_LEFT];
+    case TAPER_STAT_WALL_PEAK_TIME_LEFT: return sim->walls.peak_time[TAPER_LEFT];
+    case TAPER_STAT_WALL_IMPULSE_LEFT: return s->wall_impulse[TAPER_LEFT];
+    case TAPER_STAT_WALL_PEAK_FORCE_RIGHT: return sim->walls.peak_force[TAPER_RIGHT];
+    case TAPER_STAT_WALL_PEAK_TIME_RIGHT: return sim->walls.peak_time[TAPER_RIGHT];
+    case TAPER_STAT_WALL_IMPULSE_RIGHT: return s->wall_impulse[TAPER_RIGHT];
     }
     return NAN;
 }
 
-taper_status taper_sim_state(const taper_sim *sim, double *x, double *v, taper_error *err)
+/* Displacements and velocities of bodies first..first+count-1 into x[0..count)
+ * and v[0..count) (either may be NULL).  From the right: x_k = z_k + x_{k+1}
+ * inside the window, O(bodies) in all. */
+static void body_states(const taper_sim *sim, double *x, double *v, size_t first, size_t count)
 {
-    if (!sim) return taper_fail(err, TAPER_EINVAL, "taper_sim_state: sim is NULL");
-    if (!sim->cv.y) return taper_fail(err, TAPER_EINVAL, "taper_sim_state: the sim has not run");
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, sim->cv.y);
-    /* From the right: x_k = z_k + x_{k+1} inside the window, O(N) in all. */
     double x_window = 0.0;
     for (size_t k = d->n; k >= 1; k--) {
         double xk = 0.0, vk = 0.0;
@@ -320,8 +414,76 @@ taper_status taper_sim_state(const taper_sim *sim, double *x, double *v, taper_e
             x_window += taper_dyn_z(d, y, k);
             xk = x_window;
         }
-        if (x) x[k - 1] = xk;
-        if (v) v[k - 1] = vk;
+        if (k >= first && k < first + count) {
+            if (x) x[k - first] = xk;
+            if (v) v[k - first] = vk;
+        }
     }
+}
+
+void taper_sim_bodies(const taper_sim *sim, double *x, double *v)
+{
+    body_states(sim, x, v, 1, sim->n);
+}
+
+static taper_status check_ran(const taper_sim *sim, const char *what, taper_error *err)
+{
+    if (!sim) return taper_fail(err, TAPER_EINVAL, "%s: sim is NULL", what);
+    if (!sim->cv.y) return taper_fail(err, TAPER_EINVAL, "%s: the sim has not run", what);
+    return TAPER_OK;
+}
+
+taper_status taper_sim_state(const taper_sim *sim, double *x, double *v, taper_error *err)
+{
+    taper_status status = check_ran(sim, "taper_sim_state", err);
+    if (status != TAPER_OK) return status;
+    body_states(sim, x, v, 1 + sim->model.off, sim->model.granules);
+    return taper_ok(err);
+}
+
+double taper_sim_time(const taper_sim *sim) { return sim ? sim->t : NAN; }
+
+taper_status taper_sim_striker_state(const taper_sim *sim, double *x, double *v, taper_error *err)
+{
+    taper_status status = check_ran(sim, "taper_sim_striker_state", err);
+    if (status != TAPER_OK) return status;
+    if (!sim->model.striker)
+        return taper_fail_field(err, TAPER_EINVAL, "striker_radius",
+                                "taper_sim_striker_state: the chain has no striker");
+    body_states(sim, x, v, 1, 1);
+    return taper_ok(err);
+}
+
+/* Force of contact k (bodies k, k+1) at sim->t: the window's own state
+ * where it has it, free flight behind it (x and v of every body), the
+ * static F0 ahead of it. */
+static double contact_force_now(const taper_sim *sim, const double *x, const double *v, size_t k)
+{
+    const taper_dyn *d = &sim->dyn;
+    if (k + 1 >= d->lo) return taper_dyn_window_force(d, taper_sim_data(sim, sim->cv.y), k);
+    return taper_dyn_contact_force(d, k, x[k - 1] - x[k], v[k - 1] - v[k]);
+}
+
+taper_status taper_sim_forces(const taper_sim *sim, double *force, taper_error *err)
+{
+    taper_status status = check_ran(sim, "taper_sim_forces", err);
+    if (status != TAPER_OK) return status;
+    if (!force) return taper_fail(err, TAPER_EINVAL, "taper_sim_forces: force is NULL");
+    const taper_model *m = &sim->model;
+    double *x = malloc(sim->n * sizeof(double)), *v = malloc(sim->n * sizeof(double));
+    if (!x || !v) {
+        free(x);
+        free(v);
+        return taper_fail(err, TAPER_ENOMEM, "taper_sim_forces: cannot allocate %zu bodies", sim->n);
+    }
+    taper_sim_bodies(sim, x, v);
+    const size_t N = m->granules, off = m->off;
+    /* force[k] is the contact of bodies k + off, k + off + 1; the ends: the
+     * striker's or the wall's contact, else the load on a free end. */
+    force[0] = off ? contact_force_now(sim, x, v, 1) : m->load;
+    for (size_t k = 1; k < N; k++) force[k] = contact_force_now(sim, x, v, k + off);
+    force[N] = m->wall_right ? contact_force_now(sim, x, v, N + off) : m->load;
+    free(x);
+    free(v);
     return taper_ok(err);
 }

@@ -21,7 +21,8 @@
  *                  that moves granules out of it and back.
  *     v
  *   solver_spec.c, dynamics.c, dynamics_api.c, nvector_window.c,
- *   sundials_compat.c  (leaves: they call nothing else in src/sim)
+ *   sundials_compat.c, extended.c  (leaves: they call nothing else in
+ *   src/sim)
  *
  * Who writes what after taper_sim_alloc:
  *   sim->pulse               events.c (taper_events_record)
@@ -40,6 +41,27 @@
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>
 #include <sundials/sundials_nonlinearsolver.h>
+
+/* The chain the sim integrates (extended.c): bodies 1..bodies, granule k
+ * of the chain being body k + off.  A striker or a left wall is body 1
+ * (off = 1), a right wall body `bodies`; walls have mass 0.  Every array of
+ * the sim indexed by granule (observables, scales, events, the window) is
+ * indexed by body; the public readers add off. */
+typedef struct taper_model {
+    size_t granules;        /* N                                            */
+    size_t off;             /* bodies before granule 1 (0 or 1)             */
+    size_t bodies;          /* off + N + (1 with a right wall)              */
+    int striker, wall_left, wall_right;
+    size_t impulse;         /* the body moving at t = 0 (velocity 1)        */
+    double load, damping, drag;
+    int options;            /* any option: the general right-hand side      */
+    int free_flight;        /* no load, no losses: bodies that leave the
+                               window fly freely (window.c)                 */
+    int quadratures;        /* walls or losses: CVODE integrates the wall
+                               impulses and the dissipated energy           */
+    double *mass, *contact, *rest; /* per body (contact: with the next)     */
+    double *delta;          /* static overlaps (NULL without a load)        */
+} taper_model;
 
 /* Root-function slots: a ring of pass slots and a ring of peak slots that
  * follow the front, then one slot for growing the window and one for the
@@ -76,7 +98,23 @@ typedef struct taper_run_statistics {
     double energy_error;
     double momentum_error;
     int complete;
+    /* the energy budget at t_final (budget.c) */
+    double energy_initial, energy_dissipated, energy_transmitted, energy_reflected,
+        energy_in_chain;
+    double wall_impulse[TAPER_N_ENDS]; /* NaN: no wall                     */
 } taper_run_statistics;
+
+/* The largest force of each wall and its time (events.c; NaN: no wall). */
+typedef struct taper_walls {
+    double peak_force[TAPER_N_ENDS], peak_time[TAPER_N_ENDS];
+} taper_walls;
+
+/* Quadratures (solve.c): the wall impulses and the dissipated energy, the
+ * last entries of the whole-chain state, after the 2 bodies entries. */
+#define TAPER_QUAD_WALL_LEFT 0
+#define TAPER_QUAD_WALL_RIGHT 1
+#define TAPER_QUAD_DISSIPATED 2
+#define TAPER_N_QUADRATURES 3
 
 /* Pulse-event bookkeeping and the observables (written by events.c). */
 typedef struct taper_pulse {
@@ -126,12 +164,13 @@ typedef struct taper_cvode {
 struct taper_sim {
     /* read-only after taper_sim_alloc */
     const taper_chain *chain;
-    size_t n;               /* N                                            */
+    taper_model model;      /* bodies: the granules and the ends' bodies    */
+    size_t n;               /* bodies (N for the paper's chain)             */
     double exponent;        /* n of the contact law                         */
     const double *mass, *contact, *rest; /* the chain's arrays (getters)    */
     taper_solver_spec spec;
-    size_t target;          /* last granule requested                       */
-    size_t pass_limit;      /* last granule with a pass time: min(target, N-1) */
+    size_t target;          /* body of the last granule requested           */
+    size_t pass_limit;      /* last body with a pass time: min(target, N-1) + off */
     double *theory[TAPER_N_THEORY_QUANTITIES]; /* taper_theory_compute's columns */
     /* Absolute-tolerance scale of each granule's velocity and compression:
      * the binary collision values v_k and z_max(k), so that atol is relative
@@ -143,6 +182,8 @@ struct taper_sim {
 
     taper_dyn dyn;          /* the equations on the window lo..hi           */
     taper_pulse pulse;
+    taper_walls walls;
+    size_t samples_taken;   /* sampler calls so far (sample.c)              */
     taper_out out;
     taper_cvode cv;
     double t;               /* time of the current state                    */
@@ -173,6 +214,30 @@ void taper_sim_release_granule(taper_sim *sim, double watch, int at_rest);
  * Nordsieck history is then wrong for that component: the caller restarts
  * CVODE.  0, or -1 when the window cannot grow. */
 int taper_sim_recall_granule(taper_sim *sim);
+
+/* The state of every body at sim->t (caller-owned arrays of sim->n, either
+ * may be NULL): the window, free flight behind it, rest ahead of it. */
+void taper_sim_bodies(const taper_sim *sim, double *x, double *v);
+
+/* ---- extended.c: the chain the sim integrates (a leaf) ------------------------- */
+/* 0, or -1 when out of memory (taper_model_release frees what was made). */
+int taper_model_init(taper_model *m, const taper_chain *chain);
+void taper_model_release(taper_model *m);
+/* Copies the options into the equations (dynamics.h). */
+void taper_model_configure(const taper_model *m, taper_dyn *d);
+
+/* ---- sample.c: the sampler ---------------------------------------------------- */
+/* The next sample time, INFINITY without a sampler. */
+double taper_sample_next(const taper_sim *sim);
+/* Calls the sampler at sim->t (the next sample time); non-zero: it asked
+ * to stop. */
+int taper_sample_call(taper_sim *sim);
+
+/* ---- budget.c: the energy budget and the balances at the end ------------------ */
+/* Fills the budget statistics and, for chains with options, the energy and
+ * momentum errors from the state at sim->t and the quadratures q (NULL:
+ * none). */
+void taper_budget_compute(taper_sim *sim, const double *q);
 
 /* ---- events.c: pulse events -------------------------------------------------- */
 /* What a root return asks of the window. */

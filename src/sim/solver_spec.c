@@ -163,6 +163,30 @@ taper_status taper_solver_spec_set_max_steps(taper_solver_spec *spec, long max_s
     return taper_ok(err);
 }
 
+taper_status taper_solver_spec_set_t_end(taper_solver_spec *spec, double t_end, taper_error *err)
+{
+    if (!spec) return no_spec(err, "t_end");
+    if (!(t_end >= 0.0 && t_end <= DBL_MAX))
+        return taper_fail_field(err, TAPER_EINVAL, "t_end",
+                                "t_end = %g: must be finite and >= 0 (0: end once the "
+                                "observables are known)", t_end);
+    spec->t_end = t_end;
+    return taper_ok(err);
+}
+
+taper_status taper_solver_spec_set_sampler(taper_solver_spec *spec, double interval,
+                                           taper_sample_fn fn, void *user, taper_error *err)
+{
+    if (!spec) return no_spec(err, "sample_interval");
+    if (fn && !(interval > 0.0 && interval <= DBL_MAX))
+        return taper_fail_field(err, TAPER_EINVAL, "sample_interval",
+                                "sample_interval = %g: must be finite and > 0", interval);
+    spec->sample_fn = fn;
+    spec->sample_data = fn ? user : NULL;
+    spec->sample_interval = fn ? interval : 0.0;
+    return taper_ok(err);
+}
+
 void taper_solver_spec_set_monitor(taper_solver_spec *spec, taper_monitor_fn monitor, void *user)
 {
     if (!spec) return;
@@ -232,4 +256,16 @@ long taper_solver_spec_max_steps(const taper_solver_spec *spec)
 {
     taper_solver_spec d;
     return or_defaults(spec, &d)->max_steps;
+}
+
+double taper_solver_spec_t_end(const taper_solver_spec *spec)
+{
+    taper_solver_spec d;
+    return or_defaults(spec, &d)->t_end;
+}
+
+double taper_solver_spec_sample_interval(const taper_solver_spec *spec)
+{
+    taper_solver_spec d;
+    return or_defaults(spec, &d)->sample_interval;
 }

@@ -19,6 +19,10 @@ struct taper_solver_spec {
     int max_order;          /* 0: the measured default of the method           */
     double t_max;           /* 0: no limit                                     */
     long max_steps;         /* 0: no limit                                     */
+    double t_end;           /* 0: end once the observables are known           */
+    double sample_interval; /* > 0 with sample_fn                              */
+    taper_sample_fn sample_fn; /* NULL: no sampler                            */
+    void *sample_data;
     taper_monitor_fn monitor;
     void *monitor_data;
     taper_log_fn log;

@@ -97,6 +97,27 @@
  *    one; joining later there lets the last granule peak within the step
  *    that arms its peak slot (forward exponential q = 0.05, N = 150).
  * The floor keeps root values clear of underflow (exponents n < 1.4). */
+/* Under a static load F0 the force a contact outside the window would add
+ * is F(delta + z) - F0 ~ K z, linear with the stiffness K = (n-1) r
+ * delta^(n-2) (the disturbance ahead of a pulse in a precompressed chain is
+ * linear, not z^(n-1)).  The same two bounds, for that force: K z below
+ * 1e-40 of m v per unit time, and below 1e-40 of the contact's pulse force
+ * r z_scale^(n-1).  Only ever lowers the thresholds. */
+static void loaded_thresholds(const taper_sim *sim, double *grow_z)
+{
+    const double n = sim->exponent;
+    for (size_t k = 1; k < sim->n; k++) {
+        const double r = sim->contact[k - 1], delta = sim->model.delta[k - 1];
+        const double stiffness = (n - 1.0) * r * pow(delta, n - 2.0);
+        double m = fmin(sim->mass[k - 1], sim->mass[k]);
+        double v = fmin(sim->v_scale[k - 1], sim->v_scale[k]);
+        double per_time = 1e-40 * m * v / stiffness;
+        double per_collision = 1e-40 * r * pow(sim->z_scale[k - 1], n - 1.0) / stiffness;
+        double z = fmin(per_time, per_collision);
+        if (z < grow_z[k - 1]) grow_z[k - 1] = fmax(z, GROW_FLOOR);
+    }
+}
+
 void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
 {
     const double power = 1.0 / (sim->exponent - 1.0);
@@ -120,7 +141,8 @@ void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
      * neglected impulse r h^n / n is at most 1e-48 for n >= 12; for
      * n <= 11 the threshold was within the first step already, and the
      * integration is unchanged (test window/high_exponents). */
-    if (sim->n > 1) grow_z[0] = GROW_FLOOR;
+    if (sim->n > 1) grow_z[sim->model.impulse - 1] = GROW_FLOOR;
+    if (sim->model.load > 0.0) loaded_thresholds(sim, grow_z);
     grow_z[sim->n - 1] = INFINITY; /* nothing beyond the last granule */
 }
 
@@ -158,7 +180,12 @@ static double resting_compression(const taper_sim *sim, size_t j, double z_eps)
 taper_departure taper_window_departure(const taper_sim *sim)
 {
     const taper_departure stays = {TAPER_STAYS, 0.0};
-    if (!sim->cv.window) return stays;
+    /* Under a load, damping or drag a granule behind the pulse is neither
+     * in free flight nor at rest in a way the gap slot can follow (its
+     * contacts keep pushing, drag keeps slowing it): none leaves, the
+     * window only grows (exact, at the cost of integrating the chain
+     * behind the pulse). */
+    if (!sim->cv.window || !sim->model.free_flight) return stays;
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, sim->cv.y);
     const size_t j = d->lo;

@@ -1,0 +1,30 @@
+/*
+ * sample.c -- the sampler of taper_solver_spec_set_sampler: the user's
+ * function at t_j = j * interval, j = 0, 1, ... (each a product, never a
+ * running sum, so that t_j is exactly j * interval whatever the number of
+ * samples).
+ *
+ * How the sim is positioned at t_j without disturbing the integration:
+ * solve.c asks CVODE for t_j in its CV_NORMAL mode.  CVODE steps as it
+ * would anyway and, once its internal time passes t_j, returns the state
+ * interpolated there (CVodeGetDky on its Nordsieck history, to its own
+ * accuracy) without changing its steps; roots before t_j are returned
+ * first, so the window at t_j is the one in force then.  The state vector
+ * and sim->t then hold t_j, and every reader (taper_sim_time, _state,
+ * _striker_state, _forces) sees the sample time.
+ */
+#include "sim.h"
+
+#include <math.h>
+
+double taper_sample_next(const taper_sim *sim)
+{
+    if (!sim->spec.sample_fn) return INFINITY;
+    return (double)sim->samples_taken * sim->spec.sample_interval;
+}
+
+int taper_sample_call(taper_sim *sim)
+{
+    sim->samples_taken++;
+    return sim->spec.sample_fn(sim, sim->spec.sample_data);
+}
