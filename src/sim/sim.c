@@ -131,8 +131,14 @@ static taper_status theory_and_scales(taper_sim *sim, taper_error *err)
     if (status != TAPER_OK) return status;
     double *v_scale = sim->v_scale + off, *z_scale = sim->z_scale + off;
     const double *contact = sim->contact + off;
+    /* The theory's columns where it has every one; otherwise (NaN columns
+     * for loads and losses, NaN at the small granules of a decorated chain,
+     * whose theory is that of the effective chain) the elastic recursion. */
     double *own_mu = NULL;
-    if (!isfinite(sim->theory[TAPER_THEORY_V][0])) {
+    int holes = 0;
+    for (size_t k = 0; k < n; k++)
+        holes |= !isfinite(sim->theory[TAPER_THEORY_V][k]) || (k + 1 < n && !isfinite(mu[k]));
+    if (holes) {
         own_mu = malloc(n * sizeof(double));
         if (!own_mu) return taper_fail(err, TAPER_ENOMEM, "cannot allocate the tolerance scales");
         elastic_scales(sim, v_scale, own_mu);
