@@ -388,7 +388,10 @@ TAPER_API double taper_unit_scale(taper_dimension dim, double young, double pois
  */
 typedef struct taper_dynamics taper_dynamics;
 
-/* The chain must outlive the object.  NULL with TAPER_EINVAL / ENOMEM. */
+/* The chain must outlive the object.  NULL with TAPER_EINVAL / ENOMEM.
+ * The paper's chain only: a chain with a wall, a striker, a load, damping
+ * or drag is refused with TAPER_EINVAL, field naming the option ("end",
+ * "striker_radius", "load", "damping", "drag"). */
 TAPER_API taper_dynamics *taper_dynamics_alloc(const taper_chain *chain, taper_error *err);
 TAPER_API void taper_dynamics_free(taper_dynamics *dyn);
 /* ydot = f(y), both of length 2N. */
@@ -511,7 +514,8 @@ TAPER_API taper_status taper_solver_spec_set_max_steps(taper_solver_spec *spec, 
 /* Integrate until t_end even after every observable is known (to follow a
  * reflection from a wall, or for the sampler); the run then ends with
  * TAPER_OK at t_end.  0 (the default): stop once the observables are
- * known. */
+ * known.  The run lasts until both: observables still unknown at t_end are
+ * waited for as without t_end (t_final > t_end then). */
 TAPER_API taper_status taper_solver_spec_set_t_end(taper_solver_spec *spec, double t_end,
                                                    taper_error *err);
 TAPER_API double taper_solver_spec_t_end(const taper_solver_spec *spec);
@@ -548,7 +552,8 @@ TAPER_API long taper_solver_spec_max_steps(const taper_solver_spec *spec);
 typedef enum taper_observable {
     TAPER_T_PASS = 0,   /* first time v_{k+1} overtakes v_k (pulse passes k)    */
     TAPER_T_RES = 1,    /* t_pass(k) - t_pass(k-1), t_pass(0) = 0               */
-    TAPER_V_PEAK = 2,   /* first maximum of v_k (v_peak(1) = 1 at t = 0)        */
+    TAPER_V_PEAK = 2,   /* first maximum of v_k (v_peak(1) = 1 at t = 0; with a
+                           striker a maximum found like the others)        */
     TAPER_T_PEAK = 3,   /* its time                                             */
     TAPER_X_PASS = 4    /* X0(k) + x_k(t_pass(k)): pulse position               */
 } taper_observable;

@@ -4,6 +4,12 @@
  * outside the library (the peers of taper-bench, a user's own).  A thin
  * shell over taper_dyn: the same floating-point operations as the sim's
  * own right-hand side.
+ *
+ * The paper's chain only: a chain with a wall, a striker, a load, damping
+ * or drag is refused (TAPER_EINVAL naming the option).  Its state would
+ * not be the documented 2N vector (the sim adds bodies for a striker and
+ * walls, and the dissipated energy), and a peer that integrates eq. (6)
+ * would silently solve another problem.
  */
 #include "dynamics.h"
 
@@ -20,6 +26,25 @@ taper_dynamics *taper_dynamics_alloc(const taper_chain *chain, taper_error *err)
 {
     if (!chain) {
         taper_fail(err, TAPER_EINVAL, "taper_dynamics_alloc: chain is NULL");
+        return NULL;
+    }
+    const char *option = NULL;
+    if (taper_chain_end(chain, TAPER_LEFT) == TAPER_END_WALL ||
+        taper_chain_end(chain, TAPER_RIGHT) == TAPER_END_WALL)
+        option = "end";
+    else if (taper_chain_striker_radius(chain) > 0.0)
+        option = "striker_radius";
+    else if (taper_chain_load(chain) > 0.0)
+        option = "load";
+    else if (taper_chain_damping(chain) > 0.0)
+        option = "damping";
+    else if (taper_chain_drag(chain) > 0.0)
+        option = "drag";
+    if (option) {
+        taper_fail_field(err, TAPER_EINVAL, option,
+                         "taper_dynamics_alloc: the chain has the option '%s'; taper_dynamics "
+                         "integrates the paper's eq. (6) only (no walls, striker, load or losses)",
+                         option);
         return NULL;
     }
     taper_dynamics *d = calloc(1, sizeof *d);
