@@ -4,7 +4,9 @@
 #include "results/granules.h"
 
 #include "results/output.h"
+#include "util/text.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,15 +27,32 @@ static void write_scene_comment(const granules_run *r, FILE *fp)
     free(text);
 }
 
+/* A statistic with a dimension: NAME = VALUE, or NAME[UNIT] = VALUE in SI. */
+static void write_dimensioned(const granules_run *r, FILE *fp, taper_statistic which,
+                              taper_dimension dim)
+{
+    const scene_config *cfg = &r->at;
+    const char *name = taper_statistic_name(which), *unit = scene_unit_suffix(cfg, dim);
+    double x = taper_sim_statistic(r->sim, which) * scene_unit(cfg, dim);
+    if (!name) return;
+    fprintf(fp, "# %s%s%s%s = ", name, unit ? "[" : "", unit ? unit : "", unit ? "]" : "");
+    if (isnan(x))
+        fputs("nan\n", fp);
+    else
+        fprintf(fp, "%.17g\n", x);
+}
+
 /* The statistics of the run, by name, in the order of taper_statistic:
- * counts as integers, the time to every digit, errors to four. */
+ * counts as integers, the time to every digit, errors to four; then the
+ * energy budget (every run has one), and the peak force, its time and the
+ * impulse of each wall the chain has (a free end has none: no line). */
 static void write_stats_comment(const granules_run *r, FILE *fp)
 {
     if (!r->sim) {
         fputs("# numerics = .false.: theory only, no dynamics\n", fp);
         return;
     }
-    for (int i = 0; i < TAPER_N_STATISTICS; i++) {
+    for (int i = 0; i <= TAPER_STAT_COMPLETE; i++) {
         taper_statistic which = (taper_statistic)i;
         double x = taper_sim_statistic(r->sim, which);
         const char *name = taper_statistic_name(which);
@@ -41,17 +60,51 @@ static void write_stats_comment(const granules_run *r, FILE *fp)
         case TAPER_STAT_COMPLETE: break; /* the first comment line says it */
         case TAPER_STAT_MAX_WINDOW:
         case TAPER_STAT_GRANULE_REACHED: fprintf(fp, "# %s = %zu\n", name, (size_t)x); break;
-        case TAPER_STAT_T_FINAL: fprintf(fp, "# %s = %.17g\n", name, x); break;
+        case TAPER_STAT_T_FINAL: write_dimensioned(r, fp, which, TAPER_DIM_TIME); break;
         case TAPER_STAT_ENERGY_ERROR:
         case TAPER_STAT_MOMENTUM_ERROR: fprintf(fp, "# %s = %.3e\n", name, x); break;
         default: fprintf(fp, "# %s = %ld\n", name, (long)x); break;
         }
     }
+    for (int i = TAPER_STAT_ENERGY_INITIAL; i <= TAPER_STAT_ENERGY_IN_CHAIN; i++)
+        write_dimensioned(r, fp, (taper_statistic)i, TAPER_DIM_ENERGY);
+    static const taper_statistic wall_stats[TAPER_N_ENDS][3] = {
+        {TAPER_STAT_WALL_PEAK_FORCE_LEFT, TAPER_STAT_WALL_PEAK_TIME_LEFT,
+         TAPER_STAT_WALL_IMPULSE_LEFT},
+        {TAPER_STAT_WALL_PEAK_FORCE_RIGHT, TAPER_STAT_WALL_PEAK_TIME_RIGHT,
+         TAPER_STAT_WALL_IMPULSE_RIGHT}};
+    static const taper_dimension wall_dims[3] = {TAPER_DIM_FORCE, TAPER_DIM_TIME,
+                                                 TAPER_DIM_IMPULSE};
+    for (int e = 0; e < TAPER_N_ENDS; e++) {
+        if (taper_chain_end(r->chain, (taper_end)e) != TAPER_END_WALL) continue;
+        for (int j = 0; j < 3; j++) write_dimensioned(r, fp, wall_stats[e][j], wall_dims[j]);
+    }
 }
+
+/* In SI (&output units = 'si'): the SI value of each rescaled unit, so that
+ * a reader can go back (rescaled = SI / unit). */
+static void write_units_comment(const granules_run *r, FILE *fp)
+{
+    const scene_config *cfg = &r->at;
+    if (!scene_unit_suffix(cfg, TAPER_DIM_LENGTH)) return;
+    fputs("# units: SI (&output units = 'si'); one rescaled unit (eq. (5) of arXiv:0905.4512) "
+          "is:\n", fp);
+    for (int d = 0; d < TAPER_N_DIMENSIONS; d++)
+        fprintf(fp, "# unit_%s = %.17g %s\n", taper_dimension_name((taper_dimension)d),
+                scene_unit(cfg, (taper_dimension)d), taper_dimension_unit((taper_dimension)d));
+}
+
+/* The dimension of each column of granules.tsv (k: none, -1). */
+static const int column_dims[OUT_N_COLUMNS] = {
+    -1, TAPER_DIM_LENGTH, TAPER_DIM_MASS, TAPER_DIM_LENGTH,
+    TAPER_DIM_TIME, TAPER_DIM_TIME, TAPER_DIM_VELOCITY, TAPER_DIM_TIME, TAPER_DIM_LENGTH,
+    TAPER_DIM_VELOCITY, TAPER_DIM_TIME, TAPER_DIM_TIME};
 
 _Static_assert(OUT_N_COLUMNS == SCENE_N_COLUMNS, "granules.tsv columns");
 
-static void run_columns(const granules_run *r, out_columns *cols)
+/* The columns of a run; in SI, scaled copies (owned[c], freed by
+ * free_columns) and each column's unit. */
+static int run_columns(const granules_run *r, out_columns *cols, double *owned[OUT_N_COLUMNS])
 {
     const scene_output_config *o = &scene_cfg(r->sc)->output;
     memset(cols, 0, sizeof *cols);
@@ -67,6 +120,23 @@ static void run_columns(const granules_run *r, out_columns *cols)
     cols->col[9] = r->theory[TAPER_THEORY_V];
     cols->col[10] = r->theory[TAPER_THEORY_T_RES];
     cols->col[11] = r->theory[TAPER_THEORY_T];
+    for (int c = 0; c < OUT_N_COLUMNS; c++) owned[c] = NULL;
+    if (!scene_unit_suffix(&r->at, TAPER_DIM_LENGTH)) return 0;
+    for (int c = 1; c < OUT_N_COLUMNS; c++) {
+        taper_dimension dim = (taper_dimension)column_dims[c];
+        cols->unit[c] = scene_unit_suffix(&r->at, dim);
+        if (!cols->col[c]) continue;
+        if (!(owned[c] = malloc(cols->n * sizeof(double)))) return -1;
+        double scale = scene_unit(&r->at, dim);
+        for (size_t k = 0; k < cols->n; k++) owned[c][k] = cols->col[c][k] * scale;
+        cols->col[c] = owned[c];
+    }
+    return 0;
+}
+
+static void free_columns(double *owned[OUT_N_COLUMNS])
+{
+    for (int c = 0; c < OUT_N_COLUMNS; c++) free(owned[c]);
 }
 
 /* The column names first, as a line of their own, then the '#' block,
@@ -74,10 +144,14 @@ static void run_columns(const granules_run *r, out_columns *cols)
  * comment='#') take their names from the first line, numpy.loadtxt skips
  * exactly one line (skiprows=1) and every comment, gnuplot reads the names
  * with `set datafile columnheaders` (or skips the line as non-numeric). */
-static void write_granules(const granules_run *r, FILE *fp, int partial)
+static int write_granules(const granules_run *r, FILE *fp, int partial)
 {
     out_columns cols;
-    run_columns(r, &cols);
+    double *owned[OUT_N_COLUMNS];
+    if (run_columns(r, &cols, owned) != 0) {
+        free_columns(owned);
+        return -1;
+    }
     out_write_header(fp, &cols, NULL);
     fprintf(fp, "# taper %s granules: per-granule pulse observables and binary-collision theory\n",
             taper_version());
@@ -87,9 +161,15 @@ static void write_granules(const granules_run *r, FILE *fp, int partial)
         fputs("# complete\n", fp);
     if (r->untrusted) fprintf(fp, "# UNTRUSTED: %s\n", r->untrusted);
     fprintf(fp, "# scene file: %s\n", scene_path(r->sc));
+    if (r->theory_note)
+        fprintf(fp, "# theory: nan: %s (the binary-collision theory of arXiv:0905.4512 does not "
+                "describe this chain)\n", r->theory_note);
+    write_units_comment(r, fp);
     write_scene_comment(r, fp);
     write_stats_comment(r, fp);
     out_write_rows(fp, &cols, NULL, 0);
+    free_columns(owned);
+    return 0;
 }
 
 int granules_save(const char *dir, const granules_run *run, int partial, char **msg)
@@ -99,7 +179,11 @@ int granules_save(const char *dir, const granules_run *run, int partial, char **
     if (out_remove(dir, stale, msg) != 0) return -1;
     out_file *f = out_open(dir, name, msg);
     if (!f) return -1;
-    write_granules(run, f->fp, partial);
+    if (write_granules(run, f->fp, partial) != 0) {
+        out_discard(f);
+        *msg = text_printf("%s/%s: out of memory", dir, name);
+        return -1;
+    }
     return out_commit(f, msg);
 }
 
@@ -117,13 +201,20 @@ int granules_write_sweep(const char *dir, const granules_run *runs, size_t n, co
     if (!f) return -1;
     for (size_t i = 0; i < n; i++) {
         out_columns cols;
-        run_columns(&runs[i], &cols);
+        double *owned[OUT_N_COLUMNS];
+        if (run_columns(&runs[i], &cols, owned) != 0) {
+            free_columns(owned);
+            out_discard(f);
+            *msg = text_printf("%s/sweep.tsv: out of memory", dir);
+            return -1;
+        }
         if (i == 0) {
             out_write_header(f->fp, &cols, name);
             fprintf(f->fp, "# taper %s sweep over %s: the rows of every %s=VALUE/granules.tsv\n",
                     taper_version(), name, name);
         }
         out_write_rows(f->fp, &cols, name, values[i]);
+        free_columns(owned);
     }
     if (out_commit(f, msg) != 0) return -1;
     printf("! wrote %s/sweep.tsv\n", dir);

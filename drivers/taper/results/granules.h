@@ -23,6 +23,10 @@ typedef struct granules_run {
     taper_status status;        /* of taper_sim_run (TAPER_OK without)     */
     const char *message;        /* its message, for a partial result       */
     const char *untrusted;      /* why it is not to be trusted, or NULL    */
+    const char *theory_note;    /* taper_chain_theory_note: why the theory
+                                   columns are NaN, or NULL                */
+    scene_config at;            /* the scene at `point` (scene_config_at):
+                                   its units                               */
 } granules_run;
 
 /* Writes DIR/granules.tsv (partial: DIR/granules.partial.tsv), removing

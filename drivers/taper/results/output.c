@@ -208,8 +208,11 @@ void out_write_header(FILE *fp, const out_columns *cols, const char *lead_name)
 {
     if (lead_name) fprintf(fp, "%s\t", lead_name);
     fputs(out_column_names[0], fp);
-    for (size_t c = 1; c < OUT_N_COLUMNS; c++)
-        if (column_on(cols, c)) fprintf(fp, "\t%s", out_column_names[c]);
+    for (size_t c = 1; c < OUT_N_COLUMNS; c++) {
+        if (!column_on(cols, c)) continue;
+        fprintf(fp, "\t%s", out_column_names[c]);
+        if (cols->unit[c]) fprintf(fp, "[%s]", cols->unit[c]);
+    }
     fputc('\n', fp);
 }
 

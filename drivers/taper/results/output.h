@@ -60,6 +60,8 @@ typedef struct out_columns {
                                          0: every column                  */
     size_t every;                     /* rows k = 1, 1 + every, ..., and n;
                                          0 or 1: every row                */
+    const char *unit[OUT_N_COLUMNS];  /* NULL: none; else the header says
+                                         NAME[UNIT] (SI results)          */
 } out_columns;
 
 /* The header line: the column names (after lead_name, unless NULL). */

@@ -362,13 +362,16 @@ int plot_write(const report *r, char **msg)
 
 /* ---- rendering ------------------------------------------------------------------ */
 
-int plot_render(const char *dir, char **msg)
+int plot_render(const char *dir, char **msg) { return plot_render_script(dir, "figure.gp", msg); }
+
+int plot_render_script(const char *dir, const char *script, char **msg)
 {
     *msg = NULL;
     const char *gp = getenv("TAPER_GNUPLOT");
     if (!gp || !gp[0]) gp = "gnuplot";
     if (strcmp(gp, "none") == 0) {
-        *msg = text_printf("rendering skipped (TAPER_GNUPLOT=none): cd %s && gnuplot figure.gp", dir);
+        *msg = text_printf("rendering skipped (TAPER_GNUPLOT=none): cd %s && gnuplot %s", dir,
+                           script);
         return 1;
     }
     fflush(NULL);
@@ -378,7 +381,7 @@ int plot_render(const char *dir, char **msg)
         return -1;
     }
     if (pid == 0) {
-        if (chdir(dir) == 0) execlp(gp, gp, "figure.gp", (char *)NULL);
+        if (chdir(dir) == 0) execlp(gp, gp, script, (char *)NULL);
         _exit(127);
     }
     int status = 0;
@@ -386,9 +389,9 @@ int plot_render(const char *dir, char **msg)
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return 0;
     if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
         *msg = text_printf("%s not found: figure not rendered (install gnuplot, then: cd %s && "
-                           "gnuplot figure.gp)", gp, dir);
+                           "gnuplot %s)", gp, dir, script);
         return 1;
     }
-    *msg = text_printf("%s failed on %s/figure.gp (status %d)", gp, dir, status);
+    *msg = text_printf("%s failed on %s/%s (status %d)", gp, dir, script, status);
     return -1;
 }

@@ -23,5 +23,7 @@ int plot_write(const report *r, char **msg);
  * "none" skips).  0: rendered; 1: gnuplot not available (*msg says how to
  * render later); -1: gnuplot failed (*msg).  *msg is malloc'd. */
 int plot_render(const char *dir, char **msg);
+/* The same for another script of DIR (spacetime.gp). */
+int plot_render_script(const char *dir, const char *script, char **msg);
 
 #endif

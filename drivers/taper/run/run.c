@@ -20,6 +20,7 @@
 #include "results/granules.h"
 #include "results/output.h"
 #include "results/plot.h"
+#include "results/sensors.h"
 #include "results/table.h"
 #include "run/parallel.h"
 #include "run/outdir.h"
@@ -152,6 +153,8 @@ typedef struct run {
     taper_sim *sim;                                   /* NULL without numerics */
     double *own_theory[TAPER_N_THEORY_QUANTITIES];    /* without numerics      */
     const double *theory[TAPER_N_THEORY_QUANTITIES];  /* by TAPER_THEORY_*     */
+    const char *theory_note; /* taper_chain_theory_note: why the theory is NaN */
+    sensors *sensors;        /* &sensors: the sampler's records, or NULL     */
     progress_state progress;
     int show_progress;       /* only when runs are computed one at a time */
     taper_status status;     /* taper_sim_run's (TAPER_OK without numerics) */
@@ -171,6 +174,7 @@ static void report_warning(int level, const char *message, void *user)
 
 static void run_free(run *r)
 {
+    sensors_free(r->sensors);
     taper_sim_free(r->sim);
     taper_chain_free(r->chain);
     taper_chain_spec_free(r->spec);
@@ -223,6 +227,37 @@ static int build_chain(run *r)
     return RUN_COMPLETE;
 }
 
+/* Where the binary-collision theory does not describe the chain (losses,
+ * a static load: taper_chain_theory_note), its columns are NaN, whatever
+ * the arrays held: never the theory of another model.  0, or -1 out of
+ * memory. */
+static int blank_theory(run *r)
+{
+    if (!(r->theory_note = taper_chain_theory_note(r->chain))) return 0;
+    size_t n = taper_chain_size(r->chain);
+    for (int q = 0; q < TAPER_N_THEORY_QUANTITIES; q++) {
+        if (!r->own_theory[q] && !(r->own_theory[q] = malloc(n * sizeof(double)))) return -1;
+        for (size_t k = 0; k < n; k++) r->own_theory[q][k] = NAN;
+        r->theory[q] = r->own_theory[q];
+    }
+    return 0;
+}
+
+/* &sensors: the library's sampler records into r->sensors. */
+static int attach_sensors(run *r, taper_solver_spec *spec)
+{
+    int failed;
+    if (!(r->sensors = sensors_new(r->cfg, r->chain, &failed))) {
+        if (!failed) return RUN_COMPLETE;
+        fprintf(r->log, "%s: out of memory for the sensors\n", r->label);
+        return RUN_FAILED;
+    }
+    if (taper_solver_spec_set_sampler(spec, r->cfg->sensors.interval, sensors_sample, r->sensors,
+                                      &r->err) == TAPER_OK)
+        return RUN_COMPLETE;
+    return refused(r, SCENE_LIB_SOLVER);
+}
+
 /* The sim, and with it the theory, computed once by the library. */
 static int build_sim(run *r)
 {
@@ -230,6 +265,11 @@ static int build_sim(run *r)
     if (!spec) return refused(r, SCENE_LIB_SOLVER);
     taper_solver_spec_set_monitor(spec, monitor, &r->progress);
     taper_solver_spec_set_log(spec, report_warning, r);
+    int rc = attach_sensors(r, spec);
+    if (rc != RUN_COMPLETE) {
+        taper_solver_spec_free(spec);
+        return rc;
+    }
     r->sim = taper_sim_alloc(r->chain, spec, &r->err);
     taper_solver_spec_free(spec);
     if (!r->sim) {
@@ -240,6 +280,10 @@ static int build_sim(run *r)
     }
     for (int q = 0; q < TAPER_N_THEORY_QUANTITIES; q++)
         r->theory[q] = taper_sim_theory(r->sim, (taper_theory_quantity)q);
+    if (blank_theory(r) != 0) {
+        fprintf(r->log, "%s: out of memory\n", r->label);
+        return RUN_FAILED;
+    }
     return RUN_COMPLETE;
 }
 
@@ -320,8 +364,11 @@ static int compute_theory(run *r)
     }
     if (taper_theory_compute(r->chain, r->own_theory[TAPER_THEORY_V],
                              r->own_theory[TAPER_THEORY_MU], r->own_theory[TAPER_THEORY_T_RES],
-                             r->own_theory[TAPER_THEORY_T], &r->err) == TAPER_OK)
-        return RUN_COMPLETE;
+                             r->own_theory[TAPER_THEORY_T], &r->err) == TAPER_OK) {
+        if (blank_theory(r) == 0) return RUN_COMPLETE;
+        set_message(r, "out of memory");
+        return RUN_FAILED;
+    }
     /* The library's theory messages name it already ("theory: velocity of ..."). */
     set_message(r, r->err.message);
     return RUN_FAILED;
@@ -368,7 +415,8 @@ static void compute_run(size_t i, void *data)
 static granules_run result_of(const run *r)
 {
     granules_run g = {.sc = r->sc, .point = r->point, .chain = r->chain, .sim = r->sim,
-                      .status = r->status, .message = r->err.message};
+                      .status = r->status, .message = r->err.message,
+                      .theory_note = r->theory_note, .at = r->at};
     for (int q = 0; q < TAPER_N_THEORY_QUANTITIES; q++) g.theory[q] = r->theory[q];
     return g;
 }
@@ -405,7 +453,10 @@ static int write_report_data(const run *r, char **msg)
     if (!(cfg->runs.fit || cfg->runs.table || cfg->runs.figure)) return 0;
     unsigned needed = 1u << 9 | 1u << 10 | 1u << 11; /* the theory's columns */
     if (cfg->solver.numerics) needed |= 0x1fu << 4;  /* and the observables    */
-    if (cfg->output.every <= 1 && (cfg->output.column_set & needed) == needed) return 0;
+    /* SI files (&output units = 'si'): the reports stay rescaled. */
+    if (cfg->output.every <= 1 && (cfg->output.column_set & needed) == needed &&
+        cfg->output.units == SCENE_UNITS_RESCALED)
+        return 0;
     out_columns cols;
     memset(&cols, 0, sizeof cols);
     cols.n = taper_chain_size(r->chain);
@@ -427,11 +478,51 @@ static int write_report_data(const run *r, char **msg)
     return out_commit(f, msg);
 }
 
+/* The energy budget at the end of the run (docs/physics.md), one line on
+ * stdout: where the initial energy went. */
+static void print_energy(const run *r)
+{
+    if (!r->sim) return;
+    static const struct {
+        taper_statistic which;
+        const char *label;
+    } parts[] = {{TAPER_STAT_ENERGY_TRANSMITTED, "transmitted"},
+                 {TAPER_STAT_ENERGY_REFLECTED, "reflected"},
+                 {TAPER_STAT_ENERGY_IN_CHAIN, "in the chain"},
+                 {TAPER_STAT_ENERGY_DISSIPATED, "dissipated"}};
+    double e0 = taper_sim_statistic(r->sim, TAPER_STAT_ENERGY_INITIAL);
+    if (!(e0 > 0)) return;
+    double scale = scene_unit(r->cfg, TAPER_DIM_ENERGY);
+    const char *unit = scene_unit_suffix(r->cfg, TAPER_DIM_ENERGY);
+    fprintf(r->out, "! energy at t_final: initial %.6g%s%s", e0 * scale, unit ? " " : "",
+            unit ? unit : "");
+    for (size_t i = 0; i < sizeof parts / sizeof parts[0]; i++) {
+        double x = taper_sim_statistic(r->sim, parts[i].which);
+        fprintf(r->out, ", %s %.6g%s%s (%.3g %%)", parts[i].label, x * scale, unit ? " " : "",
+                unit ? unit : "", 100 * x / e0);
+    }
+    fputc('\n', r->out);
+}
+
+/* &sensors: the time series of this run. */
+static void write_sensors(run *r)
+{
+    char *msg = NULL;
+    if (!r->sensors || !r->sim) return;
+    if (sensors_write(r->sensors, r->sim, r->dir, r->out, &msg) != 0) {
+        fprintf(r->log, "%s: %s\n", r->label, msg ? msg : "out of memory");
+        r->rc = RUN_FAILED;
+    }
+    free(msg);
+}
+
 /* After the computation, in the order of the sweep. */
 static void finish_run(run *r)
 {
     if (r->message) fprintf(r->log, "%s\n", r->message);
     if (!r->computed || (r->rc != RUN_COMPLETE && r->rc != RUN_PARTIAL)) return;
+    if (r->theory_note)
+        fprintf(r->log, "%s: note: the theory columns are nan: %s\n", r->label, r->theory_note);
     granules_run g = result_of(r);
     char *untrusted = distrust(r);
     if (untrusted) {
@@ -447,6 +538,8 @@ static void finish_run(run *r)
         r->rc = RUN_FAILED;
     } else {
         fprintf(r->out, "! wrote %s/%s\n", r->dir, partial ? "granules.partial.tsv" : "granules.tsv");
+        print_energy(r);
+        write_sensors(r);
         if (r->name && !partial && write_report_data(r, &msg) != 0) {
             fprintf(r->log, "%s: %s\n", r->label, msg ? msg : "out of memory");
             r->rc = RUN_FAILED;

@@ -23,6 +23,9 @@ _Static_assert(sizeof(scene_quantity) == sizeof(int), "enum size");
 _Static_assert(sizeof(scene_fit_report) == sizeof(int), "enum size");
 _Static_assert(sizeof(scene_fit_theory) == sizeof(int), "enum size");
 _Static_assert(sizeof(scene_curves) == sizeof(int), "enum size");
+_Static_assert(sizeof(taper_boundary) == sizeof(int), "enum size");
+_Static_assert(sizeof(taper_disorder) == sizeof(int), "enum size");
+_Static_assert(sizeof(scene_units) == sizeof(int), "enum size");
 /* No field is larger than a list (scene_set moves fields through one). */
 _Static_assert(sizeof(scene_reals) >= sizeof(double) && sizeof(scene_reals) >= sizeof(long long) &&
                sizeof(scene_reals) >= sizeof(char *), "field size");
@@ -33,6 +36,8 @@ _Static_assert(sizeof(scene_reals) >= sizeof(double) && sizeof(scene_reals) >= s
 static const char *profile_choice(int i) { return taper_profile_name((taper_profile)i); }
 static const char *method_choice(int i) { return taper_method_name((taper_method)i); }
 static const char *fit_model_choice(int i) { return scene_fit_model_name(i); }
+static const char *boundary_choice(int i) { return taper_boundary_name((taper_boundary)i); }
+static const char *disorder_choice(int i) { return taper_disorder_name((taper_disorder)i); }
 
 /* The scene's own choices. */
 #define NAME_AT(list, i) \
@@ -43,6 +48,7 @@ static const char *const fit_theories[] = {"fit", "rate", "f", "b"};
 static const char *const curves[] = {"both", "theory", "numerics"};
 static const char *const chain_params[] = {"s", "q"};
 static const char *const sweep_modes[] = {"grid", "zip"};
+static const char *const units[] = {"rescaled", "si"};
 static const char *const columns[SCENE_N_COLUMNS] = {
     "k", "R", "m", "X0", "t_pass", "T_res", "v_peak", "t_peak", "X_pass",
     "theory_v", "theory_T", "theory_t"};
@@ -64,13 +70,20 @@ static const char *report_choice(int i) { return NAME_AT(fit_reports, i); }
 static const char *theory_choice(int i) { return NAME_AT(fit_theories, i); }
 static const char *curves_choice(int i) { return NAME_AT(curves, i); }
 static const char *sweep_mode_choice(int i) { return NAME_AT(sweep_modes, i); }
+static const char *units_choice(int i) { return NAME_AT(units, i); }
+const char *scene_units_name(scene_units u) { return NAME_AT(units, (int)u); }
 
 /* ---- groups ------------------------------------------------------------------ */
 
 /* The groups, in the order they are written and documented. */
 static const char *const groups[SCENE_N_GROUPS][2] = {
-    {"chain", "the granular chain: radius profile, size, contact law"},
+    {"chain", "the granular chain: radius profile, size, contact law, disorder, static load"},
+    {"ends", "what holds the chain at each end: nothing (free) or a wall"},
+    {"striker", "a striker (granule 0) hitting granule 1, instead of the paper's impulse"},
+    {"losses", "dissipation: viscoelastic contacts and drag"},
+    {"material", "real units (Hertz contacts, n = 5/2): materials, R_1 and the impact velocity"},
     {"solver", "the integration of the equations of motion (CVODE)"},
+    {"sensors", "time series sampled during the run: chosen granules, wall forces, v(k, t)"},
     {"output", "where and how results are written"},
     {"fit", "a fit applied to every run of the scene, to numerics and theory alike"},
     {"table", "a table of the fitted parameter over the sweep, next to the paper's values"},
@@ -102,7 +115,7 @@ static const scene_var table[] = {
      CHOICE(profile_choice, 0),
      "radius profile R_k: monodisperse (1), backward_linear (1+s(k-1)), forward_linear "
      "(1-s(k-1)), backward_exponential ((1-q)^(1-k)), forward_exponential ((1+q)^(1-k)), "
-     "custom (radii)"},
+     "custom (radii or radii_file), decorated (pattern repeated)"},
     {"chain", "n_granules", SCENE_INTEGER, SCENE_COUNT | SCENE_SWEEP, AT(chain.n_granules), NULL,
      SCENE_LIB_CHAIN, NULL, TAPER_N_GRANULES_MIN, TAPER_N_GRANULES_MAX, NO_CHOICE,
      "number of granules N (custom profile: may be left out, then N = number of radii)"},
@@ -119,6 +132,100 @@ static const scene_var table[] = {
     {"chain", "radii", SCENE_REAL_LIST, SCENE_LO_OPEN, AT(chain.radii), NULL, SCENE_LIB_CHAIN,
      NULL, 0, INFINITY, NO_CHOICE,
      "custom profile only: the radii R_1, ..., R_N (R_1 = 1 is the unit of length)"},
+    {"chain", "radii_file", SCENE_STRING, SCENE_EXTRA, AT(chain.radii_file), "''", SCENE_OWN,
+     NULL, 0, 0, NO_CHOICE,
+     "custom profile only, instead of radii: a text file with one radius per line ('#' starts "
+     "a comment), its path relative to the scene file; any number of granules"},
+    {"chain", "pattern", SCENE_REAL_LIST, SCENE_LO_OPEN | SCENE_EXTRA, AT(chain.pattern), NULL,
+     SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
+     "decorated profile only: the radii of one period, starting with 1 (R_1); granule k has "
+     "radius pattern((k-1) mod P + 1), e.g. 1, 0.5 for a large and a small granule"},
+    {"chain", "disorder", SCENE_CHOICE, SCENE_EXTRA, AT(chain.disorder), NULL, SCENE_LIB_CHAIN,
+     NULL, 0, 0, CHOICE(disorder_choice, 0),
+     "what a random disorder perturbs: the 'radius' or the 'mass' of every granule k >= 2, "
+     "by a factor 1 + disorder_amplitude u_k, u_k uniform in [-1, 1)"},
+    {"chain", "disorder_amplitude", SCENE_REAL, SCENE_HI_OPEN | SCENE_SWEEP | SCENE_EXTRA,
+     AT(chain.disorder_amplitude), NULL, SCENE_LIB_CHAIN, NULL, 0, 1, NO_CHOICE,
+     "amplitude of the disorder, below 1; 0: none"},
+    {"chain", "seed", SCENE_INTEGER, SCENE_SWEEP | SCENE_EXTRA, AT(chain.seed), NULL,
+     SCENE_LIB_CHAIN, NULL, 0, 9007199254740992.0, NO_CHOICE,
+     "seed of the disorder: u_k depends on (seed, k) alone, the same on every machine and for "
+     "every N; a list of seeds runs an ensemble"},
+    {"chain", "load", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(chain.load), NULL,
+     SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
+     "static compressive force F0 through the chain (precompression; rescaled force of eq. "
+     "(5)): every contact starts at its static overlap; 0: the paper's just-touching chain"},
+
+    {"ends", "left", SCENE_CHOICE, SCENE_EXTRA, AT(ends.left), NULL, SCENE_LIB_CHAIN, "left_end", 0, 0,
+     CHOICE(boundary_choice, 0),
+     "granule 1's end: 'free', or 'wall' (a fixed flat wall touching granule 1; not with a "
+     "striker)"},
+    {"ends", "right", SCENE_CHOICE, SCENE_EXTRA, AT(ends.right), NULL, SCENE_LIB_CHAIN, "right_end", 0,
+     0, CHOICE(boundary_choice, 0),
+     "granule N's end: 'free', or 'wall' (the pulse reflects from it; its force is a sensor's "
+     "reading)"},
+    {"ends", "left_compliance", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(ends.left_compliance),
+     NULL, SCENE_LIB_CHAIN, "left_wall_compliance", 0, INFINITY, NO_CHOICE,
+     "compliance (1 - nu^2)/E of the left wall relative to granule 1's: 0 rigid, 1 granule 1's "
+     "material (with &material: from &material wall)"},
+    {"ends", "right_compliance", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA,
+     AT(ends.right_compliance), NULL, SCENE_LIB_CHAIN, "right_wall_compliance", 0, INFINITY, NO_CHOICE,
+     "compliance of the right wall relative to granule 1's (as left_compliance)"},
+
+    {"striker", "radius", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(striker.radius), NULL,
+     SCENE_LIB_CHAIN, "striker_radius", 0, INFINITY, NO_CHOICE,
+     "radius of a striker relative to R_1, hitting granule 1 (at rest) with unit velocity; 0: "
+     "no striker, the impulse v_1 = 1 of the paper"},
+    {"striker", "density", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA,
+     AT(striker.density), NULL, SCENE_LIB_CHAIN, "striker_density", 0, INFINITY, NO_CHOICE,
+     "the striker's density relative to granule 1's: its mass is density radius^3 (with "
+     "&material: from &material striker)"},
+    {"striker", "compliance", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(striker.compliance), NULL,
+     SCENE_LIB_CHAIN, "striker_compliance", 0, INFINITY, NO_CHOICE,
+     "the striker's compliance (1 - nu^2)/E relative to granule 1's (with &material: from "
+     "&material striker)"},
+
+    {"losses", "damping", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(losses.damping), NULL,
+     SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
+     "viscoelastic contacts (Kuwabara-Kono): each contact pushes with r_k (z^(n-1) + damping "
+     "d(z^(n-1))/dt), never pulls; a (rescaled) time; 0: elastic"},
+    {"losses", "drag", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(losses.drag), NULL,
+     SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
+     "hydrodynamic friction: a force -drag v_k on every granule (and the striker); 0: none"},
+
+    {"material", "young", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA,
+     AT(material.young), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
+     "Young's modulus E of material 1 [Pa] (e.g. 193e9, stainless steel); the group needs "
+     "young, poisson, density, radius, velocity"},
+    {"material", "poisson", SCENE_REAL, SCENE_LO_OPEN | SCENE_HI_OPEN | SCENE_SWEEP | SCENE_EXTRA,
+     AT(material.poisson), NULL, SCENE_OWN, NULL, -1, 0.5, NO_CHOICE,
+     "Poisson ratio nu of material 1"},
+    {"material", "density", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA,
+     AT(material.density), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
+     "density of material 1 [kg/m^3]"},
+    {"material", "radius", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA,
+     AT(material.radius), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
+     "radius R_1 of granule 1 [m] (every length of the scene is relative to it)"},
+    {"material", "velocity", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA,
+     AT(material.velocity), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
+     "velocity of the impulse given to granule 1, or of the striker [m/s]"},
+    {"material", "other_young", SCENE_REAL_LIST, SCENE_LO_OPEN | SCENE_EXTRA,
+     AT(material.other_young), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
+     "mixed chains: Young's moduli of materials 2, 3, ... [Pa]"},
+    {"material", "other_poisson", SCENE_REAL_LIST, SCENE_LO_OPEN | SCENE_HI_OPEN | SCENE_EXTRA,
+     AT(material.other_poisson), NULL, SCENE_OWN, NULL, -1, 0.5, NO_CHOICE,
+     "Poisson ratios of materials 2, 3, ..."},
+    {"material", "other_density", SCENE_REAL_LIST, SCENE_LO_OPEN | SCENE_EXTRA,
+     AT(material.other_density), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
+     "densities of materials 2, 3, ... [kg/m^3]"},
+    {"material", "sequence", SCENE_REAL_LIST, SCENE_EXTRA, AT(material.sequence), NULL,
+     SCENE_OWN, NULL, 1, 1000, NO_CHOICE,
+     "the material of granules 1, 2, ..., repeated along the chain (e.g. 1, 2: alternating); "
+     "left out: material 1 throughout"},
+    {"material", "wall", SCENE_INTEGER, SCENE_EXTRA, AT(material.wall), "0", SCENE_OWN, NULL, 0,
+     1000, NO_CHOICE, "the walls' material (&ends); 0: rigid"},
+    {"material", "striker", SCENE_INTEGER, SCENE_EXTRA, AT(material.striker), "1", SCENE_OWN,
+     NULL, 1, 1000, NO_CHOICE, "the striker's material (&striker)"},
 
     {"solver", "method", SCENE_CHOICE, 0, AT(solver.method), NULL, SCENE_LIB_SOLVER, NULL, 0, 0,
      CHOICE(method_choice, 0),
@@ -141,8 +248,31 @@ static const scene_var table[] = {
     {"solver", "max_steps", SCENE_INTEGER, SCENE_SWEEP, AT(solver.max_steps), NULL, SCENE_LIB_SOLVER, NULL,
      0, INFINITY, NO_CHOICE,
      "stop after this many internal steps with a partial result; 0: no limit"},
+    {"solver", "t_end", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(solver.t_end), NULL,
+     SCENE_LIB_SOLVER, NULL, 0, INFINITY, NO_CHOICE,
+     "integrate until this time even after the pulse has passed every granule (to follow "
+     "reflections, and the sensors); 0: stop once the pulse has passed"},
     {"solver", "numerics", SCENE_LOGICAL, 0, AT(solver.numerics), ".true.", SCENE_OWN, NULL, 0,
      0, NO_CHOICE, "integrate the dynamics; .false.: binary-collision theory only (fast)"},
+
+    {"sensors", "interval", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(sensors.interval), "0",
+     SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
+     "sampling interval (rescaled time) of the sensors (DIR/sensors.tsv), the wall forces "
+     "(DIR/walls.tsv) and the space-time picture; 0: no sampling"},
+    {"sensors", "granules", SCENE_REAL_LIST, SCENE_EXTRA, AT(sensors.granules), NULL, SCENE_OWN,
+     NULL, 1, TAPER_N_GRANULES_MAX, NO_CHOICE,
+     "granules whose displacement x, velocity v and contact forces are written to "
+     "DIR/sensors.tsv at every sample"},
+    {"sensors", "spacetime", SCENE_LOGICAL, SCENE_EXTRA, AT(sensors.spacetime), ".false.",
+     SCENE_OWN, NULL, 0, 0, NO_CHOICE,
+     "the space-time picture of v(k, t): DIR/spacetime.tsv and DIR/spacetime.png (gnuplot)"},
+    {"sensors", "spacetime_granules", SCENE_INTEGER, SCENE_EXTRA, AT(sensors.spacetime_granules),
+     "200", SCENE_OWN, NULL, 2, 100000, NO_CHOICE,
+     "at most this many granules across the picture: every ceil(N / this)-th granule"},
+    {"sensors", "spacetime_times", SCENE_INTEGER, SCENE_EXTRA, AT(sensors.spacetime_times), "500",
+     SCENE_OWN, NULL, 2, 1000000, NO_CHOICE,
+     "at most this many times down the picture: whenever more samples come, every other row "
+     "is dropped (the picture's interval doubles)"},
 
     {"output", "dir", SCENE_STRING, SCENE_FROM_PATH, AT(output.dir), NULL, SCENE_OWN, NULL, 0, 0,
      NO_CHOICE,
@@ -166,6 +296,10 @@ static const scene_var table[] = {
     {"output", "max_momentum_error", SCENE_REAL, SCENE_LO_OPEN, AT(output.max_momentum_error),
      "1e-3", SCENE_OWN, NULL, 0, 1e300, NO_CHOICE,
      "the same bound on the relative momentum error"},
+    {"output", "units", SCENE_CHOICE, SCENE_EXTRA, AT(output.units), "'rescaled'", SCENE_OWN,
+     NULL, 0, 0, CHOICE(units_choice, 0),
+     "units of the result files: 'rescaled' (eq. (5) of arXiv:0905.4512), or 'si' (needs "
+     "&material; each column's unit in its header, e.g. t_pass[s])"},
 
     {"fit", "model", SCENE_CHOICE, 0, AT(fit.model), "'none'", SCENE_LIB_FIT, NULL, 0, 0,
      CHOICE(fit_model_choice, SCENE_FIT_NONE),
@@ -580,8 +714,12 @@ int scene_line(const scene *sc, size_t offset)
 int scene_error_row(const scene *sc, scene_lib lib, const char *field)
 {
     int i = scene_var_of_field(lib, field);
+    int from_file = sc->cfg.chain.file_radii.n > 0;
     if (i >= 0 && sc->n_from_radii && table[i].offset == offsetof(scene_config, chain.n_granules))
-        i = scene_var_find("chain", "radii");
+        i = scene_var_find("chain", from_file ? "radii_file" : "radii");
+    /* The radii of a file are the file's. */
+    if (i >= 0 && from_file && table[i].offset == offsetof(scene_config, chain.radii))
+        i = scene_var_find("chain", "radii_file");
     return i;
 }
 

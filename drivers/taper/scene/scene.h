@@ -81,12 +81,16 @@ typedef enum scene_curves {
 /* The parameters of a chain's taper that a sweep or a table runs over. */
 typedef enum scene_chain_param { SCENE_PARAM_S = 0, SCENE_PARAM_Q = 1 } scene_chain_param;
 
+/* &output units. */
+typedef enum scene_units { SCENE_UNITS_RESCALED = 0, SCENE_UNITS_SI = 1 } scene_units;
+
 /* Names as written in scene files (and in result files' headers). */
 const char *scene_quantity_name(scene_quantity q);     /* "k", "v", "T_res", ...  */
 const char *scene_fit_report_name(scene_fit_report r); /* "a", "b", ...           */
 const char *scene_fit_theory_name(scene_fit_theory t); /* "fit", "rate", "f", "b" */
 const char *scene_fit_model_name(int model);           /* "none", "power", ...    */
 const char *scene_chain_param_name(scene_chain_param p); /* "s", "q"              */
+const char *scene_units_name(scene_units u);           /* "rescaled", "si"        */
 
 typedef struct scene_chain_config {
     taper_profile profile;
@@ -95,7 +99,54 @@ typedef struct scene_chain_config {
     scene_reals s, q;       /* one value, or the values of a sweep            */
     double exponent;
     scene_reals radii;      /* custom profile; empty otherwise                */
+    scene_reals pattern;    /* decorated profile: the radii of one period     */
+    int disorder;           /* taper_disorder                                 */
+    double disorder_amplitude; /* 0: no disorder                              */
+    long long seed;         /* of the disorder (a list: an ensemble)          */
+    char *radii_file;       /* "": none; otherwise the path as resolved
+                               against the scene file's folder               */
+    scene_reals file_radii; /* resolved: the radii read from radii_file (not
+                               a table row: not echoed, not limited to
+                               SCENE_MAX_LIST)                                */
+    double load;            /* static compressive force F0 (0: none)          */
 } scene_chain_config;
+
+/* &ends: the boundary at each end. */
+typedef struct scene_ends_config {
+    int left, right;                     /* taper_boundary                    */
+    double left_compliance, right_compliance; /* wall's, relative to granule 1 */
+} scene_ends_config;
+
+/* &striker: radius 0 is the paper's impulse. */
+typedef struct scene_striker_config {
+    double radius, density, compliance;  /* relative to granule 1            */
+} scene_striker_config;
+
+/* &losses. */
+typedef struct scene_losses_config {
+    double damping, drag;
+} scene_losses_config;
+
+/* &material: real units (Hertz, n = 5/2).  NaN: not given. */
+typedef struct scene_material_config {
+    double young, poisson, density;      /* material 1 [Pa], [-], [kg/m^3]   */
+    double radius, velocity;             /* R_1 [m], impulse velocity [m/s]  */
+    scene_reals other_young, other_poisson, other_density; /* materials 2.. */
+    scene_reals sequence;                /* material of granule k:
+                                            sequence[(k-1) mod P] (1-based) */
+    long long wall;                      /* walls' material; 0: rigid         */
+    long long striker;                   /* the striker's material            */
+    int on;                              /* resolved: the group is given      */
+} scene_material_config;
+
+/* &sensors: time series sampled during the run. */
+typedef struct scene_sensors_config {
+    double interval;        /* sampling interval; 0: no sampling            */
+    scene_reals granules;   /* granules whose v, x, force are recorded      */
+    int spacetime;          /* the space-time picture of v(k, t)            */
+    long long spacetime_granules; /* at most this many columns (a stride)   */
+    long long spacetime_times;    /* at most this many rows (a stride)      */
+} scene_sensors_config;
 
 typedef struct scene_solver_config {
     taper_method method;
@@ -104,6 +155,7 @@ typedef struct scene_solver_config {
     long long last_granule;
     double t_max;
     long long max_steps;
+    double t_end;           /* go on integrating until t_end (0: no)          */
     int numerics;           /* 0: the binary-collision theory only            */
 } scene_solver_config;
 
@@ -124,6 +176,7 @@ typedef struct scene_output_config {
     char *columns;          /* names of granules.tsv columns; "": all the run has */
     long long every;        /* rows k = 1, 1 + every, ..., and N              */
     double max_energy_error, max_momentum_error; /* beyond: UNTRUSTED          */
+    int units;              /* scene_units                                    */
     unsigned column_set;    /* resolved: bit c for scene_column c written     */
 } scene_output_config;
 
@@ -196,7 +249,12 @@ typedef struct scene_runs {
 
 typedef struct scene_config {
     scene_chain_config chain;
+    scene_ends_config ends;
+    scene_striker_config striker;
+    scene_losses_config losses;
+    scene_material_config material;
     scene_solver_config solver;
+    scene_sensors_config sensors;
     scene_output_config output;
     scene_fit_config fit;
     scene_table_config table;
@@ -235,6 +293,27 @@ char *scene_point_name(const scene_config *cfg, size_t point);
  * one value), sweep.lists NULL.  It shares cfg's strings and lists: it is
  * valid while cfg is, and is never freed. */
 void scene_config_at(const scene_config *cfg, size_t point, scene_config *at);
+
+/* ---- materials and units (scene_physics.c) ------------------------------------ */
+
+/* What &material makes of a configuration at one point. */
+typedef struct scene_material_props {
+    double young, poisson, density; /* granule 1's material (the unit scales)   */
+    double wall_compliance;         /* relative to granule 1's; 0: rigid         */
+    double striker_density, striker_compliance; /* relative to granule 1's      */
+    int mixed;                      /* granules of more than one material         */
+} scene_material_props;
+/* Fills *p (all zero without &material).  0. */
+int scene_material_resolve(const scene_config *cfg, scene_material_props *p);
+/* Per-granule densities and compliances (1 - nu^2)/E of a mixed chain of n
+ * granules, malloc'd.  0, or -1 out of memory. */
+int scene_material_arrays(const scene_config *cfg, size_t n, double **density,
+                          double **compliance);
+/* The SI value of one rescaled unit of `dim` when the scene writes SI
+ * (&output units = 'si'), else 1. */
+double scene_unit(const scene_config *cfg, taper_dimension dim);
+/* "s", "m", ... when the scene writes SI, else NULL. */
+const char *scene_unit_suffix(const scene_config *cfg, taper_dimension dim);
 
 /* ---- reading a scene ---------------------------------------------------------- */
 

@@ -17,7 +17,8 @@
 static int in_range(const scene_var *var, double x)
 {
     int lo_ok = (var->flags & SCENE_LO_OPEN) ? x > var->lo : x >= var->lo;
-    return lo_ok && x <= var->hi;
+    int hi_ok = (var->flags & SCENE_HI_OPEN) ? x < var->hi : x <= var->hi;
+    return lo_ok && hi_ok;
 }
 
 static void range_error(scene *sc, size_t i, double x)
@@ -39,10 +40,15 @@ static void check_own(scene *sc, size_t i)
         long long x;
         memcpy(&x, f, sizeof x);
         if (!in_range(var, (double)x)) range_error(sc, i, (double)x);
-    } else if (var->type == SCENE_REAL && !(var->flags & SCENE_SWEEP)) {
-        double x;
-        memcpy(&x, f, sizeof x);
-        if (!isnan(x) && !in_range(var, x)) range_error(sc, i, x); /* NaN: left out */
+    } else if (var->type == SCENE_REAL || var->type == SCENE_REAL_LIST) {
+        /* Each value of a sweep or a list; NaN: a real left out. */
+        for (size_t j = 0; j < scene_row_count(&sc->cfg, i); j++) {
+            double x = scene_row_value(&sc->cfg, i, j);
+            if (!isnan(x) && !in_range(var, x)) {
+                range_error(sc, i, x);
+                return;
+            }
+        }
     }
 }
 
@@ -87,8 +93,9 @@ static void resolve_custom(scene *sc)
 {
     scene_chain_config *c = &sc->cfg.chain;
     int n = row("chain", "n_granules");
-    if (c->profile == TAPER_CUSTOM && c->radii.n > 0 && !sc->origin[n].given) {
-        c->n_granules = (long long)c->radii.n;
+    size_t radii = c->file_radii.n ? c->file_radii.n : c->radii.n; /* a file, or inline */
+    if (c->profile == TAPER_CUSTOM && radii > 0 && !sc->origin[n].given) {
+        c->n_granules = (long long)radii;
         sc->n_from_radii = 1;
     }
 }
@@ -246,10 +253,13 @@ size_t scene_validate(scene *sc)
         if (var->flags & SCENE_COUNT) check_count(sc, i);
     }
     if (sc->n_errors != before) return sc->n_errors - before;
+    scene_read_radii(sc);
+    if (sc->n_errors != before) return sc->n_errors - before;
     resolve_custom(sc);
     check_unused(sc);
     resolve_runs(sc);
     resolve_columns(sc);
+    scene_check_physics(sc);
     if (!sc->cfg.output.dir[0])
         scene_var_error(sc, (size_t)row("output", "dir"), "the output directory must not be empty");
     /* The library checks its settings one by one, then their relations;

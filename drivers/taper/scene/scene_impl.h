@@ -32,6 +32,10 @@
 #define SCENE_LIST_FIELD 0x10u /* SWEEP REAL whose field is a scene_reals (s, q);
                                  other sweepable rows keep a list in
                                  scene_config.sweep.lists                       */
+#define SCENE_EXTRA 0x20u     /* beyond the paper (issue 15): the echo leaves it
+                                 out unless the scene gives it, so that the
+                                 paper's scenes echo as before                  */
+#define SCENE_HI_OPEN 0x40u   /* upper bound excluded                           */
 
 /* One row of the variable table. */
 typedef struct scene_var {
@@ -61,8 +65,9 @@ int scene_var_find(const char *group, const char *name);
 /* Index of the row with this library object and field name, or -1. */
 int scene_var_of_field(scene_lib lib, const char *field);
 
-/* The groups (chain, solver, output, fit, table, figure, sweep), in order. */
-#define SCENE_N_GROUPS 7
+/* The groups (chain, ends, striker, losses, material, solver, sensors,
+ * output, fit, table, figure, sweep), in order. */
+#define SCENE_N_GROUPS 12
 const char *scene_group_name(size_t i);
 const char *scene_group_doc(size_t i);
 int scene_group_index(const char *name);
@@ -133,6 +138,12 @@ void scene_write_value(const scene_var *var, const scene_config *cfg, FILE *fp);
 /* The row a library error on `field` of object `lib` is reported against
  * (n_granules resolved from the radii: radii), or -1. */
 int scene_error_row(const scene *sc, scene_lib lib, const char *field);
+
+/* Beyond the paper (scene_physics.c): the radii file read (before N is
+ * resolved from it), and the scene's own rules of &material, &sensors,
+ * &output units and the seed (after the sweep is resolved). */
+void scene_read_radii(scene *sc);
+void scene_check_physics(scene *sc);
 
 /* Library side (scene_lib.c): defaults from fresh library specs, and the
  * validation of the library's settings through its setters.  0 or -1 out

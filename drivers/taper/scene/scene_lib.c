@@ -10,6 +10,7 @@
 #include "scene_impl.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -36,6 +37,19 @@ int scene_library_defaults(scene_config *cfg)
     if (one_value(&cfg->chain.s, taper_chain_spec_s(chain)) != 0) goto out;
     if (one_value(&cfg->chain.q, taper_chain_spec_q(chain)) != 0) goto out;
     cfg->chain.exponent = taper_chain_spec_exponent(chain);
+    cfg->chain.disorder = (int)taper_chain_spec_disorder(chain);
+    cfg->chain.disorder_amplitude = taper_chain_spec_disorder_amplitude(chain);
+    cfg->chain.seed = (long long)taper_chain_spec_disorder_seed(chain);
+    cfg->chain.load = taper_chain_spec_load(chain);
+    cfg->ends.left = (int)taper_chain_spec_end(chain, TAPER_LEFT);
+    cfg->ends.right = (int)taper_chain_spec_end(chain, TAPER_RIGHT);
+    cfg->ends.left_compliance = taper_chain_spec_end_compliance(chain, TAPER_LEFT);
+    cfg->ends.right_compliance = taper_chain_spec_end_compliance(chain, TAPER_RIGHT);
+    cfg->striker.radius = taper_chain_spec_striker_radius(chain);
+    cfg->striker.density = taper_chain_spec_striker_density(chain);
+    cfg->striker.compliance = taper_chain_spec_striker_compliance(chain);
+    cfg->losses.damping = taper_chain_spec_damping(chain);
+    cfg->losses.drag = taper_chain_spec_drag(chain);
     cfg->solver.method = taper_solver_spec_method(solver);
     cfg->solver.rtol = taper_solver_spec_rtol(solver);
     cfg->solver.atol = taper_solver_spec_atol(solver);
@@ -43,6 +57,7 @@ int scene_library_defaults(scene_config *cfg)
     cfg->solver.last_granule = (long long)taper_solver_spec_last_granule(solver);
     cfg->solver.t_max = taper_solver_spec_t_max(solver);
     cfg->solver.max_steps = taper_solver_spec_max_steps(solver);
+    cfg->solver.t_end = taper_solver_spec_t_end(solver);
     rc = 0;
 out:
     taper_chain_spec_free(chain);
@@ -95,6 +110,55 @@ static void set_s_or_q(sink *k, const scene_config *cfg, scene_chain_param p, si
         note(k, taper_chain_spec_set_q(spec, x, &e), &e);
 }
 
+/* The settings of issue 15 (ends, striker, load, losses, disorder,
+ * pattern, materials) of a configuration at one point.  With &material, the
+ * walls' and the striker's compliances and density follow from their
+ * materials (scene_physics.c). */
+static void apply_beyond_paper(sink *k, const scene_config *at, taper_chain_spec *spec)
+{
+    const scene_chain_config *c = &at->chain;
+    taper_error e;
+    note(k, taper_chain_spec_set_pattern(spec, c->pattern.v, c->pattern.n, &e), &e);
+    note(k, taper_chain_spec_set_disorder(spec, (taper_disorder)c->disorder,
+                                          c->disorder_amplitude, (uint64_t)c->seed, &e), &e);
+    note(k, taper_chain_spec_set_load(spec, c->load, &e), &e);
+
+    /* With &material: a wall's compliance from its material (a free end
+     * keeps the library's 0), the striker's density and compliance from
+     * its material (none: the library's 1). */
+    scene_material_props mp;
+    scene_material_resolve(at, &mp);
+    int mat = at->material.on;
+    const scene_ends_config *ends = &at->ends;
+    double cl = !mat ? ends->left_compliance : ends->left == TAPER_END_WALL ? mp.wall_compliance : 0;
+    double cr = !mat ? ends->right_compliance : ends->right == TAPER_END_WALL ? mp.wall_compliance : 0;
+    note(k, taper_chain_spec_set_end(spec, TAPER_LEFT, (taper_boundary)ends->left, cl, &e), &e);
+    note(k, taper_chain_spec_set_end(spec, TAPER_RIGHT, (taper_boundary)ends->right, cr, &e), &e);
+    const scene_striker_config *st = &at->striker;
+    int striker_mat = mat && st->radius > 0;
+    note(k, taper_chain_spec_set_striker(spec, st->radius,
+                                         striker_mat ? mp.striker_density : st->density,
+                                         striker_mat ? mp.striker_compliance : st->compliance, &e),
+         &e);
+    note(k, taper_chain_spec_set_damping(spec, at->losses.damping, &e), &e);
+    note(k, taper_chain_spec_set_drag(spec, at->losses.drag, &e), &e);
+
+    /* Mixed chains: per-granule materials; one material: none (exactly the
+     * library's single-material chain). */
+    double *density = NULL, *compliance = NULL;
+    size_t n = mat && mp.mixed ? (size_t)c->n_granules : 0;
+    if (n && scene_material_arrays(at, n, &density, &compliance) != 0) {
+        e.status = TAPER_ENOMEM;
+        e.field = NULL;
+        snprintf(e.message, sizeof e.message, "out of memory");
+        note(k, TAPER_ENOMEM, &e);
+        return;
+    }
+    note(k, taper_chain_spec_set_materials(spec, density, compliance, n, &e), &e);
+    free(density);
+    free(compliance);
+}
+
 /* Every chain setting, at run `point` of a sweep. */
 static void apply_chain(sink *k, const scene_config *cfg, size_t point, taper_chain_spec *spec)
 {
@@ -108,7 +172,10 @@ static void apply_chain(sink *k, const scene_config *cfg, size_t point, taper_ch
     set_s_or_q(k, &at, SCENE_PARAM_S, 0, spec);
     set_s_or_q(k, &at, SCENE_PARAM_Q, 0, spec);
     note(k, taper_chain_spec_set_exponent(spec, c->exponent, &e), &e);
-    note(k, taper_chain_spec_set_radii(spec, c->radii.v, c->radii.n, &e), &e);
+    /* Radii from a file (scene_physics.c) or inline. */
+    const scene_reals *radii = c->file_radii.n ? &c->file_radii : &c->radii;
+    note(k, taper_chain_spec_set_radii(spec, radii->v, radii->n, &e), &e);
+    apply_beyond_paper(k, &at, spec);
 }
 
 static void apply_solver(sink *k, const scene_config *cfg, size_t point, taper_solver_spec *spec)
@@ -124,6 +191,7 @@ static void apply_solver(sink *k, const scene_config *cfg, size_t point, taper_s
     note(k, taper_solver_spec_set_last_granule(spec, (size_t)s->last_granule, &e), &e);
     note(k, taper_solver_spec_set_t_max(spec, s->t_max, &e), &e);
     note(k, taper_solver_spec_set_max_steps(spec, (long)s->max_steps, &e), &e);
+    note(k, taper_solver_spec_set_t_end(spec, s->t_end, &e), &e);
 }
 
 /* &fit as a spec: the model, a fixed exponent when given, granules

@@ -15,6 +15,7 @@ void scene_free(scene *sc)
     if (!sc) return;
     for (size_t i = 0; i < scene_var_count(); i++) scene_field_clear(&sc->cfg, scene_var_at(i));
     free(sc->cfg.sweep.lists);
+    free(sc->cfg.chain.file_radii.v);
     for (size_t i = 0; i < sc->n_diags; i++) {
         free(sc->diags[i].group);
         free(sc->diags[i].key);

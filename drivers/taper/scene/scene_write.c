@@ -26,7 +26,8 @@ char *scene_range_text(const scene_var *var)
         scene_format_real(var->lo, lo);
         scene_format_real(var->hi, hi);
         fprintf(fp, "%s%c%s, %s%c", var->type == SCENE_REAL_LIST ? "each in " : "",
-                (var->flags & SCENE_LO_OPEN) ? '(' : '[', lo, hi, isinf(var->hi) ? ')' : ']');
+                (var->flags & SCENE_LO_OPEN) ? '(' : '[', lo, hi,
+                isinf(var->hi) || (var->flags & SCENE_HI_OPEN) ? ')' : ']');
     } else if (var->type == SCENE_LOGICAL) {
         fputs(".true., .false.", fp);
     }
@@ -164,6 +165,10 @@ static void write_var(const scene *sc, const scene_config *cfg, size_t i, FILE *
                       size_t point)
 {
     const scene_var *var = scene_var_at(i);
+    /* A variable beyond the paper that the scene leaves out holds its
+     * default: the echo leaves it out too, so that every scene written
+     * before it existed echoes exactly as it did. */
+    if (!doc && (var->flags & SCENE_EXTRA) && !sc->origin[i].given) return;
     if (write_sweep_list(cfg, i, fp, doc)) return;
     if (doc && !sc->origin[i].given && (var->flags & SCENE_FROM_PATH)) {
         /* Its default depends on the scene's file name: leave it derived. */
@@ -212,10 +217,24 @@ static void write_var(const scene *sc, const scene_config *cfg, size_t i, FILE *
     }
 }
 
+/* A group of variables beyond the paper only (&ends, &striker, ...) that
+ * the scene does not give. */
+static int extra_group_unused(const scene *sc, const char *group)
+{
+    for (size_t i = 0; i < scene_var_count(); i++) {
+        const scene_var *var = scene_var_at(i);
+        if (strcmp(var->group, group) != 0) continue;
+        if (!(var->flags & SCENE_EXTRA) || sc->origin[i].given) return 0;
+    }
+    return 1;
+}
+
 /* The optional groups are on when &fit model is not 'none' and &table or
- * &figure has a name. */
+ * &figure has a name; the groups beyond the paper when the scene gives one
+ * of their variables. */
 static int group_on(const scene *sc, const char *group)
 {
+    if (extra_group_unused(sc, group)) return 0;
     if (strcmp(group, "fit") == 0) return sc->cfg.fit.model != SCENE_FIT_NONE;
     if (strcmp(group, "table") == 0) return sc->cfg.table.name[0] != '\0';
     if (strcmp(group, "figure") == 0) return sc->cfg.figure.name[0] != '\0';
@@ -319,9 +338,10 @@ static const char doc_intro[] =
     "`out/stdin`).  A group may also end with `&end` instead of `/`, as older\n"
     "namelist files do.\n"
     "\n"
-    "**Sweeps.** The reals and integers of `&chain` and `&solver` (type \"list: sweep\"\n"
-    "below: `s`, `q`, `exponent`, `n_granules`, `rtol`, `atol`, `last_granule`, `t_max`,\n"
-    "`max_steps`) accept a list of values (`q = 0.05, 0.1`, `n_granules = 3*1000`).\n"
+    "**Sweeps.** Every variable of type \"list: sweep\" below (the reals and integers\n"
+    "of `&chain`, `&ends`, `&striker`, `&losses`, `&material`, `&solver`, and `&sensors\n"
+    "interval`) accepts a list of values (`q = 0.05, 0.1`, `n_granules = 3*1000`,\n"
+    "`seed = 1, 2, 3`: an ensemble of disordered chains).\n"
     "Lists of several variables make a grid, every combination, the variable later\n"
     "in this reference varying fastest; `&sweep mode = 'zip'` runs the i-th values\n"
     "together instead (lists of equal length).  Each run goes into its own\n"
@@ -346,7 +366,29 @@ static const char doc_intro[] =
     "(`DIR/figure.gp`), and renders `DIR/figure.png` when gnuplot is installed.\n"
     "These three groups are off unless `&fit model` or `&table`/`&figure name` is\n"
     "given.  The scenes of the paper's figures and tables are in\n"
-    "`share/scenes/paper/` (see docs/paper.md).\n";
+    "`share/scenes/paper/` (see docs/paper.md).\n"
+    "\n"
+    "**Beyond the paper** (issue 15; models and sources in docs/physics.md, one scene\n"
+    "per capability in `share/scenes/physics/`).  `&ends` puts a wall at either end,\n"
+    "`&striker` replaces the impulse by a striker, `&chain load` precompresses,\n"
+    "`&losses` adds viscoelastic damping and drag, `&chain disorder` perturbs radii or\n"
+    "masses from a seed, `profile = 'decorated'` repeats a `pattern`, `radii_file`\n"
+    "reads a measured chain.  Every one defaults to the paper's idealisation, and the\n"
+    "echo leaves out what a scene does not give, so the paper's scenes run and echo as\n"
+    "before.  `&material` (Hertz contacts, n = 5/2) gives real units: Young's modulus,\n"
+    "Poisson ratio, density, R_1 in metres and the impact velocity, mixed chains by a\n"
+    "`sequence` of materials; `&output units = 'si'` then writes every result file in\n"
+    "SI, each column's unit in its header (`t_pass[s]`, `force[N]`), the SI value of\n"
+    "each rescaled unit in granules.tsv's header (`# unit_time = ... s`); fits, tables\n"
+    "and figures stay rescaled.  `&sensors` samples the run every `interval` (with\n"
+    "`&solver t_end` the run goes on past the pulse, to follow reflections):\n"
+    "`sensors.tsv` (t, granule, x, v, contact forces of the chosen granules),\n"
+    "`walls.tsv` (the force on each wall; its peak, time and impulse in the header) and\n"
+    "the space-time picture of v(k, t), `spacetime.tsv` and `spacetime.png`.  Every run's\n"
+    "granules.tsv header ends with its energy budget (`energy_initial`, `_dissipated`,\n"
+    "`_transmitted`, `_reflected`, `_in_chain`), also printed on stdout.  Where the\n"
+    "binary-collision theory does not describe the chain (a static load, losses), its\n"
+    "columns are nan, and the header (`# theory: nan: ...`) and stderr say why.\n";
 
 /* After the tables: the driver's contract around the scene (exit status,
  * result files, signals, concurrent runs, limits). */
