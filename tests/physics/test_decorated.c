@@ -74,8 +74,11 @@ static void test_period(void **state)
     double mono_error = mono.period_theory / mono.period_numerics - 1.0;
     print_message("monodisperse: binary collision T %.6f, numerics %.6f (%+.2f %%)\n",
                   mono.period_theory, mono.period_numerics, 100.0 * mono_error);
-    const double p2[2] = {1.0, 0.3}, p3[3] = {1.0, 0.3, 0.2}, p2b[2] = {1.0, 0.2};
-    const struct { const double *pattern; size_t p; } cases[] = {{p2, 2}, {p2b, 2}, {p3, 3}};
+    /* Small radius 1/2 is the limit of the effective chain (mass 1/8). */
+    const double p2[2] = {1.0, 0.3}, p3[3] = {1.0, 0.3, 0.2}, p2b[2] = {1.0, 0.2},
+                 p2c[2] = {1.0, 0.5};
+    const struct { const double *pattern; size_t p; } cases[] = {
+        {p2, 2}, {p2b, 2}, {p3, 3}, {p2c, 2}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         size_t p = cases[i].p;
         measured m = run(cases[i].pattern, p, 80 * p + 1, 20, 60);

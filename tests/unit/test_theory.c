@@ -390,7 +390,7 @@ static void test_materials_disorder(void **state)
 
 /* A decorated chain is walked as its effective chain: one granule per
  * period of mass sum m, contacts in series
- * r_eff = (sum r_j^(-1/(n-1)))^(-(n-1)), v_1 = m_1 / M_1; columns at the
+ * r_eff = (sum r_j^(-1/(n-1)))^(-(n-1)), v_1 = (m_1 / M_1)^(1/2); columns at the
  * large granules, NaN at the small ones.  Pattern 1, 0.3, 0.2 by hand. */
 static void test_decorated_effective(void **state)
 {
@@ -414,7 +414,7 @@ static void test_decorated_effective(void **state)
         r[K] = reff;
     }
     m[12] = 1.0 + 0.027; /* the last period: granules 37 and 38 only */
-    check_masses(&th, m, r, 13, 3, 1.0 / M, 0.0, n, 1e-12);
+    check_masses(&th, m, r, 13, 3, sqrt(1.0 / M), 0.0, n, 1e-12);
     /* Equal effective granules: v constant, T constant. */
     assert_double_rel(th.T[0], th.T[30], 1e-12);
     release(&th);
@@ -426,7 +426,7 @@ static void test_decorated_effective(void **state)
     c = build(spec);
     th = compute(c);
     double rr = sqrt(2.0 * 0.5 / 1.5);
-    assert_double_rel(th.T[0], closed_form_T(1.125 / 2.0, rr * pow(2.0, 1.0 - n), 1.0 / 1.125, n),
+    assert_double_rel(th.T[0], closed_form_T(1.125 / 2.0, rr * pow(2.0, 1.0 - n), sqrt(1.0 / 1.125), n),
                       1e-12);
     release(&th);
     taper_chain_free(c);
