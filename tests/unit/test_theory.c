@@ -445,6 +445,41 @@ static void test_decorated_effective(void **state)
     taper_chain_free(plain);
 }
 
+/* A decorated chain with random small granules (arXiv:1005.0852's case)
+ * and a striker: each period's own masses and contacts make its effective
+ * granule, and the striker hits effective granule 1 (mass M_1) through its
+ * own contact: v_1 = 2 m_s / (m_s + M_1). */
+static void test_decorated_disordered_struck(void **state)
+{
+    (void)state;
+    taper_error err;
+    const double pattern[2] = {1.0, 0.3};
+    const size_t N = 41, P = 2, NK = 21;
+    taper_chain_spec *spec = spec_n(TAPER_DECORATED, N);
+    test_chain_ok(taper_chain_spec_set_pattern(spec, pattern, P, &err), &err);
+    test_chain_ok(taper_chain_spec_set_disorder(spec, TAPER_DISORDER_RADIUS, 0.2, 99, &err), &err);
+    test_chain_ok(taper_chain_spec_set_striker(spec, 0.8, 1.0, 1.0, &err), &err);
+    taper_chain *c = build(spec);
+    assert_null(taper_chain_theory_note(c));
+    theory th = compute(c);
+    const double *m = taper_chain_mass(c), *r = taper_chain_contact(c);
+    double M[21], reff[21];
+    for (size_t K = 0; K < NK; K++) {
+        size_t k = K * P;
+        M[K] = m[k] + (k + 1 < N ? m[k + 1] : 0.0);
+        if (K + 1 < NK) reff[K] = pow(pow(r[k], -1.0 / 1.5) + pow(r[k + 1], -1.0 / 1.5), -1.5);
+    }
+    /* Large granules differ too: the disorder acts on every k >= 2 (at
+     * amplitude 0.2 every small granule stays below 1/8 of its large one:
+     * (0.36 / 0.8)^3 = 0.09). */
+    assert_true(M[1] != M[2]);
+    double ms = 0.8 * 0.8 * 0.8, rs = taper_chain_striker_contact(c);
+    double Ts = closed_form_T(ms * M[0] / (ms + M[0]), rs, 1.0, 2.5);
+    check_masses(&th, M, reff, NK, P, 2.0 * ms / (ms + M[0]), Ts, 2.5, 1e-12);
+    release(&th);
+    taper_chain_free(c);
+}
+
 /* Outside the approximation the columns are NaN, TAPER_OK, and the note
  * says why: a static load, damping, drag, a decorated chain whose "small"
  * granules are not light. */
@@ -523,6 +558,7 @@ int main(void)
         cmocka_unit_test(test_striker),
         cmocka_unit_test(test_materials_disorder),
         cmocka_unit_test(test_decorated_effective),
+        cmocka_unit_test(test_decorated_disordered_struck),
         cmocka_unit_test(test_not_applicable),
         cmocka_unit_test(test_errors),
     };
