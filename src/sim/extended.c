@@ -84,6 +84,15 @@ int taper_model_init(taper_model *m, const taper_chain *chain)
         /* r_k delta_k^(n-1) = F0 for every contact, walls with their own r */
         for (size_t k = 1; k <= nb; k++)
             m->delta[k - 1] = k < nb ? pow(m->load / m->contact[k - 1], 1.0 / (n - 1.0)) : 0.0;
+        /* Centres of the loaded equilibrium, granule 1 kept at X0(1) = 0:
+         * every contact is shorter by its overlap (X_pass = rest + x with x
+         * measured from this equilibrium). */
+        double shift = 0.0;
+        for (size_t k = m->off + 2; k <= nb; k++) {
+            shift += m->delta[k - 2];
+            m->rest[k - 1] -= shift;
+        }
+        if (m->off) m->rest[0] += m->delta[0];
     }
     return 0;
 }
