@@ -313,6 +313,94 @@ static void criteria(void **state)
     taper_chain_free(c);
 }
 
+/* ---- chains with the options of issue 15 ------------------------------------------ */
+static taper_chain *option_chain(taper_profile profile, double param, size_t n, double load,
+                                 double striker_radius)
+{
+    taper_error err;
+    taper_chain_spec *spec = taper_chain_spec_alloc(&err);
+    assert_non_null(spec);
+    test_chain_ok(taper_chain_spec_set_profile(spec, profile, &err), &err);
+    test_chain_ok(taper_chain_spec_set_n_granules(spec, n, &err), &err);
+    if (profile == TAPER_BACKWARD_LINEAR) test_chain_ok(taper_chain_spec_set_s(spec, param, &err), &err);
+    if (profile == TAPER_FORWARD_EXPONENTIAL) test_chain_ok(taper_chain_spec_set_q(spec, param, &err), &err);
+    test_chain_ok(taper_chain_spec_set_load(spec, load, &err), &err);
+    if (striker_radius > 0.0)
+        test_chain_ok(taper_chain_spec_set_striker(spec, striker_radius, 1.0, 1.0, &err), &err);
+    taper_chain *c = taper_chain_alloc(spec, &err);
+    test_chain_ok(c ? TAPER_OK : err.status, &err);
+    taper_chain_spec_free(spec);
+    return c;
+}
+
+/* The window's error against a 100x tighter reference is within AGREE
+ * error units, or within SLACK of the whole chain's (which at equal rtol
+ * is the less accurate run, same_trajectory_n). */
+static void window_agrees(const taper_chain *c, const char *what)
+{
+    const size_t n = taper_chain_size(c);
+    taper_sim *w = run(c, 1, 1.0), *full = run(c, 0, 1.0), *ref = run(c, 1, 100.0);
+    for (size_t i = 0; i < sizeof observables / sizeof observables[0]; i++) {
+        size_t at1 = 0, at2 = 0, at3 = 0;
+        double agree = error_units(w, full, i, n - 1, &at1);
+        double err_w = error_units(w, ref, i, n - 1, &at2);
+        double err_full = error_units(full, ref, i, n - 1, &at3);
+        const double bound = fmax(AGREE, err_full + SLACK);
+        if (getenv("TEST_WINDOW_VERBOSE") || !(err_w <= bound))
+            print_error("%s %s: window vs whole chain %.1f units (granule %zu); error vs reference: "
+                        "window %.1f (granule %zu), whole chain %.1f (granule %zu)\n",
+                        what, names[i], agree, at1, err_w, at2, err_full, at3);
+        assert_true(err_w <= bound);
+    }
+    taper_sim_free(w);
+    taper_sim_free(full);
+    taper_sim_free(ref);
+}
+
+/* Under a static load the contact outside the window carries F0 and the
+ * disturbance ahead is linear: the growth thresholds come from the linear
+ * stiffness (lower than the unloaded ones), nobody leaves (the chain
+ * behind keeps oscillating about its loaded equilibrium), and the window
+ * integrates what the whole chain does: a pulse that is strong against the
+ * load (F0 = 0.01, nonlinear) and one that is weak (F0 = 10, nearly linear),
+ * on a backward linear and a forward exponential chain. */
+static void loaded_chains(void **state)
+{
+    (void)state;
+    const double loads[] = {0.01, 10.0};
+    for (size_t i = 0; i < 2; i++) {
+        taper_chain *c = option_chain(TAPER_BACKWARD_LINEAR, 0.1, 80, loads[i], 0.0);
+        window_agrees(c, "loaded backward linear");
+        taper_chain *plain = option_chain(TAPER_BACKWARD_LINEAR, 0.1, 80, 0.0, 0.0);
+        taper_sim *a = run(c, 1, 1.0), *b = run(plain, 1, 1.0);
+        for (size_t k = 1; k + 1 < 80; k++) assert_true(a->grow_z[k - 1] <= b->grow_z[k - 1]);
+        assert_true(a->grow_z[40] < b->grow_z[40]);
+        assert_int_equal(a->dyn.lo, 1);          /* nobody left */
+        assert_true(b->dyn.lo > 40);             /* unloaded: the back left */
+        taper_sim_free(a);
+        taper_sim_free(b);
+        taper_chain_free(plain);
+        taper_chain_free(c);
+        c = option_chain(TAPER_FORWARD_EXPONENTIAL, 0.02, 60, loads[i], 0.0);
+        window_agrees(c, "loaded forward exponential");
+        taper_chain_free(c);
+    }
+}
+
+/* A striker is body 1: it leaves the window like a granule once it flies
+ * back freely, and the window agrees with the whole chain. */
+static void striker_leaves_window(void **state)
+{
+    (void)state;
+    taper_chain *c = option_chain(TAPER_MONODISPERSE, 0.0, 150, 0.0, 0.6);
+    window_agrees(c, "striker");
+    taper_sim *w = run(c, 1, 1.0);
+    assert_true(w->model.off == 1 && w->dyn.lo > 100);
+    assert_true(stat(w, TAPER_STAT_MAX_WINDOW) <= 16);
+    taper_sim_free(w);
+    taper_chain_free(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -327,6 +415,8 @@ int main(void)
         cmocka_unit_test(recoil_drift_leaves_window),
         cmocka_unit_test(loose_tolerance_keeps_momentum),
         cmocka_unit_test(criteria),
+        cmocka_unit_test(loaded_chains),
+        cmocka_unit_test(striker_leaves_window),
     };
     return cmocka_run_group_tests_name("window", tests, NULL, NULL);
 }
