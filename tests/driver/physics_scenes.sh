@@ -82,6 +82,20 @@ rows=$(grep -vc '^#' $d/sensors.tsv)
 [ -s $d/spacetime.tsv ] && [ -s $d/spacetime.gp ] || fail "wall_reflection: no space-time data"
 if have_gnuplot; then is_png $d/spacetime.png || fail "wall_reflection: spacetime.png is not a PNG"; fi
 
+# A long chain's picture stays within its bounds (at most spacetime_granules
+# columns and spacetime_times rows, plus the samples after the last full
+# row), and the pulse shows in every row though it is narrower than a cell:
+# a monodisperse solitary wave keeps v_max ~ 0.68 all along.
+printf '&chain n_granules = 3000 /\n&sensors interval = 1, spacetime = .true.,\n  spacetime_granules = 100, spacetime_times = 50 /\n' > long.nml
+"$TAPER" long.nml -o run/long > /dev/null 2> long.err || fail "long chain picture: $(cat long.err)"
+awk -F '\t' 'NR == 1 || /^#/ || NF < 3 { next }
+    { k[$2] = 1; if (!($1 in vmax)) { rows++; vmax[$1] = 0 } if ($3 > vmax[$1]) vmax[$1] = $3 }
+    END {
+        n = 0; for (x in k) n++
+        if (n > 100 || rows > 51 || rows < 25) { print "grid " n " x " rows; bad = 1 }
+        for (t in vmax) if (t > 10 && vmax[t] < 0.5) { print "t = " t ": largest v " vmax[t]; bad = 1 }
+        exit bad }' run/long/spacetime.tsv >&2 || fail "long chain picture: grid or pulse lost"
+
 # ---- striker ------------------------------------------------------------------------
 e0=$(header_value run/striker/granules.tsv energy_initial)
 awk_true "$e0 == 4" || fail "striker: energy_initial = $e0, wanted 4 (mass 2^3, unit velocity)"

@@ -46,8 +46,11 @@ struct sensors {
     size_t st_stride;       /* granules 1, 1 + st_stride, ...                  */
     size_t st_cols;
     size_t st_cap;          /* rows kept at most                               */
-    size_t st_every;        /* a row every st_every samples                    */
+    size_t st_every;        /* samples a row stands for                        */
     grow st_t, st_v;        /* rows: time, and v of st_cols granules           */
+    double *pending;        /* the row being gathered (st_cols values)         */
+    double pending_t;       /* its first sample's time                         */
+    size_t pending_n;       /* samples gathered into it                        */
     size_t n_samples;
     double *x, *v, *f;      /* scratch: N, N, N + 1                            */
     int failed;             /* recording stopped: out of memory                */
@@ -62,6 +65,7 @@ void sensors_free(sensors *s)
     free(s->rec.v);
     free(s->st_t.v);
     free(s->st_v.v);
+    free(s->pending);
     free(s->x);
     free(s->v);
     free(s->f);
@@ -91,6 +95,7 @@ sensors *sensors_new(const scene_config *at, const taper_chain *chain, int *fail
         s->st_cols = (s->n - 1) / s->st_stride + 1;
         s->st_cap = (size_t)c->spacetime_times;
         s->st_every = 1;
+        if (!(s->pending = malloc(s->st_cols * sizeof *s->pending))) goto nomem;
     }
     s->x = malloc(s->n * sizeof *s->x);
     s->v = malloc(s->n * sizeof *s->v);
@@ -109,32 +114,63 @@ static void stop(sensors *s, const char *why)
     snprintf(s->why, sizeof s->why, "%s", why);
 }
 
-/* Keeps every other row of the picture: its interval doubles. */
+/* A cell of the picture holds the velocity of largest magnitude among its
+ * granules and samples: a pulse narrower than a cell (a solitary wave is
+ * about five granules wide) still shows, as it would not if every S-th
+ * granule and sample were picked. */
+static void keep_larger(double *cell, double v)
+{
+    if (fabs(v) > fabs(*cell) || isnan(*cell)) *cell = v;
+}
+
+/* Merges each pair of rows: the picture's rows stand for twice as many
+ * samples.  With an odd number of rows the last one, half a new row,
+ * becomes the row being gathered. */
 static void thin_spacetime(sensors *s)
 {
-    size_t rows = s->st_t.n, kept = 0;
-    for (size_t r = 0; r < rows; r += 2, kept++) {
-        s->st_t.v[kept] = s->st_t.v[r];
-        memmove(s->st_v.v + kept * s->st_cols, s->st_v.v + r * s->st_cols,
-                s->st_cols * sizeof(double));
+    size_t rows = s->st_t.n, cols = s->st_cols;
+    double *v = s->st_v.v;
+    for (size_t r = 0; r + 1 < rows; r += 2) {
+        s->st_t.v[r / 2] = s->st_t.v[r];
+        for (size_t c = 0; c < cols; c++) {
+            double x = v[r * cols + c];
+            keep_larger(&x, v[(r + 1) * cols + c]);
+            v[r / 2 * cols + c] = x;
+        }
     }
-    s->st_t.n = kept;
-    s->st_v.n = kept * s->st_cols;
+    if (rows % 2) {
+        /* pending holds the samples gathered after the last row */
+        for (size_t c = 0; c < cols; c++) {
+            double x = v[(rows - 1) * cols + c];
+            if (s->pending_n) keep_larger(&x, s->pending[c]);
+            s->pending[c] = x;
+        }
+        s->pending_t = s->st_t.v[rows - 1];
+        s->pending_n += s->st_every;
+    }
+    s->st_t.n = rows / 2;
+    s->st_v.n = rows / 2 * cols;
     s->st_every *= 2;
 }
 
 static void record_spacetime(sensors *s, double t)
 {
-    size_t i = s->n_samples;
-    if (i % s->st_every != 0) return;
+    if (s->pending_n == 0) {
+        s->pending_t = t;
+        for (size_t c = 0; c < s->st_cols; c++) s->pending[c] = NAN;
+    }
+    for (size_t k = 1; k <= s->n; k++) keep_larger(&s->pending[(k - 1) / s->st_stride], s->v[k - 1]);
+    if (++s->pending_n < s->st_every) return;
     if (s->st_t.n == s->st_cap) {
         thin_spacetime(s);
-        if (i % s->st_every != 0) return;
+        if (s->pending_n < s->st_every) return;
     }
-    if (push(&s->st_t, t) != 0) return stop(s, "out of memory recording the space-time picture");
-    for (size_t k = 1; k <= s->n; k += s->st_stride)
-        if (push(&s->st_v, s->v[k - 1]) != 0)
+    if (push(&s->st_t, s->pending_t) != 0)
+        return stop(s, "out of memory recording the space-time picture");
+    for (size_t c = 0; c < s->st_cols; c++)
+        if (push(&s->st_v, s->pending[c]) != 0)
             return stop(s, "out of memory recording the space-time picture");
+    s->pending_n = 0;
 }
 
 int sensors_sample(const taper_sim *sim, void *user)
@@ -285,18 +321,25 @@ static int write_spacetime_data(const sensors *s, const char *dir, double *vmax,
     column(fp, s, "t", TAPER_DIM_TIME, 0);
     fputs("k\t", fp);
     column(fp, s, "v", TAPER_DIM_VELOCITY, 1);
-    fprintf(fp, "# taper %s space-time picture: v(k, t) of granules k = 1, %zu, ... (every "
-            "%zu-th granule)\n", taper_version(), 1 + s->st_stride, s->st_stride);
-    interval_comment(s, fp, s->interval * (double)s->st_every);
+    fprintf(fp, "# taper %s space-time picture v(k, t): cells of %zu granule%s (k = 1, %zu, "
+            "...) by %zu sample%s\n", taper_version(), s->st_stride, s->st_stride > 1 ? "s" : "",
+            1 + s->st_stride, s->st_every, s->st_every > 1 ? "s" : "");
+    interval_comment(s, fp, s->interval);
+    fputs("# each cell holds the velocity of largest magnitude among its granules and samples "
+          "(a pulse narrower than a cell still shows)\n", fp);
     fputs("# a blank line after each time (gnuplot: plot ... using 2:1:3 with image)\n", fp);
     double ut = unit(s, TAPER_DIM_TIME), uv = unit(s, TAPER_DIM_VELOCITY);
     *vmax = 0;
-    for (size_t j = 0; j < s->st_t.n; j++) {
-        const double *row = s->st_v.v + j * s->st_cols;
+    /* The rows, then the samples gathered since the last one. */
+    size_t rows = s->st_t.n + (s->pending_n > 0);
+    for (size_t j = 0; j < rows; j++) {
+        int last = j == s->st_t.n;
+        const double *row = last ? s->pending : s->st_v.v + j * s->st_cols;
+        double t = last ? s->pending_t : s->st_t.v[j];
         for (size_t c = 0; c < s->st_cols; c++) {
             double v = row[c] * uv;
             if (fabs(v) > *vmax) *vmax = fabs(v);
-            out_cell(fp, s->st_t.v[j] * ut, 0);
+            out_cell(fp, t * ut, 0);
             fprintf(fp, "%zu\t", 1 + c * s->st_stride);
             out_cell(fp, v, 1);
         }
@@ -335,10 +378,10 @@ static int write_spacetime(const sensors *s, const char *dir, FILE *out, char **
     if (write_spacetime_data(s, dir, &vmax, msg) != 0) return -1;
     if (write_spacetime_script(s, dir, vmax, msg) != 0) return -1;
     fprintf(out, "! wrote %s/spacetime.tsv and %s/spacetime.gp\n", dir, dir);
-    if (s->st_t.n < 2 || s->st_cols < 2) {
+    if (s->st_t.n + (s->pending_n > 0) < 2 || s->st_cols < 2) {
         fprintf(out, "! note: %s/spacetime.png not drawn: %zu times of %zu granules is no "
                 "picture (a longer run, &solver t_end, or a smaller &sensors interval)\n", dir,
-                s->st_t.n, s->st_cols);
+                s->st_t.n + (s->pending_n > 0), s->st_cols);
         return 0;
     }
     int rendered = plot_render_script(dir, "spacetime.gp", msg);
