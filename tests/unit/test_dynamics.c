@@ -7,6 +7,7 @@
 #include "test_chains.h"
 #include "test_util.h"
 #include "taper.h"
+#include "sim/dynamics.h"
 #include "sim/sundials_compat.h"
 
 #include <float.h>
@@ -901,6 +902,75 @@ static void no_peaks_in_the_precursor_noise(void **state)
     taper_chain_free(c);
 }
 
+/* taper_dynamics is the paper's eq. (6): a chain with an option of issue
+ * 15 is refused, naming it. */
+static void dynamics_refuses_options(void **state)
+{
+    (void)state;
+    const char *fields[] = {"end", "striker_radius", "load", "damping", "drag"};
+    for (int i = 0; i < 5; i++) {
+        taper_error err;
+        taper_chain_spec *spec = taper_chain_spec_alloc(&err);
+        assert_non_null(spec);
+        SET(taper_chain_spec_set_n_granules(spec, 5, &e_));
+        if (i == 0) SET(taper_chain_spec_set_end(spec, TAPER_RIGHT, TAPER_END_WALL, 0.0, &e_));
+        if (i == 1) SET(taper_chain_spec_set_striker(spec, 1.0, 1.0, 1.0, &e_));
+        if (i == 2) SET(taper_chain_spec_set_load(spec, 0.5, &e_));
+        if (i == 3) SET(taper_chain_spec_set_damping(spec, 0.1, &e_));
+        if (i == 4) SET(taper_chain_spec_set_drag(spec, 0.1, &e_));
+        taper_chain *c = taper_chain_alloc(spec, &err);
+        assert_non_null(c);
+        assert_null(taper_dynamics_alloc(c, &err));
+        assert_taper_error(err, TAPER_EINVAL, fields[i], fields[i]);
+        taper_chain_free(c);
+        taper_chain_spec_free(spec);
+    }
+}
+
+/* The contact law of chains with options (dynamics.h): the energy above
+ * the loaded equilibrium is the integral of F(delta + z) - F0 (central
+ * differences, across the series branch |z| < 0.05 delta and beyond, and
+ * for an open contact), zero at rest and convex; the damped force never
+ * pulls, and its dissipated power is never negative. */
+static void loaded_contact_law(void **state)
+{
+    (void)state;
+    const double mass[3] = {1.0, 2.0, 1.5}, contact[3] = {1.3, 0.7, NAN};
+    const double ns[] = {2.5, 3.0, 1.5};
+    for (size_t i = 0; i < 3; i++) {
+        const double n = ns[i], load = 2.0;
+        taper_dyn d;
+        assert_int_equal(taper_dyn_init(&d, 3, n, mass, contact), 0);
+        double delta[3] = {pow(load / contact[0], 1.0 / (n - 1.0)), pow(load / contact[1], 1.0 / (n - 1.0)), 0.0};
+        d.general = 1;
+        d.load = load;
+        d.delta = delta;
+        for (size_t k = 1; k <= 2; k++) {
+            assert_true(taper_dyn_contact_energy(&d, k, 0.0) == 0.0);
+            assert_double_rel(taper_dyn_elastic_force(&d, k, 0.0), load, 1e-14);
+            const double zs[] = {-1.5, -0.3, -1e-3, 1e-6, 0.04, 0.06, 0.3, 2.0};
+            for (size_t j = 0; j < sizeof zs / sizeof zs[0]; j++) {
+                const double z = zs[j] * delta[k - 1], h = 1e-5 * delta[k - 1];
+                const double slope = (taper_dyn_contact_energy(&d, k, z + h) -
+                                      taper_dyn_contact_energy(&d, k, z - h)) / (2.0 * h);
+                const double expected = taper_dyn_elastic_force(&d, k, z) - load;
+                assert_double_abs(slope, expected, 1e-7 * load);
+                assert_true(taper_dyn_contact_energy(&d, k, z) > 0.0);
+            }
+        }
+        /* damping: never pulls; the power it takes is >= 0 */
+        d.damping = 0.3;
+        d.dissipative = 1;
+        for (double zdot = -50.0; zdot <= 50.0; zdot += 0.5) {
+            const double z = -0.5 * delta[0];
+            const double f = taper_dyn_contact_force(&d, 1, z, zdot);
+            assert_true(f >= 0.0);
+            assert_true((f - taper_dyn_elastic_force(&d, 1, z)) * zdot >= 0.0);
+        }
+        taper_dyn_release(&d);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -934,6 +1004,8 @@ int main(void)
         cmocka_unit_test(dynamics_matches_the_sim),
         cmocka_unit_test(log_receives_solver_messages),
         cmocka_unit_test(log_warns_of_drift),
+        cmocka_unit_test(dynamics_refuses_options),
+        cmocka_unit_test(loaded_contact_law),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
