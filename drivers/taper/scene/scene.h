@@ -23,9 +23,10 @@
  * continue on the next line; lists accept repeat counts (3*1.0).
  *
  * One owner per rule: the scene checks the syntax, the ranges of its own
- * variables (&output, &fit, &table, &figure) and the relations between
- * them; the chain and solver settings and the fit's exponent are checked by
- * the library's setters and taper_chain_spec_check, whose failing field
+ * variables (&material, &sensors, &output, &fit, &table, &figure, a radii
+ * file) and the relations between them; the chain settings (&chain,
+ * &ends, &striker, &losses), the solver's and the fit's exponent are
+ * checked by the library's setters and taper_chain_spec_check, whose failing field
  * (taper_error.field) is reported as FILE:LINE: &group key: message.
  *
  * Not part of libtaper: the library never reads files.

@@ -469,8 +469,8 @@ static void write_doc_outro(FILE *fp)
             "A scene file holds at most %u bytes (%u MB) and lines of at most %d characters "
             "(split long lists over several lines); all lists of more than one value together "
             "(custom radii, sweeps, table values) hold at most %d values, so that the echo of "
-            "any valid scene fits the same limits and reads back.  Custom chains therefore "
-            "have at most %d granules.\n",
+            "any valid scene fits the same limits and reads back.  Inline custom radii are "
+            "therefore at most %d; a `radii_file` (echoed as its path) has no such limit.\n",
             SCENE_MAX_FILE, SCENE_MAX_FILE >> 20, SCENE_MAX_LINE, SCENE_MAX_LIST, SCENE_MAX_LIST);
 }
 
