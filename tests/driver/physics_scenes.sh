@@ -11,6 +11,7 @@
 #   damped             say why; energy dissipated > 0 and the budget adds up
 #   steel_wall_si      units in every header; the SI files are the rescaled
 #                      ones times the unit scales exactly (si_units.py)
+#   mixed_si           masses from the materials' densities, sizes in metres
 #   decorated          the effective chain's theory at the large granules
 #   disorder_ensemble  one run per seed; a seed run alone is the same run
 #   radii_file         N and R_k from the file; the echo runs elsewhere
@@ -132,6 +133,15 @@ python3 "$SRC/tests/driver/si_units.py" run/steel_rescaled $d >&2 || fail "steel
 # newtons to kilonewtons for 0.5 m/s on 4.76 mm beads
 peak=$(header_value $d/granules.tsv 'wall_peak_force_right\[N\]')
 awk_true "$peak > 10 && $peak < 10000" || fail "steel_wall_si: wall peak force $peak N"
+
+# a mixed chain: each granule's mass from its material (PTFE 2200 kg/m^3
+# between steel 8000), sizes in metres (R = R_1 = 4.76 mm)
+awk -F '\t' 'NR == 1 || /^#/ { next }
+    { m[$1] = $3; if ($2 != 0.0047600000000000003 && $2 != 0.00476) bad = 1 }
+    END {
+        r = m[30] / m[10]
+        if (bad || (r - 2200 / 8000) ^ 2 > 1e-28 || m[50] != m[10]) { print "R or masses: m10 " m[10] " m30 " m[30] " m50 " m[50]; exit 1 } }' \
+    run/mixed_si/granules.tsv >&2 || fail "mixed_si: sizes or masses of the materials"
 
 # ---- decorated ------------------------------------------------------------------------------
 awk -F '\t' 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } /^#/ { next }

@@ -9,6 +9,10 @@ the SI file equals the rescaled value times the SI value of one rescaled unit
 (granules.tsv's "# unit_DIM = VALUE UNIT" lines) to printing precision
 (%.17g: a relative difference of at most 4 ulp), nan where the other is nan.
 The statistics of the header lines with a unit are checked the same way.
+Sizes are in units of R_1, displacements in unit_length (eq. (5)): R and X0
+scale with unit_radius (&material radius), X_pass = X0 + x_k becomes
+X0 unit_radius + x_k unit_length (to 1e-12: x_k = X_pass - X0 is a
+difference).
 Standard library only.  Exit 0, or 1 naming the first differences.
 """
 import math
@@ -32,22 +36,25 @@ def read(path):
 def scales(comments):
     out = {}
     for l in comments:
-        m = re.match(r"# unit_(\w+) = (\S+) (.+)$", l)
+        m = re.match(r"# unit_(\w+) = (\S+) (m|s|m/s|kg|N|J|N s)$", l)
         if m:
             out[m.group(1)] = (float(m.group(2)), m.group(3))
+        m = re.match(r"# unit_radius = (\S+) m: ", l)
+        if m:
+            out["radius"] = (float(m.group(1)), "m")
     return out
 
 
-def close(a, b):
+def close(a, b, rtol=4 * 2.0**-52):
     if math.isnan(a) or math.isnan(b):
         return math.isnan(a) and math.isnan(b)
-    return a == b or abs(a - b) <= 4 * 2.0**-52 * max(abs(a), abs(b))
+    return a == b or abs(a - b) <= rtol * max(abs(a), abs(b))
 
 
 def main():
     rdir, sdir = sys.argv[1], sys.argv[2]
     unit = scales(read(os.path.join(sdir, "granules.tsv"))[1])
-    if set(unit) != set(UNITS.values()):
+    if set(unit) != set(UNITS.values()) | {"radius"}:
         print(f"{sdir}/granules.tsv: unit lines {sorted(unit)}")
         return 1
     bad = 0
@@ -68,21 +75,29 @@ def main():
             if u is not None and u not in UNITS:
                 print(f"{name}: unknown unit in {b}")
                 return 1
-            factors.append(unit[UNITS[u]][0] if u else 1.0)
+            size = name == "granules.tsv" and base in ("R", "X0")
+            factors.append(unit["radius"][0] if size else unit[UNITS[u]][0] if u else 1.0)
             if u and unit[UNITS[u]][1] != u:
                 print(f"{name}: {b}: unit_{UNITS[u]} is in {unit[UNITS[u]][1]}")
                 return 1
         if len(rn) != len(sn) or len(rr) != len(sr) or not rr:
             print(f"{name}: {len(rn)}x{len(rr)} rescaled against {len(sn)}x{len(sr)} SI")
             return 1
+        x0 = rn.index("X0") if name == "granules.tsv" and "X0" in rn else None
         for i, (ra, sa) in enumerate(zip(rr, sr)):
             for c, (x, y) in enumerate(zip(ra, sa)):
                 checked += 1
-                if not close(x * factors[c], y):
+                if rn[c] == "X_pass" and x0 is not None:
+                    want = ra[x0] * unit["radius"][0] + (x - ra[x0]) * unit["length"][0]
+                    ok = close(want, y, 1e-12)
+                else:
+                    want = x * factors[c]
+                    ok = close(want, y)
+                if not ok:
                     bad += 1
                     if bad <= 5:
-                        print(f"{name} row {i + 1} {sn[c]}: {x} * {factors[c]} = "
-                              f"{x * factors[c]!r}, SI file {y!r}")
+                        print(f"{name} row {i + 1} {sn[c]}: rescaled {x!r} -> {want!r}, "
+                              f"SI file {y!r}")
         # the header's statistics with units
         rstats = {l.split(" = ")[0][2:]: l.split(" = ")[1] for l in rc if " = " in l}
         for l in sc:

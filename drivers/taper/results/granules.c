@@ -92,12 +92,17 @@ static void write_units_comment(const granules_run *r, FILE *fp)
     for (int d = 0; d < TAPER_N_DIMENSIONS; d++)
         fprintf(fp, "# unit_%s = %.17g %s\n", taper_dimension_name((taper_dimension)d),
                 scene_unit(cfg, (taper_dimension)d), taper_dimension_unit((taper_dimension)d));
+    fprintf(fp, "# unit_radius = %.17g m: the sizes R and X0 are in units of R_1 (eq. (5): "
+            "R'_k = R'_1 R_k), displacements in unit_length = R_1 alpha^(1/n); X_pass = X0 + "
+            "x_k is X0 unit_radius + x_k unit_length\n", cfg->material.radius);
 }
 
-/* The dimension of each column of granules.tsv (k: none, -1). */
+/* The dimension of each column of granules.tsv: k none (-1), R and X0
+ * sizes (GEOMETRY, in R_1), X_pass a size plus a displacement (POSITION). */
+enum { NONE = -1, GEOMETRY = -2, POSITION = -3 };
 static const int column_dims[OUT_N_COLUMNS] = {
-    -1, TAPER_DIM_LENGTH, TAPER_DIM_MASS, TAPER_DIM_LENGTH,
-    TAPER_DIM_TIME, TAPER_DIM_TIME, TAPER_DIM_VELOCITY, TAPER_DIM_TIME, TAPER_DIM_LENGTH,
+    NONE, GEOMETRY, TAPER_DIM_MASS, GEOMETRY,
+    TAPER_DIM_TIME, TAPER_DIM_TIME, TAPER_DIM_VELOCITY, TAPER_DIM_TIME, POSITION,
     TAPER_DIM_VELOCITY, TAPER_DIM_TIME, TAPER_DIM_TIME};
 
 _Static_assert(OUT_N_COLUMNS == SCENE_N_COLUMNS, "granules.tsv columns");
@@ -122,15 +127,20 @@ static int run_columns(const granules_run *r, out_columns *cols, double *owned[O
     cols->col[11] = r->theory[TAPER_THEORY_T];
     for (int c = 0; c < OUT_N_COLUMNS; c++) owned[c] = NULL;
     if (!scene_unit_suffix(&r->at, TAPER_DIM_LENGTH)) return 0;
+    const double *rest = cols->col[3];
+    double radius = r->at.material.radius, length = scene_unit(&r->at, TAPER_DIM_LENGTH);
     for (int c = 1; c < OUT_N_COLUMNS; c++) {
-        taper_dimension dim = (taper_dimension)column_dims[c];
-        cols->unit[c] = scene_unit_suffix(&r->at, dim);
+        int dim = column_dims[c];
+        cols->unit[c] = dim < 0 ? "m" : scene_unit_suffix(&r->at, (taper_dimension)dim);
         if (!cols->col[c]) continue;
         if (!(owned[c] = malloc(cols->n * sizeof(double)))) return -1;
-        double scale = scene_unit(&r->at, dim);
-        for (size_t k = 0; k < cols->n; k++) owned[c][k] = cols->col[c][k] * scale;
-        cols->col[c] = owned[c];
+        double scale = dim == GEOMETRY ? radius : dim < 0 ? 0 : scene_unit(&r->at, (taper_dimension)dim);
+        for (size_t k = 0; k < cols->n; k++)
+            owned[c][k] = dim == POSITION ? rest[k] * radius + (cols->col[c][k] - rest[k]) * length
+                                          : cols->col[c][k] * scale;
     }
+    for (int c = 1; c < OUT_N_COLUMNS; c++)
+        if (owned[c]) cols->col[c] = owned[c];
     return 0;
 }
 
