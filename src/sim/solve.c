@@ -499,7 +499,7 @@ static taper_status advance(taper_sim *sim, double tout, int *reached, taper_err
     }
     if (flag == CV_SUCCESS || flag == CV_TSTOP_RETURN) {
         if (t >= t_sample && taper_sample_call(sim)) return stop(sim, err, STOP_INTERRUPTED, 0);
-        *reached = t >= tout || flag == CV_TSTOP_RETURN;
+        *reached = t >= tout; /* a stop time of an earlier phase is no arrival */
         return TAPER_OK;
     }
     return stop(sim, err, STOP_SOLVER, flag);
@@ -522,7 +522,12 @@ static taper_status continue_to_end(taper_sim *sim, taper_error *err)
     if (!(t_end > sim->t)) return TAPER_OK;
     const double limit = sim->spec.t_max > 0.0 ? sim->spec.t_max : NO_TIME_LIMIT;
     const double tout = t_end < limit ? t_end : limit;
-    CVodeSetStopTime(sim->cv.mem, tout);
+    /* CVODE may have stepped past tout already (the last root lay inside
+     * its step): it then interpolates, and a stop time behind it would be
+     * refused. */
+    double tn = sim->t;
+    CVodeGetCurrentTime(sim->cv.mem, &tn);
+    if (tout > tn) CVodeSetStopTime(sim->cv.mem, tout);
     for (int reached = 0; !reached;) {
         if (sim->spec.max_steps > 0 && total_counters(sim).steps >= sim->spec.max_steps)
             return stop(sim, err, STOP_MAX_STEPS, 0);
