@@ -581,10 +581,16 @@ typedef enum taper_statistic {
     TAPER_STAT_MAX_WINDOW = 8,     /* most granules integrated at once          */
     TAPER_STAT_GRANULE_REACHED = 9, /* highest k with t_pass(k) known            */
     TAPER_STAT_T_FINAL = 10,       /* time the run ended                        */
-    TAPER_STAT_ENERGY_ERROR = 11,  /* |E(t_final) - E(0)| / E(0)                */
+    TAPER_STAT_ENERGY_ERROR = 11,  /* |E(t_final) - E(0)| / E(0); with losses
+                                      |E + D - E(0)| / E(0), D dissipated; under
+                                      a load E from the equilibrium           */
     TAPER_STAT_MOMENTUM_ERROR = 12, /* |P(t_final) - P(0)| / max(P(0),
                                        sum m_k |v_k|): relative to the momentum
-                                       in motion                               */
+                                       in motion; with walls, a load or drag
+                                       P(t) - P(0) is compared with the external
+                                       impulses J_left - J_right + F0 t (free
+                                       first body) - F0 t (free last body)
+                                       - drag sum x_k                          */
     TAPER_STAT_COMPLETE = 13,      /* 1 when every requested observable is known */
     /* The energy budget at t_final (docs/physics.md): every granule carries
      * its kinetic energy and half of each closed contact's (a wall's
