@@ -5,8 +5,10 @@
  * and nowhere else).  Then the statistics and the end of the run.
  *
  * The run starts from the impulse (v_1 = 1, everything else at rest and just
- * touching) and ends by itself as soon as every requested observable is
- * known, never at a guessed end time.
+ * touching; with a striker the striker moves, granule 1 rests) and ends by
+ * itself as soon as every requested observable is known, never at a guessed
+ * end time, unless the caller asks to go on to t_end.  A sampler is served
+ * on the way (sample.c).
  */
 #include "sim.h"
 
@@ -656,7 +658,7 @@ static void finish(taper_sim *sim, taper_status status)
         double v = k < d->lo ? sim->out.v_free[k - 1] : k <= d->hi ? taper_dyn_v(d, y, k) : 0.0;
         p_abs += sim->mass[k - 1] * fabs(v);
     }
-    const double e0 = 0.5 * sim->mass[0], p0 = sim->mass[0];
+    const double m0 = sim->mass[sim->model.impulse - 1], e0 = 0.5 * m0, p0 = m0;
     s->energy_error = fabs(e - e0) / e0;
     /* Relative to the momentum in motion: in backward chains granules carry
      * momenta far above P0 in opposite directions. */
