@@ -311,6 +311,11 @@ static void test_radii_file(void **state)
     assert_non_null(strstr(scene_diag_at(sc, 0)->message, "cannot open"));
     scene_free(sc);
 
+    /* a device never ends: refused before reading */
+    sc = load_at(scene_path, "&chain profile = 'custom', radii_file = '/dev/zero' /\n");
+    assert_non_null(strstr(scene_diag_at(sc, 0)->message, "not a regular file"));
+    scene_free(sc);
+
     sc = load_at(scene_path, "&chain profile = 'monodisperse', radii_file = 'r.txt' /\n");
     assert_non_null(strstr(scene_diag_at(sc, 0)->message, "profile = 'custom'"));
     scene_free(sc);

@@ -10,11 +10,17 @@
 #include "scene_impl.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+/* Bytes in a radii file: 10^7 radii (TAPER_N_GRANULES_MAX) of a few tens
+ * of characters each, with comments. */
+#define RADII_FILE_MAX (1l << 30)
 
 static int row(const char *group, const char *name) { return scene_var_find(group, name); }
 
@@ -59,9 +65,25 @@ static void read_radii_file(scene *sc)
     }
     free(c->radii_file);
     c->radii_file = path; /* the echo names the file this run read */
-    FILE *fp = fopen(path, "r");
-    if (!fp) {
+    /* A regular file of bounded size: a device or a FIFO named by mistake
+     * (or by a fuzzer) would never end, or block the open itself. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
         scene_var_error(sc, r, "cannot open %s: %s", path, strerror(errno));
+        if (fd >= 0) close(fd);
+        return;
+    }
+    if (!S_ISREG(st.st_mode) || st.st_size > RADII_FILE_MAX) {
+        scene_var_error(sc, r, "%s is %s: give a text file of radii", path,
+                        S_ISREG(st.st_mode) ? "larger than 1 GB" : "not a regular file");
+        close(fd);
+        return;
+    }
+    FILE *fp = fdopen(fd, "r");
+    if (!fp) {
+        scene_var_error(sc, r, "cannot read %s: %s", path, strerror(errno));
+        close(fd);
         return;
     }
     char *line = NULL;
@@ -70,6 +92,16 @@ static void read_radii_file(scene *sc)
     int lineno = 0;
     while ((len = getline(&line, &cap, fp)) >= 0) {
         lineno++;
+        if (len > SCENE_MAX_LINE) {
+            scene_var_error(sc, r, "%s:%d: line longer than %d characters: one radius per line",
+                            path, lineno, SCENE_MAX_LINE);
+            break;
+        }
+        if (c->file_radii.n == TAPER_N_GRANULES_MAX) {
+            scene_var_error(sc, r, "%s:%d: more than %d radii (a chain has at most that many "
+                            "granules)", path, lineno, TAPER_N_GRANULES_MAX);
+            break;
+        }
         char *hash = strchr(line, '#');
         if (hash) *hash = '\0';
         char *p = line, *end;
