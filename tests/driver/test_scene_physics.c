@@ -242,6 +242,7 @@ static void test_refusals(void **state)
                    "sensors", "granules", "granules(1) = 2.5");
     assert_refused("&solver numerics = .false. /\n&sensors interval = 1 /\n", "sensors",
                    "interval", "numerics");
+    assert_refused("&sensors interval = 1 /\n", "sensors", "interval", "nowhere");
     assert_refused("&chain seed = -1 /\n", "chain", "seed", ">= 0");
     /* The library's, at the scene's key. */
     assert_refused("&losses drag = -1 /\n", "losses", "drag", "drag");

@@ -287,6 +287,10 @@ static void check_sensors(scene *sc)
     if (sampling && !cfg->solver.numerics)
         scene_var_error(sc, iv, "sensors sample the dynamics, and &solver numerics = .false.: "
                         "turn the numerics on or set interval = 0");
+    int walls = cfg->ends.left == TAPER_END_WALL || cfg->ends.right == TAPER_END_WALL;
+    if (sampling && cfg->solver.numerics && s->granules.n == 0 && !s->spacetime && !walls)
+        scene_var_error(sc, iv, "the samples would go nowhere: give &sensors granules, "
+                        "spacetime = .true., or a wall (&ends)");
     if (!sampling && s->granules.n > 0)
         scene_var_error(sc, (size_t)row("sensors", "granules"),
                         "sensors need a sampling interval: give &sensors interval > 0");
