@@ -9,8 +9,10 @@
  *              TAPER_STAT_ENERGY_ERROR = |E + D - E(0)| / E(0);
  *   momentum:  P(t) - P(0) = J_left - J_right + F0 t (free first body)
  *              - F0 t (free last body) - drag sum_k x_k(t), J the walls'
- *              impulses (quadratures) and the drag's impulse integrated
- *              exactly (-drag int v_k dt = -drag x_k(t), x_k(0) = 0);
+ *              impulses (quadratures of their force beyond F0, plus F0 t)
+ *              and the drag's impulse integrated exactly (-drag int v_k dt
+ *              = -drag x_k(t), x_k(0) = 0); the F0 t of the two ends
+ *              cancel;
  *              TAPER_STAT_MOMENTUM_ERROR is the mismatch relative to the
  *              momentum in motion, as for the paper's chain.
  *
@@ -53,8 +55,10 @@ void taper_budget_compute(taper_sim *sim, const double *q)
     const double e0 = 0.5 * sim->mass[i0 - 1], p0 = sim->mass[i0 - 1];
     s->energy_initial = e0;
     s->energy_dissipated = q ? q[TAPER_QUAD_DISSIPATED] : 0.0;
-    s->wall_impulse[TAPER_LEFT] = m->wall_left && q ? q[TAPER_QUAD_WALL_LEFT] : NAN;
-    s->wall_impulse[TAPER_RIGHT] = m->wall_right && q ? q[TAPER_QUAD_WALL_RIGHT] : NAN;
+    /* the quadratures hold the walls' impulses beyond the static F0 t */
+    const double static_impulse = m->load * sim->t;
+    s->wall_impulse[TAPER_LEFT] = m->wall_left && q ? q[TAPER_QUAD_WALL_LEFT] + static_impulse : NAN;
+    s->wall_impulse[TAPER_RIGHT] = m->wall_right && q ? q[TAPER_QUAD_WALL_RIGHT] + static_impulse : NAN;
     s->energy_transmitted = s->energy_reflected = s->energy_in_chain = NAN;
     if (!sim->cv.y) return;
     double *x = malloc(n * sizeof(double)), *v = malloc(n * sizeof(double));
@@ -97,11 +101,11 @@ void taper_budget_compute(taper_sim *sim, const double *q)
     s->energy_in_chain = total - s->energy_reflected - s->energy_transmitted;
     if (m->options) {
         s->energy_error = fabs(total + s->energy_dissipated - e0) / e0;
+        /* Each end pushes with F0 t (a free end's load, or a wall's static
+         * part) plus a wall's dynamic impulse: the F0 t cancel. */
         double external = drag_impulse;
         if (q && m->wall_left) external += q[TAPER_QUAD_WALL_LEFT];
         if (q && m->wall_right) external -= q[TAPER_QUAD_WALL_RIGHT];
-        if (!m->wall_left) external += m->load * sim->t;
-        if (!m->wall_right) external -= m->load * sim->t;
         s->momentum_error = fabs(p - p0 - external) / fmax(p0, p_abs);
     }
     free(x), free(v), free(phi);

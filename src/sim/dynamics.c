@@ -127,6 +127,13 @@ double taper_dyn_peak_function(const taper_dyn *d, const double *y, size_t k)
 }
 
 /* ---- chains with options ------------------------------------------------ */
+/* Every force below is measured from the static load: Phi = F - F0.  Under a
+ * load F0 the forces are F0 plus the pulse's share, and F0 cancels between
+ * the two contacts of a granule; computing the totals and subtracting them
+ * would leave the rounding of F0 (1e-13 of it, against pulse forces 1e-3 of
+ * it for F0 = 1000) in every acceleration: the momentum balance of a loaded
+ * chain drifted to 2e-9 at rtol 1e-12.  With Phi a free end's load, the
+ * contact outside the window and the state at rest are all exactly 0. */
 static double overlap(const taper_dyn *d, size_t k, double z)
 {
     return d->delta ? d->delta[k - 1] + z : z;
@@ -137,30 +144,47 @@ static double power_law(const taper_dyn *d, double s)
     return d->hertz ? s * sqrt(s) : pow(s, d->exponent - 1.0);
 }
 
+/* r_k s^(n-1) - F0 for s = delta_k + z > 0: F0 ((1 + z/delta)^(n-1) - 1)
+ * without cancellation. */
+static double elastic_excess(const taper_dyn *d, size_t k, double z)
+{
+    if (!d->delta) return z > 0.0 ? d->contact[k - 1] * power_law(d, z) : 0.0;
+    const double delta = d->delta[k - 1];
+    if (!(delta + z > 0.0)) return -d->load;
+    return d->load * expm1((d->exponent - 1.0) * log1p(z / delta));
+}
+
+/* Phi_k = F_k - F0 with damping: F = r (s^(n-1) + damping (n-1) s^(n-2)
+ * dz/dt) while > 0, so Phi >= -F0. */
+static double excess_force(const taper_dyn *d, size_t k, double z, double zdot)
+{
+    const double s = overlap(d, k, z);
+    if (!(s > 0.0)) return -d->load;
+    double phi = elastic_excess(d, k, z);
+    if (d->damping > 0.0) /* d(s^(n-1))/dt = (n-1) s^(n-2) dz/dt */
+        phi += d->contact[k - 1] * d->damping * (d->exponent - 1.0) * (power_law(d, s) / s) * zdot;
+    return phi > -d->load ? phi : -d->load;
+}
+
 double taper_dyn_elastic_force(const taper_dyn *d, size_t k, double z)
 {
-    double s = overlap(d, k, z);
-    if (!(s > 0.0)) return 0.0;
-    return d->contact[k - 1] * power_law(d, s);
+    if (!(overlap(d, k, z) > 0.0)) return 0.0;
+    return elastic_excess(d, k, z) + d->load;
 }
 
 double taper_dyn_contact_force(const taper_dyn *d, size_t k, double z, double zdot)
 {
-    double s = overlap(d, k, z);
-    if (!(s > 0.0)) return 0.0;
-    double p = power_law(d, s);
-    /* d(s^(n-1))/dt = (n-1) s^(n-2) dz/dt */
-    double f = d->damping > 0.0 ? p + d->damping * (d->exponent - 1.0) * (p / s) * zdot : p;
-    return f > 0.0 ? d->contact[k - 1] * f : 0.0;
+    if (!(overlap(d, k, z) > 0.0)) return 0.0;
+    return excess_force(d, k, z, zdot) + d->load;
 }
 
 void taper_dyn_rhs_general(const taper_dyn *d, const double *y, double *ydot)
 {
     const size_t lo = d->lo, hi = d->hi;
     size_t shift = 0;
-    double force_left = d->load; /* a free first body is pushed by the load */
+    double force_left = 0.0; /* a free first body: its load F0, less F0 */
     if (lo > 1) {
-        force_left = taper_dyn_contact_force(d, lo - 1, y[0], d->v_left - y[1]);
+        force_left = excess_force(d, lo - 1, y[0], d->v_left - y[1]);
         ydot[0] = d->v_left - y[1];
         shift = 1;
     }
@@ -168,9 +192,10 @@ void taper_dyn_rhs_general(const taper_dyn *d, const double *y, double *ydot)
     double *fv = ydot + shift;
     for (size_t k = lo, i = 0; k <= hi; k++, i += 2) {
         const double v = yv[i], v_next = k < hi ? yv[i + 2] : 0.0;
-        /* Beyond hi: the static F0 of the contact outside the window, or the
-         * load on a free last body (a wall body has inverse mass 0). */
-        double force = k < hi ? taper_dyn_contact_force(d, k, yv[i + 1], v - v_next) : d->load;
+        /* Beyond hi: the static contact outside the window, or the load on
+         * a free last body: F0 either way, 0 here (a wall body has inverse
+         * mass 0). */
+        double force = k < hi ? excess_force(d, k, yv[i + 1], v - v_next) : 0.0;
         fv[i] = (force_left - force - d->drag * v) * d->inv_mass[k - 1];
         fv[i + 1] = v - v_next;
         force_left = force;
@@ -202,27 +227,37 @@ double taper_dyn_contact_energy(const taper_dyn *d, size_t k, double z)
     return u0 * excess_power(n, z / delta);
 }
 
-double taper_dyn_window_force(const taper_dyn *d, const double *y, size_t k)
+/* Phi of contact k (lo - 1 <= k) in the window state: the gap slot, the
+ * window's own, 0 (static) from hi on. */
+static double window_excess(const taper_dyn *d, const double *y, size_t k)
 {
-    if (k + 1 == d->lo)
-        return taper_dyn_contact_force(d, k, y[0], d->v_left - taper_dyn_v(d, y, d->lo));
-    if (k >= d->hi) return d->load;
-    return taper_dyn_contact_force(d, k, taper_dyn_z(d, y, k),
-                                   taper_dyn_v(d, y, k) - taper_dyn_v(d, y, k + 1));
+    if (k + 1 == d->lo) return excess_force(d, k, y[0], d->v_left - taper_dyn_v(d, y, d->lo));
+    if (k >= d->hi) return 0.0;
+    return excess_force(d, k, taper_dyn_z(d, y, k), taper_dyn_v(d, y, k) - taper_dyn_v(d, y, k + 1));
 }
 
-/* Force on body k from the left: its contact k-1, or the load on a free
- * first body. */
-static double force_from_left(const taper_dyn *d, const double *y, size_t k)
+double taper_dyn_window_force(const taper_dyn *d, const double *y, size_t k)
 {
-    return k > 1 ? taper_dyn_window_force(d, y, k - 1) : d->load;
+    return window_excess(d, y, k) + d->load;
+}
+
+/* Phi on body k from the left (its contact k-1, or a free first body's
+ * load: 0) and from the right (contact k, or a free last body's: 0). */
+static double excess_left(const taper_dyn *d, const double *y, size_t k)
+{
+    return k > 1 ? window_excess(d, y, k - 1) : 0.0;
+}
+
+static double excess_right(const taper_dyn *d, const double *y, size_t k)
+{
+    return k < d->n ? window_excess(d, y, k) : 0.0;
 }
 
 double taper_dyn_acceleration(const taper_dyn *d, const double *y, size_t k)
 {
     if (k < d->lo || k > d->hi) return 0.0;
-    double right = k < d->n ? taper_dyn_window_force(d, y, k) : d->load;
-    return (force_from_left(d, y, k) - right - d->drag * taper_dyn_v(d, y, k)) * d->inv_mass[k - 1];
+    return (excess_left(d, y, k) - excess_right(d, y, k) - d->drag * taper_dyn_v(d, y, k)) *
+           d->inv_mass[k - 1];
 }
 
 void taper_dyn_peak_terms(const taper_dyn *d, const double *y, size_t k, double *left,
@@ -233,16 +268,17 @@ void taper_dyn_peak_terms(const taper_dyn *d, const double *y, size_t k, double 
         *right = d->rho[k - 1] * taper_dyn_z(d, y, k);
         return;
     }
-    *left = force_from_left(d, y, k);
-    *right = (k < d->n ? taper_dyn_window_force(d, y, k) : d->load) + d->drag * taper_dyn_v(d, y, k);
+    /* the force balance, both sides less F0 */
+    *left = excess_left(d, y, k);
+    *right = excess_right(d, y, k) + d->drag * taper_dyn_v(d, y, k);
 }
 
 /* Dissipated power of contact k: (F - F_elastic) dz/dt >= 0 (the clipped
  * force never pulls: where it is 0, -F_elastic dz/dt > 0). */
 static double contact_loss(const taper_dyn *d, size_t k, double z, double zdot)
 {
-    if (!(d->damping > 0.0)) return 0.0;
-    return (taper_dyn_contact_force(d, k, z, zdot) - taper_dyn_elastic_force(d, k, z)) * zdot;
+    if (!(d->damping > 0.0) || !(overlap(d, k, z) > 0.0)) return 0.0;
+    return (excess_force(d, k, z, zdot) - elastic_excess(d, k, z)) * zdot;
 }
 
 void taper_dyn_quadrature_rhs(const taper_dyn *d, const double *y, double *out)
@@ -250,10 +286,11 @@ void taper_dyn_quadrature_rhs(const taper_dyn *d, const double *y, double *out)
     const size_t lo = d->lo, hi = d->hi;
     out[0] = out[1] = out[2] = 0.0;
     /* Left wall: body 1, its contact with granule 1 (body 2) in the window
-     * or in the gap slot; further out it is open (granule 1 flies freely). */
-    if (d->wall_left && lo <= 2 && hi >= 2) out[0] = taper_dyn_window_force(d, y, 1);
+     * or in the gap slot; further out it is open (granule 1 flies freely:
+     * F = 0, F - F0 = -F0). */
+    if (d->wall_left) out[0] = lo <= 2 && hi >= 2 ? window_excess(d, y, 1) : -d->load;
     /* Right wall: body n; beyond the window its contact is static. */
-    if (d->wall_right) out[1] = hi == d->n ? taper_dyn_window_force(d, y, d->n - 1) : d->load;
+    if (d->wall_right) out[1] = hi == d->n ? window_excess(d, y, d->n - 1) : 0.0;
     double loss = 0.0;
     if (lo > 1) loss += contact_loss(d, lo - 1, y[0], d->v_left - taper_dyn_v(d, y, lo));
     for (size_t k = lo; k <= hi; k++) {

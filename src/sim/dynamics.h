@@ -92,8 +92,10 @@ double taper_dyn_window_force(const taper_dyn *d, const double *y, size_t k);
 /* Acceleration of body k (lo <= k <= hi) in the window state. */
 double taper_dyn_acceleration(const taper_dyn *d, const double *y, size_t k);
 /* The quadratures of a run with walls or losses: out[0], out[1] the forces
- * of the left and right walls, out[2] the power dissipated by damping and
- * drag, sum over contacts of (F - F_elastic) dz/dt plus drag sum v^2. */
+ * of the left and right walls less the static load F0 (whose impulse F0 t
+ * is exact: integrated, it would swamp the pulse's share in the error
+ * control), out[2] the power dissipated by damping and drag, sum over
+ * contacts of (F - F_elastic) dz/dt plus drag sum v^2. */
 void taper_dyn_quadrature_rhs(const taper_dyn *d, const double *y, double *out);
 
 /* Velocity and compression of granule k (lo <= k <= hi) in the window state;
