@@ -20,7 +20,8 @@
  *    are: the last granule has x = v = 0 exactly while the pulse is far);
  *  - the energy measured from the equilibrium, computed here from the
  *    state and the chain's own factors, is conserved; the forces at the
- *    free ends are the load.
+ *    free ends are the load;
+ *  - a right wall holds the loaded chain: P(t) - P(0) = F0 t - J_right.
  */
 #include "test_util.h"
 
@@ -167,11 +168,49 @@ static void window_matches_whole_chain(void **state)
     taper_chain_free(chain);
 }
 
+/* A loaded chain held by a right wall: the wall takes F0 at rest (its own
+ * overlap), and the momentum balance P(t) - P(0) = F0 t - J_right holds
+ * (the load pushes the free first granule, the wall the last; J_right its
+ * whole impulse, static part included). */
+static void wall_holds_the_load(void **state)
+{
+    (void)state;
+    taper_chain_spec *spec = taper_chain_spec_alloc(NULL);
+    assert_int_equal(taper_chain_spec_set_n_granules(spec, 40, NULL), TAPER_OK);
+    assert_int_equal(taper_chain_spec_set_load(spec, LOAD, NULL), TAPER_OK);
+    assert_int_equal(taper_chain_spec_set_end(spec, TAPER_RIGHT, TAPER_END_WALL, 0.0, NULL), TAPER_OK);
+    taper_chain *chain = taper_chain_alloc(spec, NULL);
+    assert_non_null(chain);
+    taper_chain_spec_free(spec);
+    taper_solver_spec *solver = taper_solver_spec_alloc(NULL);
+    assert_int_equal(taper_solver_spec_set_rtol(solver, 1e-12, NULL), TAPER_OK);
+    assert_int_equal(taper_solver_spec_set_t_end(solver, 30.0, NULL), TAPER_OK);
+    taper_sim *sim = taper_sim_alloc(chain, solver, NULL);
+    assert_int_equal(taper_sim_run(sim, NULL), TAPER_OK);
+    const double t = taper_sim_statistic(sim, TAPER_STAT_T_FINAL);
+    const double j = taper_sim_statistic(sim, TAPER_STAT_WALL_IMPULSE_RIGHT);
+    double v[40], p = 0.0;
+    assert_int_equal(taper_sim_state(sim, NULL, v, NULL), TAPER_OK);
+    for (size_t k = 0; k < 40; k++) p += taper_chain_mass(chain)[k] * v[k];
+    printf("loaded chain against a wall: J_right - F0 t = %.12g, P(t) - P(0) = %.12g\n", j - LOAD * t,
+           p - 1.0);
+    assert_true(t == 30.0);
+    assert_double_abs(p - 1.0, LOAD * t - j, 1e-9);
+    assert_true(taper_sim_statistic(sim, TAPER_STAT_MOMENTUM_ERROR) <= 1e-12);
+    /* the pulse reflected (t = 30: the wall pushed it back) */
+    assert_true(p < 0.0);
+    assert_true(taper_sim_statistic(sim, TAPER_STAT_WALL_PEAK_FORCE_RIGHT) > LOAD);
+    taper_sim_free(sim);
+    taper_solver_spec_free(solver);
+    taper_chain_free(chain);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(weak_pulse_at_sound_speed),
         cmocka_unit_test(window_matches_whole_chain),
+        cmocka_unit_test(wall_holds_the_load),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
