@@ -222,10 +222,17 @@ static double wall_rate(const taper_sim *sim, const double *y, int end)
     const double z = k + 1 == d->lo ? y[0] : taper_dyn_z(d, y, k);
     const double zdot = sign * taper_dyn_v(d, y, g);
     if (!(taper_dyn_contact_force(d, k, z, zdot) > 0.0)) return 1.0;
-    if (!(d->damping > 0.0)) return zdot;
-    const double s = (d->delta ? d->delta[k - 1] : 0.0) + z;
-    const double zddot = sign * taper_dyn_acceleration(d, y, g);
-    return zdot + d->damping * ((d->exponent - 2.0) * zdot * zdot / s + zddot);
+    double rate = zdot;
+    if (d->damping > 0.0) {
+        const double s = (d->delta ? d->delta[k - 1] : 0.0) + z;
+        const double zddot = sign * taper_dyn_acceleration(d, y, g);
+        rate += d->damping * ((d->exponent - 2.0) * zdot * zdot / s + zddot);
+    }
+    /* Exactly 0: the granule rests against the wall (a loaded chain before
+     * the pulse, a granule that has just joined the window), where CVODE
+     * would take the function for a root at every step (flag -22): no
+     * maximum there.  A genuine maximum only passes through 0. */
+    return rate != 0.0 ? rate : 1.0;
 }
 
 static void record_wall(taper_sim *sim, const double *y, int end)

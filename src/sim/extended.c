@@ -10,12 +10,10 @@
  * with the end granule is the Hertz contact with a half-space.  The state
  * layout of dynamics.h then covers them unchanged: with a right wall body
  * at x = 0, z_N = x_N - x_wall = x_N is the wall's compression, as the
- * paper's convention x_{N+1} := 0 already has it (and a left wall let go
- * by the window, in exact free flight at velocity 0, would be the window's
- * gap slot with v_left = 0; today walls integrate the whole chain, for
- * their quadratures, solve.c).  Events, the window and the tolerance
- * scales work on body indices; the sim publishes granules 1..N as bodies
- * 1+off..N+off.
+ * paper's convention x_{N+1} := 0 already has it, and a left wall let go
+ * by the window (exact free flight at velocity 0) is the window's gap slot
+ * with v_left = 0.  Events, the window and the tolerance scales work on
+ * body indices; the sim publishes granules 1..N as bodies 1+off..N+off.
  */
 #include "sim.h"
 

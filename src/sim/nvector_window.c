@@ -21,7 +21,11 @@ double *taper_window_data(N_Vector v)
     return c->buf + (c->w->begin - c->w->base);
 }
 
-size_t taper_window_length(N_Vector v) { return CONTENT(v)->w->end - CONTENT(v)->w->begin; }
+size_t taper_window_length(N_Vector v)
+{
+    const taper_window *w = CONTENT(v)->w;
+    return w->end - w->begin + w->tail;
+}
 
 /* ---- registry ------------------------------------------------------- */
 static int register_vector(taper_window *w, N_Vector v)
@@ -360,15 +364,22 @@ static void set_ops(N_Vector v)
 }
 
 /* ---- the window ------------------------------------------------------ */
-taper_window *taper_window_alloc(size_t begin, size_t end, size_t capacity)
+taper_window *taper_window_alloc_tail(size_t begin, size_t end, size_t capacity, size_t tail)
 {
+    if (tail > TAPER_WINDOW_TAIL_MAX) return NULL;
     taper_window *w = calloc(1, sizeof *w);
     if (!w) return NULL;
     w->begin = begin;
     w->end = end;
+    w->tail = tail;
     w->base = begin;
-    w->capacity = capacity > end - begin ? capacity : end - begin;
+    w->capacity = capacity > end - begin + tail ? capacity : end - begin + tail;
     return w;
+}
+
+taper_window *taper_window_alloc(size_t begin, size_t end, size_t capacity)
+{
+    return taper_window_alloc_tail(begin, end, capacity, 0);
 }
 
 void taper_window_free(taper_window *w)
@@ -386,7 +397,8 @@ N_Vector taper_window_vector_new(taper_window *w, SUNContext ctx)
 }
 
 /* Copies what old buffers hold of [begin, end) into fresh buffers based at
- * `base`; everything else in the new buffers is zero. */
+ * `base`, and the tail from the old end to the new; everything else in the
+ * new buffers is zero. */
 static int reposition(taper_window *w, size_t base, size_t capacity, size_t begin, size_t end)
 {
     size_t n = w->n_vectors;
@@ -401,11 +413,13 @@ static int reposition(taper_window *w, size_t base, size_t capacity, size_t begi
         }
     }
     size_t lo = begin > w->base ? begin : w->base;
-    size_t old_top = w->base + w->capacity;
-    size_t hi = end < old_top ? end : old_top;
+    /* Beyond the old end the old buffers hold the tail, then zeros. */
+    size_t hi = end < w->end ? end : w->end;
     for (size_t j = 0; j < n; j++) {
         window_content *c = CONTENT(w->vectors[j]);
         if (hi > lo) memcpy(fresh[j] + (lo - base), c->buf + (lo - w->base), (hi - lo) * sizeof(double));
+        if (w->tail)
+            memcpy(fresh[j] + (end - base), c->buf + (w->end - w->base), w->tail * sizeof(double));
         free(c->buf);
         c->buf = fresh[j];
     }
@@ -415,18 +429,34 @@ static int reposition(taper_window *w, size_t base, size_t capacity, size_t begi
     return 0;
 }
 
+/* Moves the tail of every vector from the old end to `end`, zeroing where
+ * it was (in place: the buffers cover both). */
+static void move_tail(taper_window *w, size_t end)
+{
+    const size_t t = w->tail;
+    if (!t || end == w->end) return;
+    double saved[TAPER_WINDOW_TAIL_MAX];
+    for (size_t j = 0; j < w->n_vectors; j++) {
+        double *b = CONTENT(w->vectors[j])->buf;
+        memcpy(saved, b + (w->end - w->base), t * sizeof(double));
+        memset(b + (w->end - w->base), 0, t * sizeof(double));
+        memcpy(b + (end - w->base), saved, t * sizeof(double));
+    }
+}
+
 int taper_window_set_range(taper_window *w, size_t begin, size_t end)
 {
-    if (begin >= w->base && end <= w->base + w->capacity) {
+    if (begin >= w->base && end + w->tail <= w->base + w->capacity) {
         /* Keep the zero invariant when the right edge retreats (never in
          * normal use, but cheap to honour). */
         for (size_t j = 0; end < w->end && j < w->n_vectors; j++)
             memset(CONTENT(w->vectors[j])->buf + (end - w->base), 0, (w->end - end) * sizeof(double));
+        move_tail(w, end);
         w->begin = begin;
         w->end = end;
         return 0;
     }
-    size_t need = end - begin;
+    size_t need = end - begin + w->tail;
     size_t capacity = w->capacity > 2 * need ? w->capacity : 2 * need + 64;
     if (reposition(w, begin, capacity, begin, end) != 0) return -1;
     w->begin = begin;

@@ -58,19 +58,24 @@ static int rhs_general(double t, N_Vector y, N_Vector ydot, void *user)
     return 0;
 }
 
-/* With walls or losses the whole chain is integrated (make_state) and the
- * state ends with TAPER_N_QUADRATURES entries: the wall impulses and the
- * dissipated energy, integrated by CVODE with the motion and under its
- * error control, so that E + D = E(0) holds to the tolerance (budget.c).
- * CVODE itself has no quadratures (CVODES has; the build links CVODE). */
+/* With walls or losses the state ends with TAPER_N_QUADRATURES entries
+ * after the window's (the window vector's tail, nvector_window.h; after the
+ * 2 bodies entries of the whole chain): the wall impulses and the dissipated
+ * energy, integrated by CVODE with the motion and under its error control,
+ * so that E + D = E(0) holds to the tolerance (budget.c).  CVODE itself has
+ * no quadratures (CVODES has; the build links CVODE). */
+static double *quadrature_entries(const taper_sim *sim, N_Vector v)
+{
+    return taper_sim_data(sim, v) + (taper_dyn_end(&sim->dyn) - taper_dyn_begin(&sim->dyn));
+}
+
 static int rhs_quadratures(double t, N_Vector y, N_Vector ydot, void *user)
 {
     (void)t;
     const taper_sim *sim = user;
-    const double *yy = N_VGetArrayPointer(y);
-    double *f = N_VGetArrayPointer(ydot);
-    taper_dyn_rhs_general(&sim->dyn, yy, f);
-    taper_dyn_quadrature_rhs(&sim->dyn, yy, f + 2 * sim->n);
+    const double *yy = taper_sim_data(sim, y);
+    taper_dyn_rhs_general(&sim->dyn, yy, taper_sim_data(sim, ydot));
+    taper_dyn_quadrature_rhs(&sim->dyn, yy, quadrature_entries(sim, ydot));
     return 0;
 }
 
@@ -154,9 +159,9 @@ static const char *solver_message(const taper_sim *sim)
 static int make_state(taper_sim *sim)
 {
     taper_cvode *cv = &sim->cv;
-    /* The quadratures need the whole chain: they sit after it in the state. */
-    if (sim->spec.window && sim->spec.method == TAPER_ADAMS && !sim->model.quadratures) {
-        cv->window = taper_window_alloc(0, 2, 64);
+    const size_t extra = sim->model.quadratures ? TAPER_N_QUADRATURES : 0;
+    if (sim->spec.window && sim->spec.method == TAPER_ADAMS) {
+        cv->window = taper_window_alloc_tail(0, 2, 64, extra); /* the quadratures ride along */
         if (!cv->window) return -1;
         cv->y = taper_window_vector_new(cv->window, cv->ctx);
         if (!cv->y) return -1;
@@ -167,10 +172,15 @@ static int make_state(taper_sim *sim)
          * (1e-4 here), whose neglected impulse K h^2 / 2 (7.5e-8 for F0 =
          * 1000) is far above the tolerance, unlike r h^n / n unloaded. */
         const size_t i0 = sim->model.impulse;
-        const size_t hi = sim->model.load > 0.0 && i0 < sim->n ? i0 + 1 : i0;
+        size_t hi = sim->model.load > 0.0 && i0 < sim->n ? i0 + 1 : i0;
+        /* Damping: a contact starting to close pushes with r damping (n-1)
+         * z^(n-2) dz/dt, far above the r z^(n-1) the growth thresholds bound
+         * (at the first contact, the neglected impulse damping h^(n-1) was
+         * 1.5e-7 of a two-granule collision's restitution): every granule
+         * is in from the start (and none leaves: window.c). */
+        if (sim->model.damping > 0.0) hi = sim->n;
         if (taper_sim_move_window(sim, 1, hi, 0.0) != 0) return -1;
     } else {
-        const size_t extra = sim->model.quadratures ? TAPER_N_QUADRATURES : 0;
         cv->y = N_VNew_Serial((sunindextype)(2 * sim->n + extra), cv->ctx);
         if (!cv->y) return -1;
         N_VConst(0.0, cv->y);
@@ -234,7 +244,7 @@ static int init_roots(taper_sim *sim, taper_error *err)
 static const double *quadratures_now(const taper_sim *sim)
 {
     if (!sim->model.quadratures || !sim->cv.y) return NULL;
-    return N_VGetArrayPointer(sim->cv.y) + 2 * sim->n;
+    return quadrature_entries(sim, sim->cv.y);
 }
 
 static int setup_cvode(taper_sim *sim, taper_error *err)

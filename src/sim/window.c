@@ -97,6 +97,16 @@
  *    one; joining later there lets the last granule peak within the step
  *    that arms its peak slot (forward exponential q = 0.05, N = 150).
  * The floor keeps root values clear of underflow (exponents n < 1.4). */
+/* The lighter of bodies k, k+1 that can move: a wall (mass 0, extended.c)
+ * never does, and its contact's threshold is the granule's. */
+static double lighter(const taper_sim *sim, size_t k)
+{
+    const double a = sim->mass[k - 1], b = sim->mass[k];
+    if (!(a > 0.0)) return b;
+    if (!(b > 0.0)) return a;
+    return fmin(a, b);
+}
+
 /* Under a static load F0 the force a contact outside the window would add
  * is F(delta + z) - F0 ~ K z, linear with the stiffness K = (n-1) r
  * delta^(n-2) (the disturbance ahead of a pulse in a precompressed chain is
@@ -109,7 +119,7 @@ static void loaded_thresholds(const taper_sim *sim, double *grow_z)
     for (size_t k = 1; k < sim->n; k++) {
         const double r = sim->contact[k - 1], delta = sim->model.delta[k - 1];
         const double stiffness = (n - 1.0) * r * pow(delta, n - 2.0);
-        double m = fmin(sim->mass[k - 1], sim->mass[k]);
+        double m = lighter(sim, k);
         double v = fmin(sim->v_scale[k - 1], sim->v_scale[k]);
         double per_time = 1e-40 * m * v / stiffness;
         double per_collision = 1e-40 * r * pow(sim->z_scale[k - 1], n - 1.0) / stiffness;
@@ -123,7 +133,7 @@ void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
     const double power = 1.0 / (sim->exponent - 1.0);
     const double fraction = fmax(pow(1e-40, power), 1e-200);
     for (size_t k = 1; k < sim->n; k++) {
-        double m = fmin(sim->mass[k - 1], sim->mass[k]);
+        double m = lighter(sim, k);
         double v = fmin(sim->v_scale[k - 1], sim->v_scale[k]);
         double per_time = pow(1e-40 * m * v / sim->contact[k - 1], power);
         double per_collision = fraction * sim->z_scale[k - 1];

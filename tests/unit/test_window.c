@@ -387,6 +387,48 @@ static void loaded_chains(void **state)
     }
 }
 
+/* Drag slows every granule (no free flight: nobody leaves), granules ahead
+ * rest exactly; walls ride with the window (their impulses in the window
+ * vector's tail): the window agrees with the whole chain, and a left wall
+ * leaves it as any granule in free flight (at velocity 0: the gap slot is
+ * then the wall). */
+static void drag_and_walls(void **state)
+{
+    (void)state;
+    taper_error err;
+    taper_chain_spec *spec = taper_chain_spec_alloc(&err);
+    assert_non_null(spec);
+    test_chain_ok(taper_chain_spec_set_n_granules(spec, 120, &err), &err);
+    test_chain_ok(taper_chain_spec_set_drag(spec, 0.002, &err), &err);
+    taper_chain *c = taper_chain_alloc(spec, &err);
+    assert_non_null(c);
+    window_agrees(c, "drag");
+    taper_chain_free(c);
+    test_chain_ok(taper_chain_spec_set_drag(spec, 0.0, &err), &err);
+    test_chain_ok(taper_chain_spec_set_end(spec, TAPER_LEFT, TAPER_END_WALL, 0.0, &err), &err);
+    test_chain_ok(taper_chain_spec_set_end(spec, TAPER_RIGHT, TAPER_END_WALL, 0.0, &err), &err);
+    c = taper_chain_alloc(spec, &err);
+    assert_non_null(c);
+    window_agrees(c, "walls");
+    /* The left wall leaves as soon as granule 1 flies off it, and comes back
+     * each time granule 1 recoils onto it (restarts): the granules next to
+     * it rattle for ever (no losses), so the window spans them and the
+     * front; a right wall alone leaves the window O(1). */
+    taper_sim *w = run(c, 1, 1.0);
+    assert_true(stat(w, TAPER_STAT_RESTARTS) >= 1);
+    taper_sim_free(w);
+    taper_chain_free(c);
+    test_chain_ok(taper_chain_spec_set_end(spec, TAPER_LEFT, TAPER_END_FREE, 0.0, &err), &err);
+    c = taper_chain_alloc(spec, &err);
+    assert_non_null(c);
+    w = run(c, 1, 1.0);
+    assert_true(w->model.wall_right && w->dyn.lo > 100 && w->dyn.hi == w->n);
+    assert_true(stat(w, TAPER_STAT_MAX_WINDOW) <= 17);
+    taper_sim_free(w);
+    taper_chain_free(c);
+    taper_chain_spec_free(spec);
+}
+
 /* A striker is body 1: it leaves the window like a granule once it flies
  * back freely, and the window agrees with the whole chain. */
 static void striker_leaves_window(void **state)
@@ -417,6 +459,7 @@ int main(void)
         cmocka_unit_test(criteria),
         cmocka_unit_test(loaded_chains),
         cmocka_unit_test(striker_leaves_window),
+        cmocka_unit_test(drag_and_walls),
     };
     return cmocka_run_group_tests_name("window", tests, NULL, NULL);
 }
