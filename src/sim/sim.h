@@ -14,9 +14,12 @@
  *     |-> window.c   the window policy, read-only on the sim: growth
  *     |              thresholds, which granule may leave and how
  *     |              (taper_departure), whether one must come back.
+ *     |-> sample.c   the sampler: the next sample time, the user's call.
+ *     |-> budget.c   the energy budget and the balances at the end.
  *     v
- *   sim.c          the state: allocation, free, the theory and tolerance
- *                  scales, the results' accessors, the log, and the only
+ *   sim.c          the state: allocation (with the bodies of extended.c),
+ *                  free, the theory and tolerance scales, the results'
+ *                  accessors (state, striker, forces), the log, and the only
  *                  code that moves the window (taper_sim_move_window) and
  *                  that moves granules out of it and back.
  *     v
@@ -28,7 +31,9 @@
  *   sim->pulse               events.c (taper_events_record)
  *   sim->dyn.lo/hi/v_left    sim.c, in taper_sim_move_window only
  *   sim->out, y's entries    sim.c (taper_sim_release_granule / _recall_granule)
- *   sim->cv, sim->t, stats   solve.c
+ *   sim->cv, sim->t, stats   solve.c (the budget's statistics: budget.c)
+ *   sim->walls               events.c
+ *   sim->samples_taken       sample.c
  */
 #ifndef TAPER_SIM_H
 #define TAPER_SIM_H
