@@ -213,6 +213,22 @@ static void sampler_stops_the_run(void **state)
     taper_chain_free(chain);
 }
 
+/* t_end only ever lengthens a run: one ending before the observables are
+ * known goes on until they are, as without it (taper.h). */
+static void t_end_before_the_observables(void **state)
+{
+    (void)state;
+    taper_chain *chain = chain_with_striker(N_GRANULES, 0.0);
+    taper_sim *a = run(chain, 1.0, 0.0, NULL, NULL, TAPER_OK);
+    taper_sim *b = run(chain, 0.0, 0.0, NULL, NULL, TAPER_OK);
+    assert_true(taper_sim_statistic(a, TAPER_STAT_COMPLETE) == 1.0);
+    assert_true(taper_sim_statistic(a, TAPER_STAT_T_FINAL) == taper_sim_statistic(b, TAPER_STAT_T_FINAL));
+    assert_true(taper_sim_statistic(a, TAPER_STAT_T_FINAL) > 1.0);
+    taper_sim_free(a);
+    taper_sim_free(b);
+    taper_chain_free(chain);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -220,6 +236,7 @@ int main(void)
         cmocka_unit_test(light_striker_rebounds),
         cmocka_unit_test(sampler_times_and_state),
         cmocka_unit_test(sampler_stops_the_run),
+        cmocka_unit_test(t_end_before_the_observables),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
