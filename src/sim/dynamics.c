@@ -155,14 +155,19 @@ static double elastic_excess(const taper_dyn *d, size_t k, double z)
 }
 
 /* Phi_k = F_k - F0 with damping: F = r (s^(n-1) + damping (n-1) s^(n-2)
- * dz/dt) while > 0, so Phi >= -F0. */
+ * dz/dt) while > 0, so Phi >= -F0.  At s = 0 the damping term is its
+ * limit from closing contacts: 0 for n > 2, r damping dz/dt for n = 2 (a
+ * chain starts just touching with v_1 = 1: there the force must be the one
+ * the first step meets, or CVODE fails its error test at t = 0). */
 static double excess_force(const taper_dyn *d, size_t k, double z, double zdot)
 {
     const double s = overlap(d, k, z);
-    if (!(s > 0.0)) return -d->load;
+    if (!(s >= 0.0)) return -d->load;
     double phi = elastic_excess(d, k, z);
-    if (d->damping > 0.0) /* d(s^(n-1))/dt = (n-1) s^(n-2) dz/dt */
-        phi += d->contact[k - 1] * d->damping * (d->exponent - 1.0) * (power_law(d, s) / s) * zdot;
+    if (d->damping > 0.0) { /* d(s^(n-1))/dt = (n-1) s^(n-2) dz/dt */
+        const double s_n2 = d->hertz ? sqrt(s) : pow(s, d->exponent - 2.0);
+        phi += d->contact[k - 1] * d->damping * (d->exponent - 1.0) * s_n2 * zdot;
+    }
     return phi > -d->load ? phi : -d->load;
 }
 
@@ -174,7 +179,7 @@ double taper_dyn_elastic_force(const taper_dyn *d, size_t k, double z)
 
 double taper_dyn_contact_force(const taper_dyn *d, size_t k, double z, double zdot)
 {
-    if (!(overlap(d, k, z) > 0.0)) return 0.0;
+    if (!(overlap(d, k, z) >= 0.0)) return 0.0;
     return excess_force(d, k, z, zdot) + d->load;
 }
 
@@ -277,7 +282,7 @@ void taper_dyn_peak_terms(const taper_dyn *d, const double *y, size_t k, double 
  * force never pulls: where it is 0, -F_elastic dz/dt > 0). */
 static double contact_loss(const taper_dyn *d, size_t k, double z, double zdot)
 {
-    if (!(d->damping > 0.0) || !(overlap(d, k, z) > 0.0)) return 0.0;
+    if (!(d->damping > 0.0) || !(overlap(d, k, z) >= 0.0)) return 0.0; /* as excess_force */
     return (excess_force(d, k, z, zdot) - elastic_excess(d, k, z)) * zdot;
 }
 

@@ -226,7 +226,8 @@ static double wall_rate(const taper_sim *sim, const double *y, int end)
     if (d->damping > 0.0) {
         const double s = (d->delta ? d->delta[k - 1] : 0.0) + z;
         const double zddot = sign * taper_dyn_acceleration(d, y, g);
-        rate += d->damping * ((d->exponent - 2.0) * zdot * zdot / s + zddot);
+        const double curvature = s > 0.0 ? (d->exponent - 2.0) * zdot * zdot / s : 0.0;
+        rate += d->damping * (curvature + zddot);
     }
     /* Exactly 0: the granule rests against the wall (a loaded chain before
      * the pulse, a granule that has just joined the window), where CVODE

@@ -185,6 +185,17 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
     }
     const size_t n = taper_chain_size(chain);
     if (check_spec(spec, n, err) != TAPER_OK) return NULL;
+    /* Kuwabara-Kono damping pushes with damping r (n-1) z^(n-2) dz/dt: for
+     * n < 2 that diverges as a contact closes (z -> 0 at dz/dt > 0), and
+     * CVODE cannot start (n = 3/2: flag -4 at t = 0). */
+    if (taper_chain_damping(chain) > 0.0 && taper_chain_exponent(chain) < 2.0) {
+        taper_fail_field(err, TAPER_EINVAL, "damping",
+                         "damping = %g with exponent n = %g: the Kuwabara-Kono force damping (n-1) "
+                         "z^(n-2) dz/dt diverges as a contact closes for n < 2; use n >= 2 or no "
+                         "damping",
+                         taper_chain_damping(chain), taper_chain_exponent(chain));
+        return NULL;
+    }
     taper_sim *sim = calloc(1, sizeof *sim);
     if (!sim) {
         taper_fail(err, TAPER_ENOMEM, "cannot allocate the simulation");

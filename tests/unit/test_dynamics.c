@@ -927,6 +927,36 @@ static void dynamics_refuses_options(void **state)
     }
 }
 
+/* Damping with n < 2 is singular as a contact closes: the sim refuses it,
+ * naming damping; n = 2 runs. */
+static void damping_needs_exponent_two(void **state)
+{
+    (void)state;
+    const double ns[2] = {1.5, 2.0};
+    for (int i = 0; i < 2; i++) {
+        taper_error err;
+        taper_chain_spec *spec = taper_chain_spec_alloc(&err);
+        SET(taper_chain_spec_set_n_granules(spec, 5, &e_));
+        SET(taper_chain_spec_set_exponent(spec, ns[i], &e_));
+        SET(taper_chain_spec_set_damping(spec, 0.1, &e_));
+        taper_chain *c = taper_chain_alloc(spec, &err);
+        assert_non_null(c);
+        taper_sim *sim = taper_sim_alloc(c, NULL, &err);
+        if (i == 0) {
+            assert_null(sim);
+            assert_taper_error(err, TAPER_EINVAL, "damping", "n < 2");
+        } else {
+            assert_non_null(sim);
+            assert_int_equal(taper_sim_run(sim, NULL), TAPER_OK);
+            assert_true(stat(sim, TAPER_STAT_ENERGY_ERROR) <= 1e-8);
+            assert_true(stat(sim, TAPER_STAT_ENERGY_DISSIPATED) > 0.0);
+        }
+        taper_sim_free(sim);
+        taper_chain_free(c);
+        taper_chain_spec_free(spec);
+    }
+}
+
 /* The contact law of chains with options (dynamics.h): the energy above
  * the loaded equilibrium is the integral of F(delta + z) - F0 (central
  * differences, across the series branch |z| < 0.05 delta and beyond, and
@@ -1006,6 +1036,7 @@ int main(void)
         cmocka_unit_test(log_warns_of_drift),
         cmocka_unit_test(dynamics_refuses_options),
         cmocka_unit_test(loaded_contact_law),
+        cmocka_unit_test(damping_needs_exponent_two),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
