@@ -72,6 +72,16 @@ static int sample(const taper_sim *sim, void *user)
     assert_int_equal(taper_sim_state(sim, tr->x, tr->v, NULL), TAPER_OK);
     assert_int_equal(taper_sim_forces(sim, tr->f, NULL), TAPER_OK);
     const double t = taper_sim_time(sim);
+    /* the forces reader is the contact law on the state: r z^(n-1), the
+     * wall's on z_N = x_N, 0 where open (and at the free left end) */
+    const double *r = taper_chain_contact(tr->chain), n = taper_chain_exponent(tr->chain);
+    for (size_t k = 1; k <= tr->n; k++) {
+        double z = k < tr->n ? tr->x[k - 1] - tr->x[k] : tr->x[k - 1];
+        double rk = k < tr->n ? r[k - 1] : taper_chain_end_contact(tr->chain, TAPER_RIGHT);
+        double f = z > 0.0 && !isnan(rk) ? rk * pow(z, n - 1.0) : 0.0;
+        assert_true(fabs(tr->f[k] - f) <= 1e-9 * fmax(f, 1e-6));
+    }
+    if (isnan(taper_chain_end_contact(tr->chain, TAPER_LEFT))) assert_true(tr->f[0] == 0.0);
     double region;
     double e = chain_energy(tr, &region);
     if (tr->calls++ == 0) tr->e0 = e;
