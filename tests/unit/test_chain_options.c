@@ -213,6 +213,17 @@ static void test_relations(void **state)
     test_chain_ok(taper_chain_spec_set_striker(spec, 1, 1, 1, &err), &err);
     test_chain_ok(taper_chain_spec_set_end(spec, TAPER_LEFT, TAPER_END_WALL, 0, &err), &err);
     expect_relation(spec, "left_end", "remove the striker");
+    /* Kuwabara-Kono damping below n = 2 (its force diverges at contact);
+     * n = 2 itself is allowed. */
+    spec = new_spec(TAPER_MONODISPERSE, 4);
+    test_chain_ok(taper_chain_spec_set_damping(spec, 0.1, &err), &err);
+    test_chain_ok(taper_chain_spec_set_exponent(spec, 1.75, &err), &err);
+    expect_relation(spec, "damping", "diverges as a contact closes");
+    spec = new_spec(TAPER_MONODISPERSE, 4);
+    test_chain_ok(taper_chain_spec_set_damping(spec, 0.1, &err), &err);
+    test_chain_ok(taper_chain_spec_set_exponent(spec, 2.0, &err), &err);
+    assert_int_equal(taper_chain_spec_check(spec, &err), TAPER_OK);
+    taper_chain_spec_free(spec);
     /* s and q still belong to their profiles only. */
     spec = new_spec(TAPER_DECORATED, 4);
     test_chain_ok(taper_chain_spec_set_pattern(spec, pattern, 2, &err), &err);
