@@ -3,7 +3,10 @@
 # real Fortran namelist: gfortran's namelist READ (taper_nml --dump) and our
 # C parser (scene_dump) resolve it to the same values, bit for bit (see the
 # canonical form in tests/bindings/scene_dump.c), in every group: &chain, &solver,
-# &output, and the analysis groups &fit, &table, &figure of the paper scenes.
+# &output, the analysis groups &fit, &table, &figure of the paper scenes, and
+# the groups of issue 15 (&ends, &striker, &losses, &material, &sensors) and
+# &chain's pattern, disorder, seed (a list: its first), load and radii_file
+# (resolved against the scene's folder, its radii read) of the physics scenes.
 # Also checks that both list the same variables, so a variable (or a group)
 # added to drivers/taper/scene/scene.c's table without the Fortran driver learning it fails
 # here.
@@ -15,7 +18,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 n=0
 fail=0
-for scene in "$dir"/*.nml "$dir"/paper/*.nml; do
+for scene in "$dir"/*.nml "$dir"/paper/*.nml "$dir"/physics/*.nml; do
     [ -f "$scene" ] || continue
     n=$((n + 1))
     if ! "$cdump" "$scene" >"$tmp/c" 2>"$tmp/c.err"; then

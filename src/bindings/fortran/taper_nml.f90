@@ -5,9 +5,11 @@
 !                                 tests/bindings/scene_dump.c) and stop
 !
 ! Our scene files (share/scenes/*.nml, docs/scene.md) are standard Fortran
-! namelists with the groups &chain, &solver, &output, &fit, &table, &figure and &sweep;
-! this program reads them with READ(unit, NML=...) and hands the values of the
-! first three to libtaper through the iso_c_binding module `taper`
+! namelists with the groups &chain, &solver, &output, &fit, &table, &figure, &sweep,
+! and (issue 15) &ends, &striker, &losses, &material, &sensors; this program
+! reads them with READ(unit, NML=...) and hands the values of &chain,
+! &solver, &ends, &striker and &losses to libtaper through the iso_c_binding
+! module `taper`
 ! (src/bindings/fortran/taper.f90), one setter per variable: the library
 ! checks each value and names the variable it refuses, so this program keeps
 ! no bounds of its own, and the names of profiles, methods and fit models
@@ -15,7 +17,10 @@
 ! the table in drivers/taper/scene/scene.c; the defaults of &chain and
 ! &solver come from the library itself (a fresh taper_chain_spec and
 ! taper_solver_spec), as in the C driver.
-! A list of values for s or q is a sweep: each value is run in turn.  The
+! A list of values for s, q or seed is a sweep: each value is run in turn.
+! &material (real units, mixed materials) is read and checked but not run
+! (refused, naming the group: taper runs it); &sensors' time series are not
+! written (the run is the same; said on stderr).  The
 ! analysis groups &fit, &table and &figure (the C driver's fits, tables and
 ! figures) are read too, so that --dump proves every group of a scene is a
 ! real Fortran namelist and resolves as in the C parser; the runs here do not
@@ -46,15 +51,36 @@ program taper_nml
   ! A value left out: a quiet NaN with a payload no input produces (a NaN
   ! the file gives is the canonical one, and refused as not finite).
   integer(int64), parameter :: NOT_GIVEN = int(z'7FF80000DEADBEEF', int64)
+  ! A seed left out of the list (seeds are >= 0).
+  integer(int64), parameter :: NOT_GIVEN_SEED = -huge(0_int64)
 
   ! &chain
   character(len=LEN_STR) :: profile
   integer(int64) :: n_granules
   real(c_double) :: s(MAX_SWEEP), q(MAX_SWEEP), exponent
   real(c_double), allocatable, target :: radii(:)
+  ! &chain, beyond the paper (issue 15)
+  character(len=LEN_STR) :: radii_file, disorder
+  real(c_double), allocatable, target :: pattern(:)
+  real(c_double) :: disorder_amplitude, load
+  integer(int64) :: seed(MAX_SWEEP)   ! a list of seeds: an ensemble, run in turn
+  ! &ends, &striker, &losses, &material, &sensors (read by read_ends, ...;
+  ! the group's prefix added to each name where two groups share one)
+  character(len=LEN_STR) :: ends_left, ends_right
+  real(c_double) :: ends_left_compliance, ends_right_compliance
+  real(c_double) :: striker_radius, striker_density, striker_compliance
+  real(c_double) :: losses_damping, losses_drag
+  real(c_double) :: material_young, material_poisson, material_density, material_radius, &
+       material_velocity
+  real(c_double) :: material_other_young(MAX_SWEEP), material_other_poisson(MAX_SWEEP), &
+       material_other_density(MAX_SWEEP), material_sequence(MAX_SWEEP)
+  integer(int64) :: material_wall, material_striker
+  real(c_double) :: sensors_interval, sensors_granules(MAX_SWEEP)
+  logical :: sensors_spacetime
+  integer(int64) :: sensors_spacetime_granules, sensors_spacetime_times
   ! &solver
   character(len=LEN_STR) :: method
-  real(c_double) :: rtol, atol, t_max
+  real(c_double) :: rtol, atol, t_max, t_end
   logical :: window, numerics
   integer(int64) :: last_granule, max_steps
   ! &output
@@ -63,6 +89,7 @@ program taper_nml
   integer(int64) :: threads      ! parallel sweeps of the C driver; unused here
   integer(int64) :: every        ! granules.tsv of the C driver; unused here
   real(c_double) :: max_energy_error, max_momentum_error
+  character(len=LEN_STR) :: units
   ! &fit, &table, &figure (read by read_fit, read_table, read_figure; the
   ! group's prefix added to each name)
   character(len=LEN_STR) :: fit_model, fit_x, fit_y, fit_report, fit_label, fit_theory
@@ -88,16 +115,27 @@ program taper_nml
   character(len=*), parameter :: THEORIES(4) = [character(len=4) :: "fit", "rate", "f", "b"]
   character(len=*), parameter :: CURVES(3) = [character(len=8) :: "both", "theory", "numerics"]
   character(len=*), parameter :: SWEEP_MODES(2) = [character(len=4) :: "grid", "zip"]
+  character(len=*), parameter :: UNITS_CHOICES(2) = [character(len=8) :: "rescaled", "si"]
 
-  namelist /chain/ profile, n_granules, s, q, exponent, radii
-  namelist /solver/ method, rtol, atol, window, last_granule, t_max, max_steps, numerics
-  namelist /output/ dir, progress, threads, columns, every, max_energy_error, max_momentum_error
+  namelist /chain/ profile, n_granules, s, q, exponent, radii, radii_file, pattern, disorder, &
+       disorder_amplitude, seed, load
+  namelist /solver/ method, rtol, atol, window, last_granule, t_max, max_steps, t_end, numerics
+  namelist /output/ dir, progress, threads, columns, every, max_energy_error, &
+       max_momentum_error, units
   ! The keys of every group, for the message on an unknown key (the
   ! namelists above and in read_fit, read_table, read_figure, read_sweep).
-  character(len=*), parameter :: KEYS_CHAIN = "profile, n_granules, s, q, exponent, radii", &
-       KEYS_SOLVER = "method, rtol, atol, window, last_granule, t_max, max_steps, numerics", &
+  character(len=*), parameter :: KEYS_CHAIN = "profile, n_granules, s, q, exponent, radii, " // &
+       "radii_file, pattern, disorder, disorder_amplitude, seed, load", &
+       KEYS_SOLVER = "method, rtol, atol, window, last_granule, t_max, max_steps, t_end, " // &
+       "numerics", &
        KEYS_OUTPUT = "dir, progress, threads, columns, every, max_energy_error, " // &
-       "max_momentum_error", &
+       "max_momentum_error, units", &
+       KEYS_ENDS = "left, right, left_compliance, right_compliance", &
+       KEYS_STRIKER = "radius, density, compliance", &
+       KEYS_LOSSES = "damping, drag", &
+       KEYS_MATERIAL = "young, poisson, density, radius, velocity, other_young, " // &
+       "other_poisson, other_density, sequence, wall, striker", &
+       KEYS_SENSORS = "interval, granules, spacetime, spacetime_granules, spacetime_times", &
        KEYS_FIT = "model, x, y, k_min, k_max, p, report, factor, label, theory", &
        KEYS_TABLE = "name, caption, digits, paper_theory, paper_numerics", &
        KEYS_FIGURE = "name, title, x, y, curves, log_x, log_y, every, k_max, x_label, " // &
@@ -110,7 +148,7 @@ program taper_nml
 
   character(len=LEN_STR) :: path, arg
   logical :: dump, n_given
-  integer :: n_s, n_q, n_radii, n_sweep, i, status, worst, arg_status
+  integer :: n_s, n_q, n_radii, n_pattern, n_seed, n_sweep, i, status, worst, arg_status
   real(c_double) :: nan
   type(c_ptr) :: chain_defaults, solver_defaults
   type(taper_error) :: err
@@ -154,6 +192,17 @@ program taper_nml
   exponent = taper_chain_spec_exponent(chain_defaults)
   allocate (radii(MAX_RADII))
   radii = nan
+  radii_file = ""
+  allocate (pattern(MAX_RADII))
+  pattern = nan
+  disorder = taper_disorder_name(taper_chain_spec_disorder(chain_defaults))
+  disorder_amplitude = taper_chain_spec_disorder_amplitude(chain_defaults)
+  seed = -1                  ! not given (a seed is >= 0): the library's default
+  seed(1) = int(taper_chain_spec_disorder_seed(chain_defaults), int64)
+  seed(2:) = NOT_GIVEN_SEED
+  load = taper_chain_spec_load(chain_defaults)
+  t_end = taper_solver_spec_t_end(solver_defaults)
+  units = "rescaled"
   method = taper_method_name(taper_solver_spec_method(solver_defaults))
   rtol = taper_solver_spec_rtol(solver_defaults)
   atol = taper_solver_spec_atol(solver_defaults)
@@ -196,6 +245,11 @@ program taper_nml
   call check_length("figure", "x_label", figure_x_label)
   call check_length("figure", "y_label", figure_y_label)
   call check_length("sweep", "mode", sweep_mode)
+  call check_length("chain", "radii_file", radii_file)
+  call check_length("chain", "disorder", disorder)
+  call check_length("ends", "left", ends_left)
+  call check_length("ends", "right", ends_right)
+  call check_length("output", "units", units)
 
   ! Allowed strings in their canonical spelling, as the C parser stores them:
   ! the library's names for profiles, methods and fit models.
@@ -214,11 +268,26 @@ program taper_nml
   figure_y = canonical(figure_y, QUANTITIES)
   figure_curves = canonical(figure_curves, CURVES)
   sweep_mode = canonical(sweep_mode, SWEEP_MODES)
+  disorder = library_name(disorder, "disorder")
+  ends_left = library_name(ends_left, "boundary")
+  ends_right = library_name(ends_right, "boundary")
+  units = canonical(units, UNITS_CHOICES)
 
   ! Resolve: a sweep is the list given; nothing given is the library's default.
   n_s = count_given(s)
   n_q = count_given(q)
   n_radii = count_given(radii)
+  n_pattern = count_given(pattern)
+  n_seed = 1
+  do while (n_seed < MAX_SWEEP)
+     if (seed(n_seed + 1) == NOT_GIVEN_SEED) exit
+     n_seed = n_seed + 1
+  end do
+  if (any(seed(1:n_seed) < 0)) then
+     write (error_unit, '(a)') trim(path)//": &chain seed: a seed is an integer >= 0"
+     call quit(2)
+  end if
+  call read_radii_file()
   ! Every real given must be a number (READ takes nan and inf).
   call check_finite("chain", "s", s(1:n_s))
   call check_finite("chain", "q", q(1:n_q))
@@ -229,6 +298,31 @@ program taper_nml
   call check_finite("solver", "t_max", [t_max])
   call check_finite("output", "max_energy_error", [max_energy_error])
   call check_finite("output", "max_momentum_error", [max_momentum_error])
+  call check_finite("chain", "pattern", pattern(1:n_pattern))
+  call check_finite("chain", "disorder_amplitude", [disorder_amplitude])
+  call check_finite("chain", "load", [load])
+  call check_finite("ends", "left_compliance", [ends_left_compliance])
+  call check_finite("ends", "right_compliance", [ends_right_compliance])
+  call check_finite("striker", "radius", [striker_radius])
+  call check_finite("striker", "density", [striker_density])
+  call check_finite("striker", "compliance", [striker_compliance])
+  call check_finite("losses", "damping", [losses_damping])
+  call check_finite("losses", "drag", [losses_drag])
+  call check_finite("solver", "t_end", [t_end])
+  call check_finite("sensors", "interval", [sensors_interval])
+  call check_finite("sensors", "granules", sensors_granules(1:count_given(sensors_granules)))
+  if (is_given(material_young)) call check_finite("material", "young", [material_young])
+  if (is_given(material_poisson)) call check_finite("material", "poisson", [material_poisson])
+  if (is_given(material_density)) call check_finite("material", "density", [material_density])
+  if (is_given(material_radius)) call check_finite("material", "radius", [material_radius])
+  if (is_given(material_velocity)) call check_finite("material", "velocity", [material_velocity])
+  call check_finite("material", "other_young", &
+       material_other_young(1:count_given(material_other_young)))
+  call check_finite("material", "other_poisson", &
+       material_other_poisson(1:count_given(material_other_poisson)))
+  call check_finite("material", "other_density", &
+       material_other_density(1:count_given(material_other_density)))
+  call check_finite("material", "sequence", material_sequence(1:count_given(material_sequence)))
   call check_finite("fit", "factor", [fit_factor])
   if (is_given(fit_p)) call check_finite("fit", "p", [fit_p])
   if (is_given(figure_inset_reference)) &
@@ -256,26 +350,27 @@ program taper_nml
      end if
      n_granules = n_radii
   end if
-  if (n_s > 1 .and. n_q > 1) then
-     write (error_unit, '(a)') trim(path)//": only one of s and q may be swept"
+  if (count([n_s > 1, n_q > 1, n_seed > 1]) > 1) then
+     write (error_unit, '(a)') trim(path)//": only one of s, q and seed may be swept"
      call quit(2)
   end if
 
   if (dump) then
      call print_dump()
-     deallocate (radii)
+     deallocate (radii, pattern)
      stop
   end if
 
-  n_sweep = max(n_s, n_q)
+  if (.not. runnable()) call quit(2)
+  n_sweep = max(n_s, n_q, n_seed)
   worst = 0
   do i = 1, n_sweep
-     status = run_point(min(i, n_s), min(i, n_q))
+     status = run_point(min(i, n_s), min(i, n_q), min(i, n_seed))
      worst = max(worst, status)
   end do
   ! Main-program variables are implicitly SAVE'd: never deallocated for us
   ! (LeakSanitizer and valgrind report them once MAIN__ has returned).
-  deallocate (radii)
+  deallocate (radii, pattern)
   if (worst /= 0) call quit(worst)
 
 contains
@@ -355,10 +450,92 @@ contains
     is_given = transfer(x, 0_int64) /= NOT_GIVEN
   end function is_given
 
+  ! &chain radii_file as the C parser reads it (drivers/taper/scene/
+  ! scene_physics.c): the path relative to the scene file's folder, made
+  ! absolute; one radius per line, blank lines and '#' comments skipped,
+  ! every radius finite and > 0, the first 1; the radii become the custom
+  ! chain's and n_granules their number.  Errors name FILE:LINE of the radii
+  ! file, under &chain radii_file.
+  subroutine read_radii_file()
+    character(len=:), allocatable :: file, line, where
+    character(len=4096) :: buffer
+    real(c_double), allocatable :: grown(:)
+    real(c_double) :: x
+    integer :: unit, ios, lineno, k, n
+    interface
+       function c_getcwd(buf, size) bind(C, name="getcwd") result(p)
+         import :: c_ptr, c_char, c_size_t
+         character(kind=c_char), intent(out) :: buf(*)
+         integer(c_size_t), value :: size
+         type(c_ptr) :: p
+       end function c_getcwd
+    end interface
+    character(kind=c_char) :: cwd(4096)
+    if (len_trim(radii_file) == 0) return
+    file = trim(radii_file)
+    if (file(1:1) /= "/") then
+       k = index(trim(path), "/", back=.true.)
+       if (k > 0) file = path(1:k)//file
+       if (file(1:1) /= "/") then
+          if (c_associated(c_getcwd(cwd, size(cwd, kind=c_size_t)))) then
+             n = 0
+             do while (n < size(cwd))
+                if (cwd(n + 1) == c_null_char) exit
+                n = n + 1
+             end do
+             file = transfer(cwd(1:n), repeat(" ", n))//"/"//file
+          end if
+       end if
+    end if
+    radii_file = file            ! the dump names the file this run read
+    where = trim(path)//": &chain radii_file: "//file
+    open (newunit=unit, file=file, status="old", action="read", iostat=ios)
+    if (ios /= 0) then
+       write (error_unit, '(a)') where//": cannot open it"
+       call quit(2)
+    end if
+    n = 0
+    lineno = 0
+    do
+       read (unit, '(a)', iostat=ios) buffer
+       if (ios /= 0) exit
+       lineno = lineno + 1
+       line = buffer
+       k = index(line, "#")
+       if (k > 0) line = line(1:k - 1)
+       if (len_trim(line) == 0) cycle
+       read (line, *, iostat=ios) x
+       if (ios /= 0 .or. .not. ieee_is_finite(x) .or. .not. x > 0) then
+          write (error_unit, '(a,i0,a)') where//":", lineno, ": '"//trim(adjustl(line))// &
+               "': every radius must be a finite number > 0, one per line"
+          call quit(2)
+       end if
+       if (n == 0 .and. abs(x - 1) > 0) then
+          write (error_unit, '(a,i0,a)') where//":", lineno, ": the first radius must be 1 "// &
+               "(R_1 is the unit of length; divide the file by it)"
+          call quit(2)
+       end if
+       n = n + 1
+       if (n > size(radii)) then
+          allocate (grown(2 * size(radii)))
+          grown = nan
+          grown(1:size(radii)) = radii
+          call move_alloc(grown, radii)
+       end if
+       radii(n) = x
+    end do
+    close (unit)
+    if (n == 0) then
+       write (error_unit, '(a)') where//": holds no radius"
+       call quit(2)
+    end if
+    n_radii = n
+  end subroutine read_radii_file
+
   subroutine read_scene(file)
     character(len=*), intent(in) :: file
-    character(len=*), parameter :: GROUPS(7) = [character(len=6) :: "chain", "solver", "output", &
-         "fit", "table", "figure", "sweep"]
+    character(len=*), parameter :: GROUPS(12) = [character(len=8) :: "chain", "solver", "output", &
+         "fit", "table", "figure", "sweep", "ends", "striker", "losses", "material", "sensors"]
     integer :: unit, ios, g
     character(len=512) :: msg
     open (newunit=unit, file=file, status="old", action="read", iostat=ios, iomsg=msg)
@@ -408,8 +585,136 @@ contains
        call read_figure(file, unit)
     case ("sweep")
        call read_sweep(file, unit)
+    case ("ends")
+       call read_ends(file, unit)
+    case ("striker")
+       call read_striker(file, unit)
+    case ("losses")
+       call read_losses(file, unit)
+    case ("material")
+       call read_material(file, unit)
+    case ("sensors")
+       call read_sensors(file, unit)
     end select
   end subroutine read_group
+
+  ! &ends with the library's defaults (free ends, rigid walls); copied to ends_*.
+  recursive subroutine read_ends(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    character(len=LEN_STR) :: left, right
+    real(c_double) :: left_compliance, right_compliance
+    namelist /ends/ left, right, left_compliance, right_compliance
+    integer :: ios
+    character(len=512) :: msg
+    left = taper_boundary_name(taper_chain_spec_end(chain_defaults, TAPER_LEFT))
+    right = taper_boundary_name(taper_chain_spec_end(chain_defaults, TAPER_RIGHT))
+    left_compliance = taper_chain_spec_end_compliance(chain_defaults, TAPER_LEFT)
+    right_compliance = taper_chain_spec_end_compliance(chain_defaults, TAPER_RIGHT)
+    read (unit, nml=ends, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "ends", ios, msg)
+    ends_left = left
+    ends_right = right
+    ends_left_compliance = left_compliance
+    ends_right_compliance = right_compliance
+  end subroutine read_ends
+
+  ! &striker with the library's defaults (none: radius 0); copied to striker_*.
+  recursive subroutine read_striker(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    real(c_double) :: radius, density, compliance
+    namelist /striker/ radius, density, compliance
+    integer :: ios
+    character(len=512) :: msg
+    radius = taper_chain_spec_striker_radius(chain_defaults)
+    density = taper_chain_spec_striker_density(chain_defaults)
+    compliance = taper_chain_spec_striker_compliance(chain_defaults)
+    read (unit, nml=striker, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "striker", ios, msg)
+    striker_radius = radius
+    striker_density = density
+    striker_compliance = compliance
+  end subroutine read_striker
+
+  ! &losses with the library's defaults (elastic, no drag); copied to losses_*.
+  recursive subroutine read_losses(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    real(c_double) :: damping, drag
+    namelist /losses/ damping, drag
+    integer :: ios
+    character(len=512) :: msg
+    damping = taper_chain_spec_damping(chain_defaults)
+    drag = taper_chain_spec_drag(chain_defaults)
+    read (unit, nml=losses, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "losses", ios, msg)
+    losses_damping = damping
+    losses_drag = drag
+  end subroutine read_losses
+
+  ! &material with the table's defaults (nothing given: rescaled units, one
+  ! material, rigid walls, the striker of material 1); copied to material_*.
+  recursive subroutine read_material(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    real(c_double) :: young, poisson, density, radius, velocity
+    real(c_double) :: other_young(MAX_SWEEP), other_poisson(MAX_SWEEP), &
+         other_density(MAX_SWEEP), sequence(MAX_SWEEP)
+    integer(int64) :: wall, striker
+    namelist /material/ young, poisson, density, radius, velocity, other_young, other_poisson, &
+         other_density, sequence, wall, striker
+    integer :: ios
+    character(len=512) :: msg
+    young = nan              ! no defaults: left out
+    poisson = nan
+    density = nan
+    radius = nan
+    velocity = nan
+    other_young = nan        ! empty lists
+    other_poisson = nan
+    other_density = nan
+    sequence = nan
+    wall = 0
+    striker = 1
+    read (unit, nml=material, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "material", ios, msg)
+    material_young = young
+    material_poisson = poisson
+    material_density = density
+    material_radius = radius
+    material_velocity = velocity
+    material_other_young = other_young
+    material_other_poisson = other_poisson
+    material_other_density = other_density
+    material_sequence = sequence
+    material_wall = wall
+    material_striker = striker
+  end subroutine read_material
+
+  ! &sensors with the table's defaults (no sampling); copied to sensors_*.
+  recursive subroutine read_sensors(file, unit)
+    character(len=*), intent(in) :: file
+    integer, intent(in) :: unit
+    real(c_double) :: interval, granules(MAX_SWEEP)
+    logical :: spacetime
+    integer(int64) :: spacetime_granules, spacetime_times
+    namelist /sensors/ interval, granules, spacetime, spacetime_granules, spacetime_times
+    integer :: ios
+    character(len=512) :: msg
+    interval = 0
+    granules = nan           ! an empty list
+    spacetime = .false.
+    spacetime_granules = 200
+    spacetime_times = 500
+    read (unit, nml=sensors, iostat=ios, iomsg=msg)
+    call check_read(file, unit, "sensors", ios, msg)
+    sensors_interval = interval
+    sensors_granules = granules
+    sensors_spacetime = spacetime
+    sensors_spacetime_granules = spacetime_granules
+    sensors_spacetime_times = spacetime_times
+  end subroutine read_sensors
 
   ! &fit with its table defaults, if the file has it; copied to fit_*.
   recursive subroutine read_fit(file, unit)
@@ -541,6 +846,10 @@ contains
        if (taper_method_from_name(str, code, e) == TAPER_OK) c = taper_method_name(code)
     case ("fit_model")
        if (taper_fit_model_from_name(str, code, e) == TAPER_OK) c = taper_fit_model_name(code)
+    case ("disorder")
+       if (taper_disorder_from_name(str, code, e) == TAPER_OK) c = taper_disorder_name(code)
+    case ("boundary")
+       if (taper_boundary_from_name(str, code, e) == TAPER_OK) c = taper_boundary_name(code)
     end select
   end function library_name
 
@@ -848,6 +1157,16 @@ contains
        keys = KEYS_TABLE
     case ("figure")
        keys = KEYS_FIGURE
+    case ("ends")
+       keys = KEYS_ENDS
+    case ("striker")
+       keys = KEYS_STRIKER
+    case ("losses")
+       keys = KEYS_LOSSES
+    case ("material")
+       keys = KEYS_MATERIAL
+    case ("sensors")
+       keys = KEYS_SENSORS
     case default
        keys = KEYS_SWEEP
     end select
@@ -1027,7 +1346,36 @@ contains
     call print_list("chain.s", s, n_s)
     call print_list("chain.q", q, n_q)
     call print_real("chain.exponent", exponent)
-    call print_list("chain.radii", radii, n_radii)
+    ! the radii a radii_file gave are not the scene's list (scene_dump echoes neither)
+    call print_list("chain.radii", radii, merge(0, n_radii, len_trim(radii_file) > 0))
+    write (output_unit, '(a)') "chain.radii_file = "//trim(radii_file)
+    call print_list("chain.pattern", pattern, n_pattern)
+    write (output_unit, '(a)') "chain.disorder = "//trim(disorder)
+    call print_real("chain.disorder_amplitude", disorder_amplitude)
+    write (output_unit, '(a,i0)') "chain.seed = ", seed(1)   ! a list: its first, as scene_dump
+    call print_real("chain.load", load)
+    write (output_unit, '(a)') "ends.left = "//trim(ends_left)
+    write (output_unit, '(a)') "ends.right = "//trim(ends_right)
+    call print_real("ends.left_compliance", ends_left_compliance)
+    call print_real("ends.right_compliance", ends_right_compliance)
+    call print_real("striker.radius", striker_radius)
+    call print_real("striker.density", striker_density)
+    call print_real("striker.compliance", striker_compliance)
+    call print_real("losses.damping", losses_damping)
+    call print_real("losses.drag", losses_drag)
+    call print_optional("material.young", material_young)
+    call print_optional("material.poisson", material_poisson)
+    call print_optional("material.density", material_density)
+    call print_optional("material.radius", material_radius)
+    call print_optional("material.velocity", material_velocity)
+    call print_list("material.other_young", material_other_young, count_given(material_other_young))
+    call print_list("material.other_poisson", material_other_poisson, &
+         count_given(material_other_poisson))
+    call print_list("material.other_density", material_other_density, &
+         count_given(material_other_density))
+    call print_list("material.sequence", material_sequence, count_given(material_sequence))
+    write (output_unit, '(a,i0)') "material.wall = ", material_wall
+    write (output_unit, '(a,i0)') "material.striker = ", material_striker
     write (output_unit, '(a)') "solver.method = "//trim(method)
     call print_real("solver.rtol", rtol)
     call print_real("solver.atol", atol)
@@ -1035,7 +1383,13 @@ contains
     write (output_unit, '(a,i0)') "solver.last_granule = ", last_granule
     call print_real("solver.t_max", t_max)
     write (output_unit, '(a,i0)') "solver.max_steps = ", max_steps
+    call print_real("solver.t_end", t_end)
     write (output_unit, '(a,l1)') "solver.numerics = ", numerics
+    call print_real("sensors.interval", sensors_interval)
+    call print_list("sensors.granules", sensors_granules, count_given(sensors_granules))
+    write (output_unit, '(a,l1)') "sensors.spacetime = ", sensors_spacetime
+    write (output_unit, '(a,i0)') "sensors.spacetime_granules = ", sensors_spacetime_granules
+    write (output_unit, '(a,i0)') "sensors.spacetime_times = ", sensors_spacetime_times
     write (output_unit, '(a)') "output.dir = "//trim(dir)
     write (output_unit, '(a,l1)') "output.progress = ", progress
     write (output_unit, '(a,i0)') "output.threads = ", threads
@@ -1043,6 +1397,7 @@ contains
     write (output_unit, '(a,i0)') "output.every = ", every
     call print_real("output.max_energy_error", max_energy_error)
     call print_real("output.max_momentum_error", max_momentum_error)
+    write (output_unit, '(a)') "output.units = "//trim(units)
     write (output_unit, '(a)') "fit.model = "//trim(fit_model)
     write (output_unit, '(a)') "fit.x = "//trim(fit_x)
     write (output_unit, '(a)') "fit.y = "//trim(fit_y)
@@ -1102,11 +1457,11 @@ contains
   ! The chain of sweep point (is, iq), built through the setters; c_null_ptr
   ! after reporting why not.  (One call per statement: Fortran may skip a
   ! function reference in a logical expression whose value is known.)
-  function make_chain(is, iq) result(c)
-    integer, intent(in) :: is, iq
+  function make_chain(is, iq, iseed) result(c)
+    integer, intent(in) :: is, iq, iseed
     type(c_ptr) :: c, cs
     type(taper_error) :: e
-    integer(c_int) :: p, st
+    integer(c_int) :: p, st, d, b
     c = c_null_ptr
     if (.not. count_ok("chain", "n_granules", n_granules)) return
     cs = taper_chain_spec_alloc(e)
@@ -1122,10 +1477,69 @@ contains
     if (st == TAPER_OK) st = taper_chain_spec_set_exponent(cs, exponent, e)
     if (st == TAPER_OK .and. n_radii > 0) &
          st = taper_chain_spec_set_radii(cs, c_loc(radii(1)), int(n_radii, c_size_t), e)
+    ! Beyond the paper (issue 15): each through its setter, defaults the library's.
+    if (st == TAPER_OK .and. n_pattern > 0) &
+         st = taper_chain_spec_set_pattern(cs, c_loc(pattern(1)), int(n_pattern, c_size_t), e)
+    if (st == TAPER_OK) st = taper_disorder_from_name(disorder, d, e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_disorder(cs, d, disorder_amplitude, &
+         int(seed(iseed), c_int64_t), e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_load(cs, load, e)
+    if (st == TAPER_OK) st = taper_boundary_from_name(ends_left, b, e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_end(cs, TAPER_LEFT, b, ends_left_compliance, e)
+    if (st == TAPER_OK) st = taper_boundary_from_name(ends_right, b, e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_end(cs, TAPER_RIGHT, b, ends_right_compliance, e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_striker(cs, striker_radius, striker_density, &
+         striker_compliance, e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_damping(cs, losses_damping, e)
+    if (st == TAPER_OK) st = taper_chain_spec_set_drag(cs, losses_drag, e)
     if (st == TAPER_OK) c = taper_chain_alloc(cs, e)
-    if (.not. c_associated(c)) call report("chain", e)
+    if (.not. c_associated(c)) call report_chain(e)
     call taper_chain_spec_free(cs)
   end function make_chain
+
+  ! A refusal of a chain setting under the group and key of the scene that
+  ! holds it (the library names its setters: left_end is &ends left, ...).
+  subroutine report_chain(e)
+    type(taper_error), intent(in) :: e
+    character(len=:), allocatable :: field
+    field = taper_field(e)
+    select case (field)
+    case ("left_end", "right_end", "left_wall_compliance", "right_wall_compliance")
+       if (field(1:4) == "left") then
+          field = "left"//merge("_compliance", "           ", index(field, "wall") > 0)
+       else
+          field = "right"//merge("_compliance", "           ", index(field, "wall") > 0)
+       end if
+       write (error_unit, '(a)') trim(path)//": &ends "//trim(field)//": "//taper_message(e)
+    case ("striker_radius", "striker_density", "striker_compliance")
+       write (error_unit, '(a)') trim(path)//": &striker "//field(9:)//": "//taper_message(e)
+    case ("damping", "drag")
+       write (error_unit, '(a)') trim(path)//": &losses "//field//": "//taper_message(e)
+    case default
+       call report("chain", e)
+    end select
+  end subroutine report_chain
+
+  ! What the C driver does with a scene and taper_nml does not: real units
+  ! and mixed materials (&material); a scene's sampled time series (&sensors)
+  ! are not written (said once on stderr), the run is the same.  Refused before any run, naming the variable, rather than
+  ! run as something else.  (--dump reads and prints them all.)
+  logical function runnable()
+    runnable = .false.
+    if (is_given(material_young) .or. is_given(material_poisson) .or. &
+         is_given(material_density) .or. is_given(material_radius) .or. &
+         is_given(material_velocity) .or. count_given(material_sequence) > 0 .or. &
+         count_given(material_other_young) > 0 .or. lower(units) == "si") then
+       write (error_unit, '(a)') trim(path)//": &material: taper_nml runs in rescaled units "// &
+            "with one material only; run the scene with taper"
+    else
+       ! Sampling does not change the run (CVODE interpolates at the sample
+       ! times without stopping): the pass times and peaks are the same.
+       if (sensors_interval > 0 .or. sensors_spacetime) write (error_unit, '(a)') trim(path)// &
+            ": &sensors: not written by taper_nml (taper writes the time series); the run is the same"
+       runnable = .true.
+    end if
+  end function runnable
 
   ! The solver settings of the scene through the setters; c_null_ptr after
   ! reporting why not.
@@ -1149,6 +1563,7 @@ contains
          st = taper_solver_spec_set_last_granule(ss, int(last_granule, c_size_t), e)
     if (st == TAPER_OK) st = taper_solver_spec_set_t_max(ss, t_max, e)
     if (st == TAPER_OK) st = taper_solver_spec_set_max_steps(ss, int(max_steps, c_long), e)
+    if (st == TAPER_OK) st = taper_solver_spec_set_t_end(ss, t_end, e)
     if (st /= TAPER_OK) then
        call report("solver", e)
        call taper_solver_spec_free(ss)
@@ -1158,8 +1573,8 @@ contains
 
   ! One point of the scene: chain, dynamics (with the theory the sim computes
   ! once) or the theory alone; 0, 1 (failure), 2 (bad input) or 3 (partial).
-  integer function run_point(is, iq) result(rc)
-    integer, intent(in) :: is, iq
+  integer function run_point(is, iq, iseed) result(rc)
+    integer, intent(in) :: is, iq, iseed
     type(taper_error) :: e
     type(c_ptr) :: c, ss, sim
     real(c_double), allocatable, target :: v_buf(:), t_buf(:)
@@ -1168,7 +1583,7 @@ contains
     integer(c_size_t) :: n, k, step
 
     rc = 0
-    c = make_chain(is, iq)
+    c = make_chain(is, iq, iseed)
     if (.not. c_associated(c)) then
        rc = 2
        return
