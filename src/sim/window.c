@@ -5,7 +5,12 @@
  *
  *  grow:      granule hi+1 joins when z_hi reaches the growth threshold.
  *             Its state and Nordsieck history are zero in every vector, which
- *             is exact for a granule at rest: no solver restart.
+ *             is exact for a granule at rest: no solver restart.  It joins
+ *             at CVODE's internal time (the end of the step holding the
+ *             root), so the contact's impulse from the root to there is
+ *             neglected: the thresholds keep its force far below the
+ *             tolerance, and the window starts with two bodies (the first
+ *             contact closes at t = 0+, see taper_window_growth_thresholds).
  *  shrink:    granule lo leaves, after all its observables are known, when
  *             either criterion below holds.  Dropping components leaves the
  *             others' Nordsieck history exact: no restart.
@@ -139,19 +144,15 @@ void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
         double per_collision = fraction * sim->z_scale[k - 1];
         grow_z[k - 1] = fmax(fmin(per_time, per_collision), GROW_FLOOR);
     }
-    /* The first contact joins at the first root evaluation.  Until then
-     * granule 1 flies alone at constant velocity, CVODE's error estimate is
-     * zero and its step grows 10^4-fold after the first one (INITIAL_STEP,
-     * 1e-4): a threshold beyond z_1 = 1e-4 was crossed inside a step to
-     * t = 1.0001, and granule 2 joined there, at CVODE's internal time, with
-     * its contact compressed to 1 and a zero history.  That is n >= 12,
-     * whose threshold 1e-40^(1/(n-1)) z_scale is 2.3e-4 (n = 12) to 8e-3
-     * (n = 20): CVODE failed at t = 1.0001 (flag -4, energy error 0.17) on
-     * every profile.  At the floor the root lies in the first step, whose
-     * neglected impulse r h^n / n is at most 1e-48 for n >= 12; for
-     * n <= 11 the threshold was within the first step already, and the
-     * integration is unchanged (test window/high_exponents). */
-    if (sim->n > 1) grow_z[sim->model.impulse - 1] = GROW_FLOOR;
+    /* No threshold for the contact of the body with the impulse: it is in
+     * the window from the start (solve.c, make_state).  Starting with that
+     * body alone, the first growth root fell inside CVODE's first step
+     * (h = 1e-4) and granule 2 joined at its end, at rest, short of the
+     * impulse r h^n / n (energy error 1.3e-6 for n = 3/2); for n >= 12 a
+     * threshold beyond z = 1e-4 was first crossed inside a second step to
+     * t = 1.0001 (a lone ballistic body has no error estimate: the step
+     * grew 10^4-fold) and CVODE failed there (flag -4).  A window of two
+     * bodies has neither: its error estimate follows the first contact. */
     if (sim->model.load > 0.0) loaded_thresholds(sim, grow_z);
     grow_z[sim->n - 1] = INFINITY; /* nothing beyond the last granule */
 }

@@ -7,12 +7,16 @@
  * error control allows per step, rtol |y| (+ atol for velocities).  Both the
  * windowed and the whole-chain run carry a global error of their own, the sum
  * of ~100 local errors per granule the pulse has crossed; measured against a
- * 100x tighter reference it reaches up to ~260 units for the whole chain
- * (v_peak, backward linear) and ~110 for the window (docs/window.md).  Two
- * approximations differ by at most the sum of their errors, so:
+ * 100x tighter reference it reaches up to ~380 units for the whole chain
+ * (v_peak, backward linear S = 0.5, granule 11) and ~80 for the window
+ * (v_peak, forward exponential; ~120 while the window started with one
+ * granule, docs/window.md).  Two approximations differ by at most the sum
+ * of their errors, so:
  *
  *  - window vs whole chain, same tolerance: <= AGREE error units
- *    (300: 3e-8 relative at the default rtol 1e-10);
+ *    (500: 5e-8 relative at the default rtol 1e-10; 300 held only while
+ *    the two runs' errors there had the same sign: 267 units apart with
+ *    errors of 120 and 375, 406 apart once the window's fell to 52);
  *  - the window is not less accurate than the whole chain: its distance to
  *    the reference is at most its whole-chain counterpart's plus SLACK units.
  *
@@ -27,7 +31,7 @@
 
 #include <stdlib.h>
 
-#define AGREE 300.0
+#define AGREE 500.0
 #define SLACK 20.0
 
 static taper_chain *make_chain_n(taper_profile profile, size_t n, double param, double exponent)
@@ -196,6 +200,42 @@ static void high_exponents(void **state)
         same_trajectory_n(TAPER_BACKWARD_EXPONENTIAL, 60, 0.05, exponents[i], 1);
         same_trajectory_n(TAPER_FORWARD_EXPONENTIAL, 60, 0.05, exponents[i], 1);
     }
+}
+
+/* Contact exponents 3/2 to 2: the first contact closes at t = 0+ and is in
+ * the window from the start.  Joining it at its growth root, the window
+ * lost the contact's impulse over CVODE's first step, r h^n / n for
+ * h = 1e-4, whatever the tolerance: at rtol 1e-12 energy errors of 1.3e-6
+ * (n = 3/2), 1.1e-7 (n = 7/4) and 1.2e-8 (n = 2) against 2.5e-9 or less
+ * for the whole chain, and v_peak off by 8e-7 at n = 3/2.  Now the window
+ * conserves energy as the whole chain does (measured <= 3.9e-9 for both,
+ * N = 100), and its v_peak agrees with the whole chain's within the
+ * tolerance's global error. */
+static void low_exponents_first_contact(void **state)
+{
+    (void)state;
+    const double exponents[] = {1.5, 1.75, 2.0};
+    const taper_profile profiles[] = {TAPER_MONODISPERSE, TAPER_BACKWARD_LINEAR};
+    const double params[] = {0.0, 0.05};
+    for (size_t p = 0; p < 2; p++)
+        for (size_t i = 0; i < sizeof exponents / sizeof *exponents; i++) {
+            const size_t n = 40;
+            taper_chain *c = make_chain_n(profiles[p], n, params[p], exponents[i]);
+            taper_sim *w = run(c, 1, 100.0), *full = run(c, 0, 100.0); /* rtol 1e-12 */
+            const double e_w = stat(w, TAPER_STAT_ENERGY_ERROR), e_full = stat(full, TAPER_STAT_ENERGY_ERROR);
+            const double *vw = taper_sim_observable(w, TAPER_V_PEAK);
+            const double *vf = taper_sim_observable(full, TAPER_V_PEAK);
+            double dv = 0.0;
+            for (size_t k = 0; k < n; k++) dv = fmax(dv, fabs(vw[k] - vf[k]) / fabs(vf[k]));
+            if (getenv("TEST_WINDOW_VERBOSE") || !(e_w <= 1e-8 && dv <= 1e-8))
+                print_error("%s n = %g: energy error window %.2e, whole chain %.2e; v_peak apart %.2e\n",
+                            taper_profile_name(profiles[p]), exponents[i], e_w, e_full, dv);
+            assert_true(e_w <= 1e-8 && e_full <= 1e-8);
+            assert_true(dv <= 1e-8);
+            taper_sim_free(w);
+            taper_sim_free(full);
+            taper_chain_free(c);
+        }
 }
 
 /* Behind a pulse of a high exponent the first granule recoils at a real
@@ -488,6 +528,7 @@ int main(void)
         cmocka_unit_test(backward_exponential),
         cmocka_unit_test(forward_exponential),
         cmocka_unit_test(high_exponents),
+        cmocka_unit_test(low_exponents_first_contact),
         cmocka_unit_test(recoil_then_rest_leaves_window),
         cmocka_unit_test(long_backward_exponential),
         cmocka_unit_test(recoil_drift_leaves_window),
