@@ -20,10 +20,12 @@ def test_name_tuples_come_from_the_library():
     assert taper.FIT_MODELS == ("power", "exponential", "divergence_b", "divergence_c",
                                 "divergence_m")
     assert taper.PROFILES == ("monodisperse", "backward_linear", "forward_linear",
-                              "backward_exponential", "forward_exponential", "custom")
+                              "backward_exponential", "forward_exponential", "custom",
+                              "decorated")
     assert taper.METHODS == ("adams", "bdf")
-    assert len(taper.STATISTICS) == 14
-    assert taper.STATISTICS[0] == "steps" and taper.STATISTICS[-1] == "complete"
+    assert len(taper.STATISTICS) == 25
+    assert taper.STATISTICS[0] == "steps" and taper.STATISTICS[13] == "complete"
+    assert taper.STATISTICS[-1] == "wall_impulse_right"
     # The observables are columns of a run, the theory's (but mu) theory_<name>.
     r = taper.simulate(n_granules=5)
     assert all(name in r.columns for name in taper.OBSERVABLES)

@@ -22,7 +22,9 @@ def test_threads_give_identical_results():
     for i, r in enumerate(together):
         ref = alone[i % len(CHAINS)]
         assert r.equals(ref), CHAINS[i % len(CHAINS)]
-        assert r.stats == ref.stats
+        assert r.stats.keys() == ref.stats.keys()
+        for name, value in r.stats.items():   # NaN (no wall) equals NaN here
+            assert value == ref.stats[name] or (value != value and ref.stats[name] != ref.stats[name]), name
 
 
 def test_the_gil_is_released_during_a_run():
