@@ -20,7 +20,7 @@
 ! A list of values for s, q or seed is a sweep: each value is run in turn.
 ! &material (real units, mixed materials) is read and checked but not run
 ! (refused, naming the group: taper runs it); &sensors' time series are not
-! written (the run is the same; said on stderr).  The
+! written (the pass times are the same to rounding; said on stderr).  The
 ! analysis groups &fit, &table and &figure (the C driver's fits, tables and
 ! figures) are read too, so that --dump proves every group of a scene is a
 ! real Fortran namelist and resolves as in the C parser; the runs here do not
@@ -1521,9 +1521,10 @@ contains
   end subroutine report_chain
 
   ! What the C driver does with a scene and taper_nml does not: real units
-  ! and mixed materials (&material); a scene's sampled time series (&sensors)
-  ! are not written (said once on stderr), the run is the same.  Refused before any run, naming the variable, rather than
-  ! run as something else.  (--dump reads and prints them all.)
+  ! and mixed materials (&material), refused before any run, naming the
+  ! group, rather than run as something else; a scene's sampled time series
+  ! (&sensors) are not written (said on stderr; the pass times are the same
+  ! to rounding).  (--dump reads and prints them all.)
   logical function runnable()
     runnable = .false.
     if (is_given(material_young) .or. is_given(material_poisson) .or. &
@@ -1533,10 +1534,11 @@ contains
        write (error_unit, '(a)') trim(path)//": &material: taper_nml runs in rescaled units "// &
             "with one material only; run the scene with taper"
     else
-       ! Sampling does not change the run (CVODE interpolates at the sample
-       ! times without stopping): the pass times and peaks are the same.
+       ! Sampling does not stop the run (CVODE interpolates at the sample
+       ! times): the pass times and peaks are the same to rounding (1e-14).
        if (sensors_interval > 0 .or. sensors_spacetime) write (error_unit, '(a)') trim(path)// &
-            ": &sensors: not written by taper_nml (taper writes the time series); the run is the same"
+            ": &sensors: not written by taper_nml (taper writes the time series); "// &
+            "the pass times are the same"
        runnable = .true.
     end if
   end function runnable
