@@ -5,14 +5,28 @@
 ! opaque, set and read through the interfaces, which are exercised here: the
 ! name lists, setters (a refusal names its setting and leaves the spec as
 ! it was), a run with a monitor written in Fortran, statistics by name, the
-! sim's theory, taper_dynamics and a fit.
+! sim's theory, taper_dynamics and a fit; every enum constant against the
+! header's (fortran_abi.c); and issue 15's options: a right wall with t_end
+! and a sampler written in Fortran (31 samples at t = 0..30), the wall's
+! statistics, taper_sim_forces, taper_unit_scale and the new names.
 module test_fortran_abi_monitor
   use, intrinsic :: iso_c_binding
   use taper, only: taper_progress
   implicit none
-  integer, save :: calls = 0
+  integer, save :: calls = 0, samples = 0
   integer(c_size_t), save :: last_granule_seen = 0
+  real(c_double), save :: last_sample_t = -1
 contains
+  ! A sampler: counts the samples and checks that the sim is at its time.
+  function count_samples(sim, user) bind(C) result(stop)
+    use taper, only: taper_sim_time
+    type(c_ptr), value :: sim, user
+    integer(c_int) :: stop
+    if (c_associated(user)) continue
+    samples = samples + 1
+    last_sample_t = taper_sim_time(sim)
+    stop = 0
+  end function count_samples
   ! Stops the run at the third pulse event.
   function stop_at_third(progress, user) bind(C) result(stop)
     type(taper_progress), intent(in) :: progress
@@ -75,7 +89,8 @@ program test_fortran_abi
        TAPER_MAX_ORDER_ADAMS, TAPER_MAX_ORDER_BDF]
   type(taper_error), target :: e
   type(taper_progress), target :: pr
-  type(c_ptr) :: cs, ss, chain, sim, dyn, fs, fr
+  type(c_ptr) :: cs, ss, chain, sim, dyn, fs, fr, wchain, wsim
+  real(c_double), allocatable :: force(:)
   real(c_double), pointer :: t_pass(:), radius(:), t_th(:)
   real(c_double), allocatable :: y(:), ydot(:)
   real(c_double) :: energy, momentum
@@ -168,6 +183,58 @@ program test_fortran_abi
        call fail("monitor: "//taper_message(e))
   if (abs(taper_sim_statistic(sim, TAPER_STAT_COMPLETE)) > 0) call fail("interrupted but complete")
   call taper_sim_free(sim)
+
+  ! Beyond the paper through the module: a right wall, t_end and a sampler
+  ! written in Fortran; the wall statistics, the forces and the time.
+  cs = taper_chain_spec_alloc(e)
+  if (taper_chain_spec_set_n_granules(cs, 10_c_size_t, e) /= TAPER_OK) call fail("n_granules 10")
+  if (taper_chain_spec_set_end(cs, TAPER_RIGHT, TAPER_END_WALL, 0.0_c_double, e) /= TAPER_OK) &
+       call fail("set_end: "//taper_message(e))
+  if (taper_chain_spec_end(cs, TAPER_RIGHT) /= TAPER_END_WALL) call fail("spec_end")
+  status = taper_chain_spec_set_damping(cs, -1.0_c_double, e)
+  call refused(status, "damping")
+  status = taper_chain_spec_set_end(cs, TAPER_LEFT, TAPER_END_FREE, -1.0_c_double, e)
+  call refused(status, "left_wall_compliance")
+  ss = taper_solver_spec_alloc(e)
+  if (taper_solver_spec_set_t_end(ss, 30.0_c_double, e) /= TAPER_OK) call fail("t_end")
+  if (taper_solver_spec_set_sampler(ss, 1.0_c_double, c_funloc(count_samples), c_null_ptr, e) &
+       /= TAPER_OK) call fail("sampler: "//taper_message(e))
+  if (abs(taper_solver_spec_sample_interval(ss) - 1) > 0) call fail("sample_interval")
+  wchain = taper_chain_alloc(cs, e)
+  call taper_chain_spec_free(cs)
+  if (.not. c_associated(wchain)) call fail("wall chain: "//taper_message(e))
+  if (taper_chain_end(wchain, TAPER_RIGHT) /= TAPER_END_WALL .or. &
+       .not. taper_chain_end_contact(wchain, TAPER_RIGHT) > 0) call fail("chain_end")
+  wsim = taper_sim_alloc(wchain, ss, e)
+  call taper_solver_spec_free(ss)
+  status = taper_sim_run(wsim, e)
+  if (status /= TAPER_OK) call fail("wall run: "//taper_message(e))
+  ! samples at t = 0, 1, ..., 30
+  if (samples /= 31 .or. abs(last_sample_t - 30) > 1d-12) then
+     print '(a,i0,a,es12.4)', "FAIL: sampler called ", samples, " times, last at t = ", last_sample_t
+     fails = fails + 1
+  end if
+  if (abs(taper_sim_time(wsim) - 30) > 1d-9) call fail("sim_time after t_end")
+  if (.not. taper_sim_statistic(wsim, TAPER_STAT_WALL_PEAK_FORCE_RIGHT) > 0 .or. &
+       .not. ieee_is_nan(taper_sim_statistic(wsim, TAPER_STAT_WALL_PEAK_FORCE_LEFT))) &
+       call fail("wall statistics")
+  if (abs(taper_sim_statistic(wsim, TAPER_STAT_ENERGY_INITIAL) - 0.5_c_double) > 1d-12) &
+       call fail("energy_initial")
+  allocate (force(11))
+  force = -1
+  if (taper_sim_forces(wsim, force, e) /= TAPER_OK) call fail("forces: "//taper_message(e))
+  if (any(force < 0) .or. abs(force(1)) > 0) call fail("forces: negative, or a free left end pushing")
+  deallocate (force)
+  call taper_sim_free(wsim)
+  call taper_chain_free(wchain)
+  ! Real units: one rescaled length is R_1 alpha^(1/n) metres, so at most R_1
+  ! for alpha <= 1 (steel, R_1 = 1 cm, 1 m/s); NaN outside the physical range.
+  if (.not. (taper_unit_scale(TAPER_DIM_LENGTH, 193d9, 0.3d0, 8000d0, 0.01d0, 1d0) > 0) .or. &
+       .not. ieee_is_nan(taper_unit_scale(TAPER_DIM_LENGTH, 193d9, 0.6d0, 8000d0, 0.01d0, 1d0))) &
+       call fail("unit_scale")
+  if (taper_dimension_unit(TAPER_DIM_VELOCITY) /= "m/s" .or. &
+       taper_boundary_name(TAPER_END_WALL) /= "wall" .or. &
+       taper_disorder_name(TAPER_DISORDER_MASS) /= "mass") call fail("names of issue 15")
 
   ! The equations of motion for one's own integrator: the impulse state.
   dyn = taper_dynamics_alloc(chain, e)
