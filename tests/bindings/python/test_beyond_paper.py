@@ -185,3 +185,31 @@ def test_run_scene_of_a_physics_scene_is_the_drivers_run(name, source, driver, t
         "striker_radius", "striker_density", "striker_compliance", "load", "damping", "drag",
         "pattern")}, **({"s": s["s"]} if s["s"] else {}), **({"q": s["q"]} if s["q"] else {}))
     assert np.array_equal(again.t_pass, r.t_pass, equal_nan=True)
+
+
+def test_samples_hold_the_state_and_forces_that_conserve_energy():
+    """sample_interval: the state and contact forces at t = 0, 1, ..., 30 of
+    a chain against a right wall.  The energy recomputed from the samples
+    alone, sum m v^2 / 2 + sum F z / n (each contact's energy r z^n / n =
+    F z / n, z the overlap: x_k - x_{k+1}, and x_N for the wall), is E(0) =
+    1/2 at every sample."""
+    n = 2.5
+    r = taper.simulate(n_granules=20, right_end="wall", t_end=30.0, sample_interval=1.0)
+    smp = r.samples
+    assert r.settings["sample_interval"] == 1.0
+    assert np.array_equal(smp["t"], np.arange(31.0))
+    assert smp["x"].shape == (31, 20) and smp["v"].shape == (31, 20)
+    assert smp["force"].shape == (31, 21)
+    assert smp["v"][0, 0] == 1.0 and np.all(smp["v"][0, 1:] == 0)     # the impulse
+    assert np.all(smp["force"] >= 0) and np.all(smp["force"][:, 0] == 0)  # free left end
+    z = np.clip(smp["x"][:, :-1] - smp["x"][:, 1:], 0, None)
+    z_wall = np.clip(smp["x"][:, -1], 0, None)
+    energy = 0.5 * (r.m * smp["v"] ** 2).sum(axis=1) + \
+        (smp["force"][:, 1:-1] * z).sum(axis=1) / n + smp["force"][:, -1] * z_wall / n
+    assert np.allclose(energy, 0.5, rtol=0, atol=1e-7), energy
+    assert smp["force"][:, -1].max() > 0                      # the pulse reached the wall
+    none = taper.simulate(n_granules=20)
+    assert none.samples is None
+    with pytest.raises(taper.InvalidArgumentError) as e:
+        taper.simulate(n_granules=20, sample_interval=-1.0)
+    assert e.value.field is not None

@@ -97,7 +97,8 @@ def simulate(*, profile: Optional[str] = None, s: Optional[Real] = None,
              atol: Optional[Real] = None, window: Optional[bool] = None,
              last_granule: Optional[int] = None, max_order: Optional[int] = None,
              t_max: Optional[Real] = None, max_steps: Optional[int] = None,
-             t_end: Optional[Real] = None, **beyond_paper: Any) -> Result:
+             t_end: Optional[Real] = None, sample_interval: Optional[Real] = None,
+             **beyond_paper: Any) -> Result:
     """Builds a chain, integrates its dynamics and returns a Result.
 
     Chain (``&chain`` of a scene): ``profile`` (one of PROFILES, default
@@ -112,7 +113,13 @@ def simulate(*, profile: Optional[str] = None, s: Optional[Real] = None,
     observables are known; 0: the whole chain), ``max_order``, ``t_max`` and
     ``max_steps`` (0: no limit; reaching one gives a partial result),
     ``t_end`` (go on integrating until t_end after every observable is
-    known, e.g. to follow a reflection from a wall; 0: stop then).
+    known, e.g. to follow a reflection from a wall; 0: stop then),
+    ``sample_interval`` (> 0: the state at t = 0, dt, 2 dt, ... while the
+    run lasts, in ``Result.samples``: ``t``, ``x`` and ``v`` (samples x N),
+    ``force`` (samples x (N + 1): force[:, 0] on granule 1 from the left,
+    force[:, k] of the contact (k, k+1), force[:, N] from the right);
+    interpolated by CVODE without stopping it; memory 3 N + 2 doubles per
+    sample).
 
     Beyond the paper (taper.h, docs/physics.md; every default is the
     paper's chain), named as the library's fields (see BEYOND_PAPER):
@@ -144,7 +151,8 @@ def simulate(*, profile: Optional[str] = None, s: Optional[Real] = None,
                                 exponent=exponent, radii=radii, method=method, rtol=rtol,
                                 atol=atol, window=window, last_granule=last_granule,
                                 max_order=max_order, t_max=t_max, max_steps=max_steps,
-                                t_end=t_end, **_beyond_paper(beyond_paper, "simulate")))
+                                t_end=t_end, sample_interval=sample_interval,
+                                **_beyond_paper(beyond_paper, "simulate")))
     return Result._from_core(d, "simulate")
 
 

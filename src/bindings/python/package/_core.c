@@ -144,7 +144,7 @@ static const setting settings[] = {
     {"pattern", 1, K_PATTERN},              {"materials", 1, K_MATERIALS},
     {"disorder", 1, K_DISORDER},            {"disorder_amplitude", 1, K_REAL},
     {"disorder_seed", 1, K_SEED},
-    {"t_end", 0, K_REAL},
+    {"t_end", 0, K_REAL},         {"sample_interval", 0, K_REAL},
 };
 #define N_SETTINGS (sizeof settings / sizeof settings[0])
 
@@ -301,6 +301,15 @@ static int materials_pair(PyObject *v, PyArrayObject **rho, PyArrayObject **c)
     return -1;
 }
 
+/* The sampler a spec carries between parse_settings and run_specs, which
+ * replaces it by collect_sample; never called. */
+static int no_sample(const taper_sim *sim, void *user)
+{
+    (void)sim;
+    (void)user;
+    return 0;
+}
+
 /* Applies one keyword to its spec through the library setter (or records
  * it in *pd for apply_pending). */
 static int apply_setting(const setting *st, PyObject *v, taper_chain_spec *cs, taper_solver_spec *ss,
@@ -349,6 +358,11 @@ static int apply_setting(const setting *st, PyObject *v, taper_chain_spec *cs, t
         else if (strcmp(name, "rtol") == 0) rc = taper_solver_spec_set_rtol(ss, x, &err);
         else if (strcmp(name, "atol") == 0) rc = taper_solver_spec_set_atol(ss, x, &err);
         else if (strcmp(name, "t_end") == 0) rc = taper_solver_spec_set_t_end(ss, x, &err);
+        else if (strcmp(name, "sample_interval") == 0)
+            /* checked and kept here; the run samples through its own
+             * collector (run_specs, collect_sample) */
+            rc = x == 0.0 ? taper_solver_spec_set_sampler(ss, 0.0, NULL, NULL, &err)
+                          : taper_solver_spec_set_sampler(ss, x, no_sample, NULL, &err);
         else rc = taper_solver_spec_set_t_max(ss, x, &err);
         break;
     }
@@ -699,7 +713,8 @@ static PyObject *settings_dict(const taper_chain_spec *cs, const taper_solver_sp
             put(d, "max_order", PyLong_FromLong(taper_solver_spec_max_order(ss))) < 0 ||
             put(d, "t_max", PyFloat_FromDouble(taper_solver_spec_t_max(ss))) < 0 ||
             put(d, "max_steps", PyLong_FromLong(taper_solver_spec_max_steps(ss))) < 0 ||
-            put(d, "t_end", PyFloat_FromDouble(taper_solver_spec_t_end(ss))) < 0)
+            put(d, "t_end", PyFloat_FromDouble(taper_solver_spec_t_end(ss))) < 0 ||
+            put(d, "sample_interval", PyFloat_FromDouble(taper_solver_spec_sample_interval(ss))) < 0)
             goto fail;
     }
     return d;
@@ -715,6 +730,11 @@ typedef struct run_ctx {
     char **warnings;        /* copies of the level >= 1 log messages        */
     size_t n_warnings, cap;
     size_t n_dropped;       /* warnings lost to a failed allocation         */
+    /* samples (sample_interval): times, displacements and velocities (N per
+     * sample), contact forces (N + 1 per sample) */
+    size_t n_granules, n_samples, samples_cap;
+    double *t, *x, *v, *force;
+    int samples_failed;     /* out of memory: the run was stopped           */
 } run_ctx;
 
 static double monotonic(void)
@@ -767,6 +787,66 @@ static void ctx_free(run_ctx *ctx)
 {
     for (size_t i = 0; i < ctx->n_warnings; i++) free(ctx->warnings[i]);
     free(ctx->warnings);
+    free(ctx->t);
+    free(ctx->x);
+    free(ctx->v);
+    free(ctx->force);
+}
+
+/* The sampler of a run with sample_interval (without the GIL): copies the
+ * state and forces at the sample time into growing buffers; stops the run
+ * if they cannot grow. */
+static int collect_sample(const taper_sim *sim, void *user)
+{
+    run_ctx *ctx = user;
+    const size_t n = ctx->n_granules;
+    if (ctx->n_samples == ctx->samples_cap) {
+        size_t cap = ctx->samples_cap ? 2 * ctx->samples_cap : 64;
+        double *t = realloc(ctx->t, cap * sizeof *t);
+        if (t) ctx->t = t;
+        double *x = t ? realloc(ctx->x, cap * n * sizeof *x) : NULL;
+        if (x) ctx->x = x;
+        double *v = x ? realloc(ctx->v, cap * n * sizeof *v) : NULL;
+        if (v) ctx->v = v;
+        double *f = v ? realloc(ctx->force, cap * (n + 1) * sizeof *f) : NULL;
+        if (f) ctx->force = f;
+        if (!f) {
+            ctx->samples_failed = 1;
+            return 1;
+        }
+        ctx->samples_cap = cap;
+    }
+    const size_t i = ctx->n_samples++;
+    taper_error err;
+    ctx->t[i] = taper_sim_time(sim);
+    if (taper_sim_state(sim, ctx->x + i * n, ctx->v + i * n, &err) != TAPER_OK)
+        for (size_t k = 0; k < n; k++) ctx->x[i * n + k] = ctx->v[i * n + k] = NAN;
+    if (taper_sim_forces(sim, ctx->force + i * (n + 1), &err) != TAPER_OK)
+        for (size_t k = 0; k <= n; k++) ctx->force[i * (n + 1) + k] = NAN;
+    return 0;
+}
+
+/* {"t": (S,), "x": (S, N), "v": (S, N), "force": (S, N + 1)} of the samples. */
+static PyObject *samples_dict(const run_ctx *ctx)
+{
+    const npy_intp s = (npy_intp)ctx->n_samples, n = (npy_intp)ctx->n_granules;
+    PyObject *d = PyDict_New();
+    if (!d) return NULL;
+    struct { const char *key; const double *src; npy_intp cols; } parts[] = {
+        {"x", ctx->x, n}, {"v", ctx->v, n}, {"force", ctx->force, n + 1}};
+    if (put(d, "t", double_array(ctx->t, (size_t)s)) < 0) goto fail;
+    for (size_t j = 0; j < sizeof parts / sizeof parts[0]; j++) {
+        npy_intp dims[2] = {s, parts[j].cols};
+        PyObject *a = PyArray_SimpleNew(2, dims, NPY_DOUBLE);
+        if (!a) goto fail;
+        if (s) memcpy(PyArray_DATA((PyArrayObject *)a), parts[j].src,
+                      (size_t)(s * parts[j].cols) * sizeof(double));
+        if (put(d, parts[j].key, a) < 0) goto fail;
+    }
+    return d;
+fail:
+    Py_DECREF(d);
+    return NULL;
 }
 
 static PyObject *warnings_list(const run_ctx *ctx)
@@ -889,6 +969,14 @@ static PyObject *run_specs(const taper_chain_spec *cs, const taper_solver_spec *
         }
         taper_solver_spec_set_monitor(ss, monitor, &ctx);
         taper_solver_spec_set_log(ss, collect_log, &ctx);
+        const double interval = taper_solver_spec_sample_interval(ss_in);
+        if (interval > 0.0) {
+            ctx.n_granules = n;
+            if (taper_solver_spec_set_sampler(ss, interval, collect_sample, &ctx, &err) != TAPER_OK) {
+                raise_library(&err);
+                goto fail;
+            }
+        }
         ctx.last_check = monotonic();
 
         Py_BEGIN_ALLOW_THREADS
@@ -900,6 +988,10 @@ static PyObject *run_specs(const taper_chain_spec *cs, const taper_solver_spec *
             goto fail;
         }
         if (ctx.interrupted) goto fail; /* KeyboardInterrupt (or a handler's exception) is set */
+        if (ctx.samples_failed) {
+            PyErr_NoMemory();
+            goto fail;
+        }
         if (rc != TAPER_OK && rc != TAPER_ESOLVER && rc != TAPER_ELIMIT &&
             rc != TAPER_EINTERRUPTED) {
             raise_library(&err);
@@ -925,6 +1017,8 @@ static PyObject *run_specs(const taper_chain_spec *cs, const taper_solver_spec *
         taper_sim_state(sim, PyArray_DATA((PyArrayObject *)x), PyArray_DATA((PyArrayObject *)v),
                         &serr);
         if (put(out, "x_final", x) < 0 || put(out, "v_final", v) < 0) goto fail;
+        if (taper_solver_spec_sample_interval(ss_in) > 0.0 && put(out, "samples", samples_dict(&ctx)) < 0)
+            goto fail;
         if (put(out, "stats", stats_dict(sim)) < 0 ||
             put(out, "settings", settings_dict(cs, ss)) < 0 ||
             put(out, "status", PyUnicode_FromString(status_id(rc))) < 0 ||

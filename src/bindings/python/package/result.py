@@ -55,7 +55,8 @@ class Result(Columns):
                  settings: Optional[Dict[str, Any]] = None, status: str = "ok", message: str = "",
                  warnings: Optional[List[str]] = None, x_final: Optional[np.ndarray] = None,
                  v_final: Optional[np.ndarray] = None, source: str = "",
-                 complete: Optional[bool] = None) -> None:
+                 complete: Optional[bool] = None,
+                 samples: Optional[Dict[str, np.ndarray]] = None) -> None:
         ordered = [c for c in COLUMNS if c in columns] + [c for c in columns if c not in COLUMNS]
         self._columns: Dict[str, np.ndarray] = {c: columns[c] for c in ordered}
         self.stats: Dict[str, Any] = dict(stats or {})
@@ -65,6 +66,9 @@ class Result(Columns):
         self.warnings: List[str] = list(warnings or [])
         self.x_final = x_final
         self.v_final = v_final
+        #: simulate(sample_interval=dt): {"t": (S,), "x": (S, N), "v": (S, N),
+        #: "force": (S, N + 1)} at t = 0, dt, 2 dt, ...; None otherwise.
+        self.samples = samples
         self.source = source
         if complete is None:
             complete = bool(self.stats.get("complete", status == "ok"))
@@ -77,7 +81,8 @@ class Result(Columns):
         return cls(d["columns"], stats=d.get("stats"), settings=d.get("settings"),
                    status=d.get("status", "ok"), message=d.get("message", ""),
                    warnings=d.get("warnings"), x_final=d.get("x_final"),
-                   v_final=d.get("v_final"), source=d.get("scene", source))
+                   v_final=d.get("v_final"), source=d.get("scene", source),
+                   samples=d.get("samples"))
 
     # -- conservation ------------------------------------------------------------
     @property
