@@ -125,7 +125,8 @@ module taper
   ! ---- the C API ---------------------------------------------------------------
   public :: c_taper_version, c_taper_strerror, c_taper_profile_name, c_taper_method_name, &
             c_taper_fit_model_name, c_taper_statistic_name, c_taper_disorder_name, &
-            c_taper_boundary_name, c_taper_dimension_name, c_taper_dimension_unit
+            c_taper_boundary_name, c_taper_dimension_name, c_taper_dimension_unit, &
+            c_taper_observable_name, c_taper_theory_quantity_name, c_taper_law_name
   public :: taper_chain_spec_alloc, taper_chain_spec_free, taper_chain_spec_set_profile, &
             taper_chain_spec_set_n_granules, taper_chain_spec_set_s, taper_chain_spec_set_q, &
             taper_chain_spec_set_exponent, taper_chain_spec_set_radii, taper_chain_spec_profile, &
@@ -180,7 +181,8 @@ module taper
             taper_method_from_name, taper_fit_model_from_name, taper_message, taper_field, &
             taper_observable, taper_theory, taper_chain_array, c_string, taper_disorder_name, &
             taper_disorder_from_name, taper_boundary_name, taper_boundary_from_name, &
-            taper_dimension_name, taper_dimension_unit, taper_chain_theory_note
+            taper_dimension_name, taper_dimension_unit, taper_chain_theory_note, &
+            taper_observable_name, taper_theory_quantity_name, taper_law_name
 
   interface
      ! ---- version, errors, names: strings come back as C pointers (helpers below)
@@ -237,6 +239,22 @@ module taper
        type(taper_error), intent(inout) :: err
        integer(c_int) :: status
      end function c_taper_fit_model_from_name
+     function c_taper_observable_name(which) bind(C, name="taper_observable_name") result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: which
+       type(c_ptr) :: s
+     end function c_taper_observable_name
+     function c_taper_theory_quantity_name(which) bind(C, name="taper_theory_quantity_name") &
+          result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: which
+       type(c_ptr) :: s
+     end function c_taper_theory_quantity_name
+     function c_taper_law_name(law) bind(C, name="taper_law_name") result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: law
+       type(c_ptr) :: s
+     end function c_taper_law_name
      function c_taper_disorder_name(kind) bind(C, name="taper_disorder_name") result(s)
        import :: c_ptr, c_int
        integer(c_int), value :: kind
@@ -1209,6 +1227,25 @@ contains
     integer(c_int) :: status
     status = c_taper_fit_model_from_name(trim(name)//c_null_char, model, err)
   end function taper_fit_model_from_name
+
+  ! "t_pass", ...; "v", "mu", "T", "t"; "v_of_k", ... ('' outside each enum).
+  function taper_observable_name(which) result(s)
+    integer(c_int), intent(in) :: which
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_observable_name(which))
+  end function taper_observable_name
+
+  function taper_theory_quantity_name(which) result(s)
+    integer(c_int), intent(in) :: which
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_theory_quantity_name(which))
+  end function taper_theory_quantity_name
+
+  function taper_law_name(law) result(s)
+    integer(c_int), intent(in) :: law
+    character(len=:), allocatable :: s
+    s = c_string(c_taper_law_name(law))
+  end function taper_law_name
 
   ! "radius", "mass"; "free", "wall"; "length", ... and its SI unit "m", ...
   ! ('' outside each enum).
