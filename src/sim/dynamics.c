@@ -56,13 +56,14 @@ double taper_dyn_force_slope(const taper_dyn *d, size_t k, double z)
     return d->contact[k - 1] * p;
 }
 
+/* The gap slot z_{lo-1} (dynamics.h) exerts no force, on either side: the
+ * granule out of the window cannot take the reaction. */
 void taper_dyn_rhs(const taper_dyn *d, const double *y, double *ydot)
 {
     const size_t lo = d->lo, hi = d->hi;
     size_t shift = 0;
     double force_left = 0.0;
-    if (lo > 1) { /* boundary gap to the free-flying granule lo-1 */
-        force_left = taper_dyn_force(d, lo - 1, y[0]);
+    if (lo > 1) { /* boundary gap to the free-flying granule lo-1: watched only */
         ydot[0] = d->v_left - y[1];
         shift = 1;
     }
@@ -96,8 +97,7 @@ void taper_dyn_energy_momentum(const taper_dyn *d, const double *y, double *ener
             p += d->mass[k - 1] * v;
             if (k < d->n) e += taper_dyn_contact_energy(d, k, taper_dyn_z(d, y, k));
         }
-        if (d->lo > 1) e += taper_dyn_contact_energy(d, d->lo - 1, y[0]);
-        *energy = e;
+        *energy = e; /* the gap slot exerts no force and holds no energy */
         *momentum = p;
         return;
     }
@@ -107,11 +107,7 @@ void taper_dyn_energy_momentum(const taper_dyn *d, const double *y, double *ener
         p += d->mass[k - 1] * v;
         if (k < d->n && z > 0.0) e += d->contact[k - 1] / d->exponent * pow(z, d->exponent);
     }
-    if (d->lo > 1) {
-        double z = y[0];
-        if (z > 0.0) e += d->contact[d->lo - 2] / d->exponent * pow(z, d->exponent);
-    }
-    *energy = e;
+    *energy = e; /* the gap slot exerts no force and holds no energy */
     *momentum = p;
 }
 
@@ -122,7 +118,7 @@ double taper_dyn_peak_function(const taper_dyn *d, const double *y, size_t k)
         taper_dyn_peak_terms(d, y, k, &left, &right);
         return left - right;
     }
-    double left = k > 1 ? d->rho[k - 2] * taper_dyn_z(d, y, k - 1) : 0.0;
+    double left = k > d->lo ? d->rho[k - 2] * taper_dyn_z(d, y, k - 1) : 0.0; /* no gap slot force */
     return left - d->rho[k - 1] * taper_dyn_z(d, y, k);
 }
 
@@ -188,8 +184,8 @@ void taper_dyn_rhs_general(const taper_dyn *d, const double *y, double *ydot)
     const size_t lo = d->lo, hi = d->hi;
     size_t shift = 0;
     double force_left = 0.0; /* a free first body: its load F0, less F0 */
-    if (lo > 1) {
-        force_left = excess_force(d, lo - 1, y[0], d->v_left - y[1]);
+    if (lo > 1) { /* the gap slot: no force (F - F0 = -F0; no departures under a load) */
+        force_left = -d->load;
         ydot[0] = d->v_left - y[1];
         shift = 1;
     }
@@ -232,11 +228,11 @@ double taper_dyn_contact_energy(const taper_dyn *d, size_t k, double z)
     return u0 * excess_power(n, z / delta);
 }
 
-/* Phi of contact k (lo - 1 <= k) in the window state: the gap slot, the
- * window's own, 0 (static) from hi on. */
+/* Phi of contact k (lo - 1 <= k) in the window state: the gap slot (no
+ * force: -F0), the window's own, 0 (static) from hi on. */
 static double window_excess(const taper_dyn *d, const double *y, size_t k)
 {
-    if (k + 1 == d->lo) return excess_force(d, k, y[0], d->v_left - taper_dyn_v(d, y, d->lo));
+    if (k + 1 == d->lo) return -d->load;
     if (k >= d->hi) return 0.0;
     return excess_force(d, k, taper_dyn_z(d, y, k), taper_dyn_v(d, y, k) - taper_dyn_v(d, y, k + 1));
 }
@@ -290,14 +286,13 @@ void taper_dyn_quadrature_rhs(const taper_dyn *d, const double *y, double *out)
 {
     const size_t lo = d->lo, hi = d->hi;
     out[0] = out[1] = out[2] = 0.0;
-    /* Left wall: body 1, its contact with granule 1 (body 2) in the window
-     * or in the gap slot; further out it is open (granule 1 flies freely:
-     * F = 0, F - F0 = -F0). */
-    if (d->wall_left) out[0] = lo <= 2 && hi >= 2 ? window_excess(d, y, 1) : -d->load;
+    /* Left wall: body 1, its contact with granule 1 (body 2) in the window;
+     * out of it (the gap slot, or further) it pushes nothing: F = 0,
+     * F - F0 = -F0. */
+    if (d->wall_left) out[0] = lo == 1 && hi >= 2 ? window_excess(d, y, 1) : -d->load;
     /* Right wall: body n; beyond the window its contact is static. */
     if (d->wall_right) out[1] = hi == d->n ? window_excess(d, y, d->n - 1) : 0.0;
-    double loss = 0.0;
-    if (lo > 1) loss += contact_loss(d, lo - 1, y[0], d->v_left - taper_dyn_v(d, y, lo));
+    double loss = 0.0; /* the gap slot: no force, no loss */
     for (size_t k = lo; k <= hi; k++) {
         const double v = taper_dyn_v(d, y, k);
         if (k < hi) loss += contact_loss(d, k, taper_dyn_z(d, y, k), v - taper_dyn_v(d, y, k + 1));

@@ -198,14 +198,15 @@ static int genuine_peak_root(const taper_sim *sim, const double *y, size_t k)
 }
 
 /* A wall's contact: k (bodies k, k+1) and the granule's body g, and
- * whether the window holds it (a left wall's contact in the window or its
- * gap slot; a right wall's once the window reaches it). */
+ * whether the window holds it (a left wall's while the wall is in the
+ * window: let go, it is the gap slot, which pushes nothing; a right wall's
+ * once the window reaches it). */
 static int wall_contact(const taper_sim *sim, int end, size_t *k, size_t *g)
 {
     const taper_dyn *d = &sim->dyn;
     if (end == TAPER_LEFT) {
         *k = 1, *g = 2;
-        return d->lo <= 2 && d->hi >= 2;
+        return d->lo == 1 && d->hi >= 2;
     }
     *k = d->n - 1, *g = d->n - 1;
     return d->hi == d->n;
@@ -219,7 +220,7 @@ static double wall_rate(const taper_sim *sim, const double *y, int end)
     size_t k, g;
     if (!wall_contact(sim, end, &k, &g)) return 1.0;
     const double sign = end == TAPER_LEFT ? -1.0 : 1.0; /* dz/dt = sign v_g: the wall rests */
-    const double z = k + 1 == d->lo ? y[0] : taper_dyn_z(d, y, k);
+    const double z = taper_dyn_z(d, y, k);
     const double zdot = sign * taper_dyn_v(d, y, g);
     if (!(taper_dyn_contact_force(d, k, z, zdot) > 0.0)) return 1.0;
     double rate = zdot;

@@ -474,12 +474,13 @@ taper_status taper_sim_striker_state(const taper_sim *sim, double *x, double *v,
 }
 
 /* Force of contact k (bodies k, k+1) at sim->t: the window's own state
- * where it has it, free flight behind it (x and v of every body), the
- * static F0 ahead of it. */
+ * where it has it, the static F0 ahead of it, and behind it, the gap slot
+ * included, the contact law on the bodies' positions (x and v of every
+ * body; the integration neglects these contacts, window.c). */
 static double contact_force_now(const taper_sim *sim, const double *x, const double *v, size_t k)
 {
     const taper_dyn *d = &sim->dyn;
-    if (k + 1 >= d->lo) return taper_dyn_window_force(d, taper_sim_data(sim, sim->cv.y), k);
+    if (k >= d->lo) return taper_dyn_window_force(d, taper_sim_data(sim, sim->cv.y), k);
     return taper_dyn_contact_force(d, k, x[k - 1] - x[k], v[k - 1] - v[k]);
 }
 

@@ -58,10 +58,12 @@
  * requiring |z| small would strand granules whose gaps open at noise-level
  * speed).  Why this is
  * harmless: the gap z_lo it leaves behind is watched
- * with gap_watch = WATCH_FACTOR / REST_FACTOR * z_eps, so while lo is out the
- * one-sided force the window feels from it is at most r z_watch^(n-1), a
- * fraction (WATCH_FACTOR rtol)^(n-1) (3e-11 for n = 5/2 and the default rtol)
- * of the pulse force r z_ref^(n-1): below what the tolerance resolves.  A
+ * with gap_watch = WATCH_FACTOR / REST_FACTOR * z_rest, and the gap slot
+ * pushes nothing on either side (dynamics.h), so while lo is out the force
+ * neglected there is at most r z_watch^(n-1), a fraction at most
+ * (WATCH_FACTOR rtol)^(n-1) (3e-11 for n = 5/2 and the default rtol) of the
+ * pulse force r z_ref^(n-1): below what the tolerance resolves, and without
+ * a reaction missing anywhere, so momentum is kept exactly.  A
  * compression beyond z_watch (a real signal) takes the granule back exactly
  * as in criterion 1; the factor WATCH_FACTOR / REST_FACTOR = 10 between
  * leaving and returning is the hysteresis that keeps noise from thrashing
@@ -69,7 +71,7 @@
  * together at most at v_eps, so out of the window the chain's gaps close by
  * at most z_eps + v_eps t (documented in docs/window.md).  The
  * granule's momentum is kept exactly; the contact energy dropped is at most
- * r z_eps^n / n per granule.
+ * r z_watch^n / n per granule.
  */
 #include "sim.h"
 
@@ -170,13 +172,14 @@ taper_window_plan taper_window_plan_for(const taper_sim *sim, taper_root_report 
 }
 
 /* The largest compression a contact may keep when granule j leaves at rest
- * (criterion 2).  The window goes on feeling its force r z^(n-1) without the
- * reaction on the departed granule: momentum leaks unless that force is a
+ * (criterion 2).  Its force r z^(n-1) is dropped from then on (the gap slot
+ * pushes nothing, dynamics.h); that is negligible while the force is a
  * fraction below FORCE_FRACTION rtol of the pulse force r z_ref^(n-1), i.e.
  * z <= (FORCE_FRACTION rtol)^(1/(n-1)) z_ref.  For n = 5/2 at rtol <= 1e-10
  * that is looser than z_eps (which then decides); at looser tolerances
  * z_eps = 100 rtol z_ref let monodisperse chains leak momentum at
- * 2.7e-8 per granule at rtol 1e-6 (docs/window.md).  Never below one error
+ * 2.7e-8 per granule at rtol 1e-6 while the gap slot pushed the window's
+ * first granule alone (docs/window.md).  Never below one error
  * unit: smaller compressions are noise, indistinguishable from zero. */
 static double resting_compression(const taper_sim *sim, size_t j, double z_eps)
 {
