@@ -172,6 +172,60 @@ static taper_status theory_and_scales(taper_sim *sim, taper_error *err)
     return TAPER_OK;
 }
 
+/* Chains a run cannot cross at n <= 2, refused before the run (issue 18).
+ * For n > 2 the precursor ahead of the pulse is negligible (the power of t
+ * in granule k's displacement grows geometrically with k), so granules
+ * ahead rest until the pulse comes.  For n <= 2 it is not: granule k moves
+ * as t^a_k with a_k -> 2/(2-n) (4 at n = 3/2; at n = 2 the linear chain's
+ * wave), so every granule moves from the first steps, the window spans the
+ * chain, and the whole chain must be resolved at the time scale of its
+ * fastest granule for the whole crossing; where the contact force's
+ * stiffness (n-1) r z^(n-2) grows without bound at small compressions
+ * (n < 2), faster still.  Measured (forward exponential q = 0.05-0.2,
+ * forward linear, monodisperse; N = 10-100; n = 3/2, 7/4, 2; Adams, window
+ * and whole chain alike, BDF no better): steps >= C (t_N / T_1)
+ * (T_1 / T_min)^(1/(n-1)), T_k the theory's residence times (eq. (18)),
+ * t_N the crossing time (eq. (19)), with C = 3.7 at n = 2 (exactly linear:
+ * N = 50, 100 at q = 0.1) and 8-17 for n < 2.  The lower bound C = 3 is
+ * compared with the step budget (max_steps, or 1e9 steps, hours of
+ * computing, where there is none): a run refused here would have stopped
+ * at its budget for sure.  Example: forward exponential q = 0.1, N = 100:
+ * at least 1.4e11 steps at n = 3/2, 8.7e7 at n = 7/4, 2.1e6 at n = 2 (runs:
+ * 2.5e6 steps). */
+#define STIFF_PRECURSOR_C 3.0
+#define STIFF_PRECURSOR_BUDGET 1e9
+static taper_status refuse_stiff_precursor(const taper_sim *sim, taper_error *err)
+{
+    const double n = sim->exponent;
+    const size_t N = sim->model.granules;
+    if (n > 2.0 || N < 3) return TAPER_OK;
+    const double *T = sim->theory[TAPER_THEORY_T_RES], *t = sim->theory[TAPER_THEORY_T];
+    double t_min = INFINITY;
+    size_t k_min = 0;
+    for (size_t k = 0; k + 1 < N; k++) {
+        if (!(T[k] > 0.0) || !isfinite(T[k])) return TAPER_OK; /* no theory: no estimate */
+        if (T[k] < t_min) t_min = T[k], k_min = k;
+    }
+    const double separation = T[0] / t_min, crossing = t[N - 2] / T[0];
+    if (!(separation > 1.0) || !isfinite(crossing)) return TAPER_OK;
+    const double steps = STIFF_PRECURSOR_C * crossing * pow(separation, 1.0 / (n - 1.0));
+    const double budget = sim->spec.max_steps > 0 ? (double)sim->spec.max_steps : STIFF_PRECURSOR_BUDGET;
+    if (!(steps > budget)) return TAPER_OK;
+    char limit[64];
+    if (sim->spec.max_steps > 0)
+        snprintf(limit, sizeof limit, "max_steps = %ld", sim->spec.max_steps);
+    else
+        snprintf(limit, sizeof limit, "%.0e steps (hours)", STIFF_PRECURSOR_BUDGET);
+    return taper_fail_field(err, TAPER_EINVAL, "exponent",
+                            "exponent n = %g <= 2 on a chain whose granule %zu is %.3g times faster than "
+                            "granule 1 (binary-collision residence times, eq. (18)): for n <= 2 the "
+                            "precursor sets every granule moving at once, and resolving the fastest over "
+                            "the crossing takes at least %.2g steps, more than %s; use n > 2, fewer "
+                            "granules or a weaker taper%s",
+                            n, k_min + 1, separation, steps, limit,
+                            sim->spec.max_steps > 0 ? " (or raise max_steps)" : "");
+}
+
 taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec, taper_error *err)
 {
     taper_solver_spec defaults;
@@ -219,7 +273,7 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
         taper_fail(err, TAPER_ENOMEM, "cannot allocate results for %zu granules", n);
         return NULL;
     }
-    if (theory_and_scales(sim, err) != TAPER_OK) {
+    if (theory_and_scales(sim, err) != TAPER_OK || refuse_stiff_precursor(sim, err) != TAPER_OK) {
         taper_sim_free(sim);
         return NULL;
     }
