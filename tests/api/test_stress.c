@@ -26,7 +26,9 @@
  *   test_stress --full      the long matrix of docs/robustness.md
  *                           (N up to 1e5; add --nmax N to cap it): the
  *                           documented range of every variable first
- *                           (full_ranges), then the older matrix
+ *                           (full_ranges), then the older matrix;
+ *                           --ranges-only: full_ranges alone; --nmin N:
+ *                           leave out sizes below N
  *
  * Prints one line per run and closes with "N passed, N failed".
  */
@@ -175,6 +177,9 @@ static void count_untimed(int level, const char *message, void *user)
 static long g_max_steps = 400000;
 static double g_wall_limit = 20.0;   /* seconds per run                  */
 static int g_verbose = 1;
+/* --nmin: chain sizes below it are left out of the full matrix (to run the
+ * N = 1000 exponent sweep alone: --full --ranges-only --nmin 1000 --nmax 1000). */
+static size_t g_n_min = 0;
 
 static double now(void)
 {
@@ -837,7 +842,7 @@ static void full_ranges(size_t n_max)
     const size_t ns[] = {10, 100, 1000};
     for (size_t a = 0; a < sizeof ns / sizeof *ns; a++) {
         size_t n = ns[a];
-        if (n > n_max) continue;
+        if (n > n_max || n < g_n_min) continue;
         for (size_t i = 0; i < sizeof exps / sizeof *exps; i++) {
             every_profile(n, exps[i], A, 0);
             if (n <= 100) every_profile(n, exps[i], A, 1);
@@ -873,7 +878,7 @@ static void full_matrix(size_t n_max)
     const double tols[] = {1e-3, 1e-5, 1e-7, 1e-9, 1e-11};
     for (size_t a = 0; a < sizeof ns / sizeof *ns; a++) {
         size_t n = ns[a];
-        if (n > n_max) continue;
+        if (n > n_max || n < g_n_min) continue;
         check_case(&(stress_case){TAPER_MONODISPERSE, 0.0, n, 2.5, 2e-11, 1e-14, A, NULL, 0});
         for (size_t i = 0; i < sizeof S_values / sizeof *S_values; i++)
             check_case(&(stress_case){TAPER_BACKWARD_LINEAR, S_values[i], n, 2.5, 2e-11, 1e-14, A, NULL, 0});
@@ -907,24 +912,31 @@ static void full_matrix(size_t n_max)
 
 int main(int argc, char **argv)
 {
-    int full = 0;
+    int full = 0, ranges_only = 0;
     size_t n_max = 100000;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--full") == 0) {
             full = 1;
         } else if (strcmp(argv[i], "--nmax") == 0 && i + 1 < argc) {
             n_max = (size_t)strtoull(argv[++i], NULL, 10);
+        } else if (strcmp(argv[i], "--nmin") == 0 && i + 1 < argc) {
+            g_n_min = (size_t)strtoull(argv[++i], NULL, 10);
+        } else if (strcmp(argv[i], "--ranges-only") == 0) {
+            ranges_only = 1;
         } else if (strcmp(argv[i], "--quiet") == 0) {
             g_verbose = 0;
         } else {
-            fprintf(stderr, "usage: test_stress [--full [--nmax N]] [--quiet]\n");
+            fprintf(stderr, "usage: test_stress [--full [--ranges-only] [--nmin N] [--nmax N]] [--quiet]\n");
             return 2;
         }
     }
     if (full) {
         g_max_steps = 20000000;
         g_wall_limit = 60.0;
-        full_matrix(n_max);
+        if (ranges_only)
+            full_ranges(n_max);
+        else
+            full_matrix(n_max);
     } else {
         quick_matrix();
     }
