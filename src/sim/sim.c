@@ -177,22 +177,33 @@ static taper_status theory_and_scales(taper_sim *sim, taper_error *err)
  * in granule k's displacement grows geometrically with k), so granules
  * ahead rest until the pulse comes.  For n <= 2 it is not: granule k moves
  * as t^a_k with a_k -> 2/(2-n) (4 at n = 3/2; at n = 2 the linear chain's
- * wave), so every granule moves from the first steps, the window spans the
- * chain, and the whole chain must be resolved at the time scale of its
- * fastest granule for the whole crossing; where the contact force's
- * stiffness (n-1) r z^(n-2) grows without bound at small compressions
- * (n < 2), faster still.  Measured (forward exponential q = 0.05-0.2,
- * forward linear, monodisperse; N = 10-100; n = 3/2, 7/4, 2; Adams, window
- * and whole chain alike, BDF no better): steps >= C (t_N / T_1)
- * (T_1 / T_min)^(1/(n-1)), T_k the theory's residence times (eq. (18)),
- * t_N the crossing time (eq. (19)), with C = 3.7 at n = 2 (exactly linear:
- * N = 50, 100 at q = 0.1) and 8-17 for n < 2.  The lower bound C = 3 is
- * compared with the step budget (max_steps, or 1e9 steps, hours of
- * computing, where there is none): a run refused here would have stopped
- * at its budget for sure.  Example: forward exponential q = 0.1, N = 100:
- * at least 1.4e11 steps at n = 3/2, 8.7e7 at n = 7/4, 2.1e6 at n = 2 (runs:
- * 2.5e6 steps). */
-#define STIFF_PRECURSOR_C 3.0
+ * wave), so every granule moves from the first steps, window or not, and
+ * above any tolerance (monodisperse n = 3/2, N = 100, t = 5, the pulse near
+ * granule 5: granule 100 already moves at 1.2e-4; no growth threshold could
+ * keep it out exactly).  The light end of a forward chain is pushed as a
+ * block (forward exponential q = 0.1, N = 30, t = 0.02: granules 20-30 move
+ * together at 1.9e-7); its last contacts carry only the force F = m a that
+ * accelerates the granules beyond them, so their compression (F/r)^(1/(n-1))
+ * and stiffness K = (n-1) r^(1/(n-1)) F^((n-2)/(n-1)) grow without bound as
+ * F -> 0 for n < 2.  With tau = (m/r)^(1/n), the collision time of a contact
+ * at unit velocity, K/m = (n-1) tau^(-n/(n-1)) a^((n-2)/(n-1)): the block
+ * vibrates at omega ~ tau_min^(-n/(2(n-1))) on its lightest contact, and
+ * that sets the step for the whole crossing, Adams or BDF alike (BDF took
+ * more steps).  So steps >= C (t_N / T_1) (tau_1 / tau_min)^(n/(2(n-1))),
+ * with T_1 and t_N the theory's first residence time and crossing time
+ * (eqs. (18), (19)) and tau_k = (mu_k / r_k)^(1/n) (the masses and
+ * stiffness of contact k, not the theory's velocity v_k: a dimer chain's
+ * v_k decays as 0.76^(k/2), which would make T_k short for n < 2 where
+ * nothing is stiff).  Measured, forward exponential q = 0.05-0.2 and
+ * forward linear, N = 10-100, C = 2.0-2.9 at n = 2 (q = 0.1: N = 50, 6571
+ * steps; N = 100, 2.5e6), 5.4-7.2 at n = 7/4 (N = 30 to 70: 5287 to 2.4e6
+ * steps), 11-12 at n = 3/2 (N = 20, 30: 7381, 77820), more where the
+ * pulse's own steps dominate.  The lower bound C = 2 is compared with the
+ * step budget (max_steps, or 1e9 steps, hours of computing, where there is
+ * none): a run refused here would have stopped at its budget.  Forward
+ * exponential q = 0.1, N = 100: at least 2.5e11 steps at n = 3/2, 1e8 at
+ * n = 7/4, 2e6 at n = 2 (runs: 2.5e6 steps). */
+#define STIFF_PRECURSOR_C 2.0
 #define STIFF_PRECURSOR_BUDGET 1e9
 static taper_status refuse_stiff_precursor(const taper_sim *sim, taper_error *err)
 {
@@ -200,15 +211,18 @@ static taper_status refuse_stiff_precursor(const taper_sim *sim, taper_error *er
     const size_t N = sim->model.granules;
     if (n > 2.0 || N < 3) return TAPER_OK;
     const double *T = sim->theory[TAPER_THEORY_T_RES], *t = sim->theory[TAPER_THEORY_T];
-    double t_min = INFINITY;
+    const double *mu = sim->theory[TAPER_THEORY_MU], *contact = sim->contact + sim->model.off;
+    double tau_1 = NAN, tau_min = INFINITY;
     size_t k_min = 0;
     for (size_t k = 0; k + 1 < N; k++) {
-        if (!(T[k] > 0.0) || !isfinite(T[k])) return TAPER_OK; /* no theory: no estimate */
-        if (T[k] < t_min) t_min = T[k], k_min = k;
+        double tau = pow(mu[k] / contact[k], 1.0 / n);
+        if (!(tau > 0.0) || !isfinite(tau)) return TAPER_OK; /* no theory: no estimate */
+        if (k == 0) tau_1 = tau;
+        if (tau < tau_min) tau_min = tau, k_min = k;
     }
-    const double separation = T[0] / t_min, crossing = t[N - 2] / T[0];
-    if (!(separation > 1.0) || !isfinite(crossing)) return TAPER_OK;
-    const double steps = STIFF_PRECURSOR_C * crossing * pow(separation, 1.0 / (n - 1.0));
+    const double separation = tau_1 / tau_min, crossing = t[N - 2] / T[0];
+    if (!(separation > 1.0) || !(crossing > 0.0) || !isfinite(crossing)) return TAPER_OK;
+    const double steps = STIFF_PRECURSOR_C * crossing * pow(separation, n / (2.0 * (n - 1.0)));
     const double budget = sim->spec.max_steps > 0 ? (double)sim->spec.max_steps : STIFF_PRECURSOR_BUDGET;
     if (!(steps > budget)) return TAPER_OK;
     char limit[64];
@@ -217,11 +231,11 @@ static taper_status refuse_stiff_precursor(const taper_sim *sim, taper_error *er
     else
         snprintf(limit, sizeof limit, "%.0e steps (hours)", STIFF_PRECURSOR_BUDGET);
     return taper_fail_field(err, TAPER_EINVAL, "exponent",
-                            "exponent n = %g <= 2 on a chain whose granule %zu is %.3g times faster than "
-                            "granule 1 (binary-collision residence times, eq. (18)): for n <= 2 the "
-                            "precursor sets every granule moving at once, and resolving the fastest over "
-                            "the crossing takes at least %.2g steps, more than %s; use n > 2, fewer "
-                            "granules or a weaker taper%s",
+                            "exponent n = %g <= 2 on a chain whose contact %zu is %.3g times faster than "
+                            "contact 1 (collision times (mu/r)^(1/n)): for n <= 2 the precursor sets every "
+                            "granule moving at once, and resolving the fastest contacts over the crossing "
+                            "takes at least %.2g steps, more than %s; use n > 2, fewer granules or a "
+                            "weaker taper%s",
                             n, k_min + 1, separation, steps, limit,
                             sim->spec.max_steps > 0 ? " (or raise max_steps)" : "");
 }

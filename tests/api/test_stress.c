@@ -371,7 +371,16 @@ static const char *contract_values(const outcome *o, double rtol, double exponen
             }
             /* Forward chains: granule k+1 may overtake k before k overtakes
              * k-1 (finding A in docs/robustness.md): order not required. */
-            if (!forward && k > 0 && !(o->t_pass[k] > o->t_pass[k - 1])) {
+            /* n < 2: the last granule, free ahead, may overtake granule
+             * N-1 before N-1 overtakes N-2: the force r z^(n-1) is strong at
+             * the tiny compressions of the approaching pulse's long front
+             * and nothing resists granule N (monodisperse n = 3/2,
+             * N = 1000: t_pass(999) = 419.705 < t_pass(998) = 419.755, a
+             * residence time of 0.035 before; N = 100 keeps the order).
+             * Both are passes by the definition; the order of the last two
+             * is not a property of these pulses. */
+            const int last_at_free_end = exponent < 2.0 && k + 2 == n;
+            if (!forward && !last_at_free_end && k > 0 && !(o->t_pass[k] > o->t_pass[k - 1])) {
                 snprintf(why, sizeof why, "t_pass not increasing at granule %zu", k + 1);
                 return why;
             }
