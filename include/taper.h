@@ -64,9 +64,9 @@ extern "C" {
 /* Version                                                            */
 /* ------------------------------------------------------------------ */
 #define TAPER_VERSION_MAJOR 0
-#define TAPER_VERSION_MINOR 2
+#define TAPER_VERSION_MINOR 3
 #define TAPER_VERSION_PATCH 0
-#define TAPER_VERSION_STRING "0.2.0"
+#define TAPER_VERSION_STRING "0.3.0"
 
 /* The version of the library actually loaded (may differ from the macros
  * the caller was compiled with). */

@@ -34,6 +34,8 @@ sundials_prefix=$(option sundials_prefix)
 args="-Dsundials=$sundials"
 if [ "$sundials" != system ] && [ -e "$sundials_prefix/lib/libsundials_cvode.so" ]; then
     args="$args -Dsundials_prefix=$sundials_prefix"
+elif [ "$sundials" = auto ]; then
+    sundials=system     # auto without a bundled build links the system SUNDIALS
 fi
 
 # shellcheck disable=SC2086

@@ -46,9 +46,9 @@ module taper
   private
 
   ! ---- version ------------------------------------------------------------
-  integer, parameter, public :: TAPER_VERSION_MAJOR = 0, TAPER_VERSION_MINOR = 2, &
+  integer, parameter, public :: TAPER_VERSION_MAJOR = 0, TAPER_VERSION_MINOR = 3, &
                                 TAPER_VERSION_PATCH = 0
-  character(len=*), parameter, public :: TAPER_VERSION_STRING = "0.2.0"
+  character(len=*), parameter, public :: TAPER_VERSION_STRING = "0.3.0"
 
   ! ---- status codes (enum taper_status) -----------------------------------
   integer(c_int), parameter, public :: TAPER_OK = 0, TAPER_EINVAL = 1, TAPER_ENOMEM = 2, &
@@ -1164,7 +1164,7 @@ contains
     s = transfer(chars, s)
   end function c_string
 
-  ! The version of the loaded library ("0.2.0").
+  ! The version of the loaded library ("0.3.0").
   function taper_version() result(s)
     character(len=:), allocatable :: s
     s = c_string(c_taper_version())

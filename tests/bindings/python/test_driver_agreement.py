@@ -46,7 +46,7 @@ def runs(driver, tmp_path_factory):
 
 
 def test_version():
-    assert taper.version() == taper.__version__ == "0.2.0"
+    assert taper.version() == taper.__version__ == "0.3.0"
 
 
 def test_every_column_equals_the_driver(runs):
