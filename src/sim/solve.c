@@ -288,7 +288,19 @@ static int setup_cvode(taper_sim *sim, taper_error *err)
      * chains from 63 to 31 steps per granule at rtol 1e-10 (errors 3.6e-10
      * instead of 7.1e-10), backward linear from 86 to 75 (contact openings:
      * 12-23 % of steps fail the error test there).  docs/benchmarks.md,
-     * "Steps per granule". */
+     * "Steps per granule".
+     * The band is (0, 1.2): CVODE (6.4.1 cvSetEta) keeps h while the
+     * suggested ratio 1/(6 dsm)^(1/(q+1)) is below 1.2, and shrinks it only
+     * on a failed error test (dsm > 1), so h may sit anywhere in a range of
+     * 1.2 * 6^(1/9) = 1.46 at q = 8.  On a steady solitary wave it stays
+     * at the last value the start-up chose: 29.5-35.5 steps per granule over
+     * rtol 0.8-1.2e-10, yet within ~7 % in CPU time, because the longer
+     * steps need a second fixed-point iteration on every step (dsm > 0.1,
+     * the nonlinear tolerance) and the shorter ones on 70 %.  A narrow band
+     * (0.97, 1.03) settles robustly and removes the monodisperse phase
+     * drift, but loses accuracy on backward exponential chains (t_pass up to
+     * 2.6e-8 at N = 200): not adopted.  docs/benchmarks.md, "The step
+     * band's level". */
     int order = sim->spec.max_order ? sim->spec.max_order : (sim->spec.method == TAPER_ADAMS ? ADAMS_ORDER : 5);
     if (!status) status = check(CVodeSetMaxOrd(mem, order), "CVodeSetMaxOrd", sim, err);
     if (!status && sim->spec.method == TAPER_ADAMS)
