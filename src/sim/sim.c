@@ -172,74 +172,6 @@ static taper_status theory_and_scales(taper_sim *sim, taper_error *err)
     return TAPER_OK;
 }
 
-/* Chains a run cannot cross at n <= 2, refused before the run (issue 18).
- * For n > 2 the precursor ahead of the pulse is negligible (the power of t
- * in granule k's displacement grows geometrically with k), so granules
- * ahead rest until the pulse comes.  For n <= 2 it is not: granule k moves
- * as t^a_k with a_k -> 2/(2-n) (4 at n = 3/2; at n = 2 the linear chain's
- * wave), so every granule moves from the first steps, window or not, and
- * above any tolerance (monodisperse n = 3/2, N = 100, t = 5, the pulse near
- * granule 5: granule 100 already moves at 1.2e-4; no growth threshold could
- * keep it out exactly).  The light end of a forward chain is pushed as a
- * block (forward exponential q = 0.1, N = 30, t = 0.02: granules 20-30 move
- * together at 1.9e-7); its last contacts carry only the force F = m a that
- * accelerates the granules beyond them, so their compression (F/r)^(1/(n-1))
- * and stiffness K = (n-1) r^(1/(n-1)) F^((n-2)/(n-1)) grow without bound as
- * F -> 0 for n < 2.  With tau = (m/r)^(1/n), the collision time of a contact
- * at unit velocity, K/m = (n-1) tau^(-n/(n-1)) a^((n-2)/(n-1)): the block
- * vibrates at omega ~ tau_min^(-n/(2(n-1))) on its lightest contact, and
- * that sets the step for the whole crossing, Adams or BDF alike (BDF took
- * more steps).  So steps >= C (t_N / T_1) (tau_1 / tau_min)^(n/(2(n-1))),
- * with T_1 and t_N the theory's first residence time and crossing time
- * (eqs. (18), (19)) and tau_k = (mu_k / r_k)^(1/n) (the masses and
- * stiffness of contact k, not the theory's velocity v_k: a dimer chain's
- * v_k decays as 0.76^(k/2), which would make T_k short for n < 2 where
- * nothing is stiff).  Measured, forward exponential q = 0.05-0.2 and
- * forward linear, N = 10-100, C = 2.0-2.9 at n = 2 (q = 0.1: N = 50, 6571
- * steps; N = 100, 2.5e6), 5.4-7.2 at n = 7/4 (N = 30 to 70: 5287 to 2.4e6
- * steps), 11-12 at n = 3/2 (N = 20, 30: 7381, 77820), more where the
- * pulse's own steps dominate.  The lower bound C = 2 is compared with the
- * step budget (max_steps, or 1e9 steps, hours of computing, where there is
- * none): a run refused here would have stopped at its budget.  Forward
- * exponential q = 0.1, N = 100: at least 2.5e11 steps at n = 3/2, 1e8 at
- * n = 7/4, 2e6 at n = 2 (runs: 2.5e6 steps). */
-#define STIFF_PRECURSOR_C 2.0
-#define STIFF_PRECURSOR_BUDGET 1e9
-static taper_status refuse_stiff_precursor(const taper_sim *sim, taper_error *err)
-{
-    const double n = sim->exponent;
-    const size_t N = sim->model.granules;
-    if (n > 2.0 || N < 3) return TAPER_OK;
-    const double *T = sim->theory[TAPER_THEORY_T_RES], *t = sim->theory[TAPER_THEORY_T];
-    const double *mu = sim->theory[TAPER_THEORY_MU], *contact = sim->contact + sim->model.off;
-    double tau_1 = NAN, tau_min = INFINITY;
-    size_t k_min = 0;
-    for (size_t k = 0; k + 1 < N; k++) {
-        double tau = pow(mu[k] / contact[k], 1.0 / n);
-        if (!(tau > 0.0) || !isfinite(tau)) return TAPER_OK; /* no theory: no estimate */
-        if (k == 0) tau_1 = tau;
-        if (tau < tau_min) tau_min = tau, k_min = k;
-    }
-    const double separation = tau_1 / tau_min, crossing = t[N - 2] / T[0];
-    if (!(separation > 1.0) || !(crossing > 0.0) || !isfinite(crossing)) return TAPER_OK;
-    const double steps = STIFF_PRECURSOR_C * crossing * pow(separation, n / (2.0 * (n - 1.0)));
-    const double budget = sim->spec.max_steps > 0 ? (double)sim->spec.max_steps : STIFF_PRECURSOR_BUDGET;
-    if (!(steps > budget)) return TAPER_OK;
-    char limit[64];
-    if (sim->spec.max_steps > 0)
-        snprintf(limit, sizeof limit, "max_steps = %ld", sim->spec.max_steps);
-    else
-        snprintf(limit, sizeof limit, "%.0e steps (hours)", STIFF_PRECURSOR_BUDGET);
-    return taper_fail_field(err, TAPER_EINVAL, "exponent",
-                            "exponent n = %g <= 2 on a chain whose contact %zu is %.3g times faster than "
-                            "contact 1 (collision times (mu/r)^(1/n)): for n <= 2 the precursor sets every "
-                            "granule moving at once, and resolving the fastest contacts over the crossing "
-                            "takes at least %.2g steps, more than %s; use n > 2, fewer granules or a "
-                            "weaker taper%s",
-                            n, k_min + 1, separation, steps, limit,
-                            sim->spec.max_steps > 0 ? " (or raise max_steps)" : "");
-}
-
 taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec, taper_error *err)
 {
     taper_solver_spec defaults;
@@ -287,7 +219,7 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
         taper_fail(err, TAPER_ENOMEM, "cannot allocate results for %zu granules", n);
         return NULL;
     }
-    if (theory_and_scales(sim, err) != TAPER_OK || refuse_stiff_precursor(sim, err) != TAPER_OK) {
+    if (theory_and_scales(sim, err) != TAPER_OK) {
         taper_sim_free(sim);
         return NULL;
     }

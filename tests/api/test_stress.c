@@ -421,8 +421,16 @@ static const char *contract_values(const outcome *o, double rtol, double exponen
     /* Pass times up to the pulse are finite; beyond it each is NaN (not
      * found) or a pass found out of order (forward chains), never garbage. */
     size_t reached = o->stats.granule_reached;
+    /* As for a complete run: a NaN pass time is honest in a chain whose
+     * passes need not come in order when the log reported it untimed
+     * (finding A; forward exponential q = 0.1, n = 7/4, N = 100, whole
+     * chain, stopped at granule 99 with t_pass(38) NaN). */
+    size_t untimed = 0;
+    for (size_t k = 0; k + 1 < n && k + 1 <= reached; k++) untimed += isnan(o->t_pass[k]);
+    const int reported = forward && untimed > 0 && untimed <= o->untimed_passes;
     for (size_t k = 0; k + 1 < n; k++) {
         int known = k + 1 <= reached;
+        if (known && reported && isnan(o->t_pass[k])) continue;
         if (known && !(isfinite(o->t_pass[k]) && o->t_pass[k] > 0.0)) {
             snprintf(why, sizeof why, "granule_reached = %zu but t_pass(%zu) = %g", reached, k + 1,
                      o->t_pass[k]);
@@ -700,19 +708,14 @@ static void refusals(void)
                                  NULL, 0}, "exponent");
     check_refused(&(stress_case){TAPER_MONODISPERSE, 0.0, 50, nextafter(TAPER_EXPONENT_MAX, 100.0), 2e-11,
                                  1e-14, A, NULL, 0}, "exponent");
-    /* n <= 2 on a steep forward taper: every granule moves from the start
-     * and the fastest must be resolved over the whole crossing (src/sim/sim.c,
-     * refuse_stiff_precursor): at least 1.6e11 steps at n = 3/2, 8.7e7 at
-     * n = 7/4 (before the refusal: stopped by the wall-clock guard at granule
-     * 0 and 14); window or not.  The same taper at n = 2 runs (2.5e6 steps,
-     * the full matrix), and shorter chains at n = 3/2 run (stiff_but_runs). */
-    check_refused(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, 100, 1.5, 2e-11, 1e-14, A, NULL, 0}, "exponent");
-    check_refused(&(stress_case){TAPER_FORWARD_EXPONENTIAL, 0.1, 100, 1.75, 2e-11, 1e-14, A, NULL, 1}, "exponent");
 }
 
-/* The other side of the refusal above: chains at n <= 2 whose cost the
- * estimate puts below the step budget complete (forward exponential
- * q = 0.1: N = 30 at n = 3/2, 78k steps; N = 50 at n = 2, 6.6k steps). */
+/* Steep forward tapers below n = 2 are slow, not impossible: the
+ * precursor moves every granule from the start and the light end's
+ * contacts, carrying almost no force, are stiff without bound for n < 2
+ * (docs/robustness.md).  Those of moderate cost complete within their
+ * bounds (forward exponential q = 0.1: N = 30 at n = 3/2, 78k-93k steps;
+ * N = 50 at n = 2, 6.6k steps). */
 static void stiff_but_runs(void)
 {
     const taper_method A = TAPER_ADAMS;
