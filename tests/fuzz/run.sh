@@ -13,7 +13,7 @@ fuzzer=$(sh tests/fuzz/build.sh "$build_dir")
 corpus=$build_dir/fuzz-corpus
 artifacts=$build_dir/fuzz-artifacts
 mkdir -p "$corpus" "$artifacts"
-cp share/scenes/*.nml share/scenes/paper/*.nml tests/driver/scenes/bad/*.nml "$corpus"/
+cp share/scenes/*.nml share/scenes/paper/*.nml share/scenes/physics/*.nml tests/driver/scenes/bad/*.nml "$corpus"/
 cp tests/fuzz/regressions/* "$corpus"/ 2> /dev/null || true
 # Scenes are short text files: 64 kB inputs reach every limit of the parser
 # but the 8 MB file size (repeat counts still make lists of the longest, 250000 values).

@@ -283,13 +283,49 @@ static void out_of_memory(scene *sc)
     scene_error(sc, 0, NULL, NULL, "out of memory");
 }
 
+/* Sweeps of several variables whose every run breaks the relations are an
+ * error of the scene (issue 18: refused before any run): the runs are
+ * walked until one satisfies them, at most this many (a grid this large
+ * whose first runs all break the relations is refused too). */
+#define RELATION_SCAN_MAX 100000
+
+/* A grid of several swept variables: does some run satisfy the relations?
+ * If not, the first run's refusal becomes the scene's error. */
+static void check_some_run_holds(scene *sc)
+{
+    const scene_config *cfg = &sc->cfg;
+    taper_error first = {0}, e;
+    taper_status first_status = TAPER_OK;
+    size_t runs = cfg->runs.n < RELATION_SCAN_MAX ? cfg->runs.n : RELATION_SCAN_MAX;
+    for (size_t i = 0; i < runs; i++) {
+        taper_chain_spec *spec = taper_chain_spec_alloc(NULL);
+        if (!spec) {
+            out_of_memory(sc);
+            return;
+        }
+        sink k = {.sc = NULL, .lib = SCENE_LIB_CHAIN};
+        apply_chain(&k, cfg, i, spec);
+        taper_status st = k.status == TAPER_OK ? taper_chain_spec_check(spec, &e) : k.status;
+        taper_chain_spec_free(spec);
+        if (st == TAPER_OK) return;
+        if (first_status == TAPER_OK && k.status == TAPER_OK) {
+            first_status = st;
+            first = e;
+        }
+    }
+    if (first_status == TAPER_OK) return;
+    sink k = {.sc = sc, .lib = SCENE_LIB_CHAIN};
+    note(&k, first_status, &first);
+}
+
 /* The chain at every run of the sweep: every setting once, then each
  * other value of each swept variable through its setter.  With one swept
  * variable (or none) the relations between the settings
  * (taper_chain_spec_check) are checked at every point: a value that breaks
  * them is an error of the scene.  In a sweep of several variables some
  * combinations may break them while others run: those runs fail alone
- * (the chain's allocation checks them) and the sweep marks them. */
+ * (the chain's allocation checks them) and the sweep marks them; but a
+ * grid where no run holds is refused (check_some_run_holds). */
 static void check_chain(scene *sc)
 {
     const scene_config *cfg = &sc->cfg;
@@ -313,6 +349,7 @@ static void check_chain(scene *sc)
         }
     }
     taper_chain_spec_free(spec);
+    if (k.status == TAPER_OK && !relations) check_some_run_holds(sc);
 }
 
 /* The solver's settings, each value of a swept one too. */
