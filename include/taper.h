@@ -553,7 +553,8 @@ TAPER_API long taper_solver_spec_max_steps(const taper_solver_spec *spec);
 /* Per-granule observables of a run (arrays of length N, NaN where unknown). */
 typedef enum taper_observable {
     TAPER_T_PASS = 0,   /* first time v_{k+1} overtakes v_k (pulse passes k)    */
-    TAPER_T_RES = 1,    /* t_pass(k) - t_pass(k-1), t_pass(0) = 0               */
+    TAPER_T_RES = 1,    /* t_pass(k) - t_pass(k-1), t_pass(0) = 0; NaN where
+                           k is passed before k-1 (never negative)             */
     TAPER_V_PEAK = 2,   /* first maximum of v_k (v_peak(1) = 1 at t = 0; with a
                            striker a maximum found like the others)        */
     TAPER_T_PEAK = 3,   /* its time                                             */

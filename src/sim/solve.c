@@ -614,25 +614,40 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
  * the pass times resolve (the last, tiny granules of forward chains are
  * passed within 1e-15 t of each other): then NaN, not a number that is
  * noise. */
-static size_t residence_times(taper_sim *sim)
+/* Residence times T_res(k) = t_pass(k) - t_pass(k-1), NaN where they are
+ * not a residence: below the pass times' resolution, or negative, where
+ * granule k is passed before granule k-1 (below n = 2 the precursor moves
+ * the chain's end as a block and its last granule may be passed first; the
+ * light end of a steep forward taper too).  A negative "residence" would
+ * read as a measurement; issue 18 found it in a partial file.  The counts
+ * go to the log (report_untimed). */
+typedef struct residence_report {
+    size_t unresolved, out_of_order;
+    size_t first_out_of_order;  /* granule, 0: none */
+} residence_report;
+
+static residence_report residence_times(taper_sim *sim)
 {
     /* granule k of the chain: t_pass(0) = 0 even after a striker */
     const double *tp = sim->pulse.obs[TAPER_T_PASS] + sim->model.off;
     double *tr = sim->pulse.obs[TAPER_T_RES] + sim->model.off;
-    size_t unresolved = 0;
+    residence_report r = {0, 0, 0};
     for (size_t k = 1; k <= sim->model.granules; k++) {
         double before = k > 1 ? tp[k - 2] : 0.0, T = tp[k - 1] - before;
         if (fabs(T) < PASS_TIME_RESOLUTION * fabs(tp[k - 1])) {
             T = NAN;
-            unresolved++;
+            r.unresolved++;
+        } else if (T < 0.0) {
+            T = NAN;
+            if (!r.out_of_order++) r.first_out_of_order = k;
         }
         tr[k - 1] = T;
     }
-    return unresolved;
+    return r;
 }
 
 /* What the caller's log should know about values left NaN on purpose. */
-static void report_untimed(const taper_sim *sim, size_t unresolved_residences)
+static void report_untimed(const taper_sim *sim, residence_report residences)
 {
     if (sim->pulse.untimed_passes || sim->pulse.untimed_peaks)
         taper_sim_log(sim, 1,
@@ -640,11 +655,18 @@ static void report_untimed(const taper_sim *sim, size_t unresolved_residences)
                       "armed (light granules overtaking in the precursor of a steeply tapered "
                       "chain): written as nan, not guessed",
                       sim->pulse.untimed_passes, sim->pulse.untimed_peaks);
-    if (unresolved_residences)
+    if (residences.unresolved)
         taper_sim_log(sim, 1,
                       "%zu residence times are below the resolution of the pass times "
                       "(%.1e t, set by CVODE's root finder): written as nan",
-                      unresolved_residences, PASS_TIME_RESOLUTION);
+                      residences.unresolved, PASS_TIME_RESOLUTION);
+    if (residences.out_of_order)
+        taper_sim_log(sim, 1,
+                      "%zu granules were passed before the granule ahead of them (first: "
+                      "granule %zu): the pulse is no longer a sequence of passes there (the "
+                      "precursor of n < 2, the light end of a steep forward taper); their "
+                      "residence times are written as nan, their pass times kept",
+                      residences.out_of_order, residences.first_out_of_order);
 }
 
 /* Energy error beyond which the caller is told that the far end of the
