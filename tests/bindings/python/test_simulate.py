@@ -150,7 +150,7 @@ def test_plot():
 
 def test_nothing_is_printed_warnings_are_collected(capfd):
     r = taper.simulate(n_granules=200, rtol=0.1, atol=0.1)  # drifts: the library warns
-    assert r.warnings and "energy error" in r.warnings[0]
+    assert any("energy error" in w for w in r.warnings)  # among others (out-of-order passes)
     p = taper.simulate(n_granules=100, max_steps=20)         # a partial run
     assert p.status == "limit" and "max_steps" in p.message
     out, err = capfd.readouterr()  # the file descriptors, where C code would print
