@@ -618,7 +618,8 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
  * not a residence: below the pass times' resolution, or negative, where
  * granule k is passed before granule k-1 (below n = 2 the precursor moves
  * the chain's end as a block and its last granule may be passed first; the
- * light end of a steep forward taper too).  A negative "residence" would
+ * light end of a steep forward taper, small granules of decorated and mixed
+ * chains too).  A negative "residence" would
  * read as a measurement; issue 18 found it in a partial file.  The counts
  * go to the log (report_untimed). */
 typedef struct residence_report {
@@ -663,9 +664,11 @@ static void report_untimed(const taper_sim *sim, residence_report residences)
     if (residences.out_of_order)
         taper_sim_log(sim, 1,
                       "%zu granules were passed before the granule ahead of them (first: "
-                      "granule %zu): the pulse is no longer a sequence of passes there (the "
-                      "precursor of n < 2, the light end of a steep forward taper); their "
-                      "residence times are written as nan, their pass times kept",
+                      "granule %zu): the pulse is no longer a sequence of passes there "
+                      "(light granules overtaken within the pulse: small granules of a "
+                      "decorated or mixed chain, the precursor below n = 2, the light end of "
+                      "a steep forward taper); their residence times are written as nan, "
+                      "their pass times kept",
                       residences.out_of_order, residences.first_out_of_order);
 }
 
