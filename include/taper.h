@@ -271,6 +271,20 @@ TAPER_API double taper_chain_spec_striker_radius(const taper_chain_spec *spec);
 TAPER_API double taper_chain_spec_striker_density(const taper_chain_spec *spec);
 TAPER_API double taper_chain_spec_striker_compliance(const taper_chain_spec *spec);
 
+/* A piston: a body of infinite mass touching granule 1 (at rest, as the
+ * whole chain) from the left, that moves at the unit velocity for
+ * 0 <= t <= duration and stops there (position min(t, duration)); duration
+ * may be INFINITY (a steady push).  Its face is a wall's of compliance >= 0
+ * relative to granule 1's (taper_chain_spec_set_end).  It does the work
+ * W(t) = J(min(t, duration)), J the impulse of its force
+ * (taper_sim_piston_work).  duration 0 (the default) removes it.  A piston
+ * excludes a striker, a left wall and a static load
+ * (taper_chain_spec_check; docs/physics.md, "Piston"). */
+TAPER_API taper_status taper_chain_spec_set_piston(taper_chain_spec *spec, double duration,
+                                                   double compliance, taper_error *err);
+TAPER_API double taper_chain_spec_piston_duration(const taper_chain_spec *spec);
+TAPER_API double taper_chain_spec_piston_compliance(const taper_chain_spec *spec);
+
 /* Precompression: a static compressive force F0 >= 0 through the chain
  * (rescaled force, eq. (5)).  Every contact starts at its static overlap
  * delta_k with r_k delta_k^(n-1) = F0; a free end is pushed by the constant
@@ -299,11 +313,13 @@ TAPER_API double taper_chain_spec_drag(const taper_chain_spec *spec);
  * options above name: "left_end", "right_end", "left_wall_compliance",
  * "right_wall_compliance" (set_end), "striker_radius", "striker_density",
  * "striker_compliance", "load", "damping", "drag", "materials", "pattern",
- * "disorder", "disorder_amplitude".  Relations refused: a pattern without
- * the decorated profile or the reverse, pattern[0] != 1, materials for
- * another number of granules than n_granules, a wall compliance on a free
- * end, striker density or compliance without a striker, a striker with a
- * left wall. */
+ * "disorder", "disorder_amplitude", "piston_duration", "piston_compliance".
+ * Relations refused: a pattern without the decorated profile or the
+ * reverse, pattern[0] != 1, materials for another number of granules than
+ * n_granules, a wall compliance on a free end, striker density or
+ * compliance without a striker, a striker with a left wall, a piston with
+ * a striker, a left wall or a load, a piston compliance without a
+ * piston. */
 TAPER_API taper_status taper_chain_spec_check(const taper_chain_spec *spec, taper_error *err);
 
 typedef struct taper_chain taper_chain;
@@ -336,6 +352,10 @@ TAPER_API double taper_chain_striker_radius(const taper_chain *chain);
 TAPER_API double taper_chain_striker_mass(const taper_chain *chain);
 /* Contact factor of the pair (striker, granule 1). */
 TAPER_API double taper_chain_striker_contact(const taper_chain *chain);
+/* The piston's duration (0: none) and the contact factor of its face with
+ * granule 1 (NaN: none). */
+TAPER_API double taper_chain_piston_duration(const taper_chain *chain);
+TAPER_API double taper_chain_piston_contact(const taper_chain *chain);
 TAPER_API double taper_chain_load(const taper_chain *chain);      /* F0 (0: none)       */
 TAPER_API double taper_chain_damping(const taper_chain *chain);   /* 0: elastic         */
 TAPER_API double taper_chain_drag(const taper_chain *chain);      /* 0: none            */
@@ -659,6 +679,11 @@ TAPER_API taper_status taper_sim_state(const taper_sim *sim, double *x, double *
 /* The time the state readers see: t_final after a run, the sample time
  * inside a sampler's call. */
 TAPER_API double taper_sim_time(const taper_sim *sim);
+/* The work the piston did until TAPER_STAT_T_FINAL, W = J(min(t_final,
+ * duration)) (taper_chain_spec_set_piston): with a piston the energy
+ * budget's parts add up to W, not to E(0) = 0, and TAPER_STAT_ENERGY_ERROR
+ * is |E + D - W| / W.  NaN without a piston or before the run. */
+TAPER_API double taper_sim_piston_work(const taper_sim *sim);
 /* Displacement and velocity of the striker (TAPER_EINVAL if none). */
 TAPER_API taper_status taper_sim_striker_state(const taper_sim *sim, double *x, double *v,
                                                taper_error *err);

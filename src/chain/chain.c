@@ -251,6 +251,7 @@ taper_chain *taper_chain_alloc(const taper_chain_spec *spec, taper_error *err)
         return NULL;
     }
     chain_theory_note(c);
+    chain_options_fill_piston(c, spec); /* after the note: a piston sets its own */
     taper_ok(err);
     return c;
 }

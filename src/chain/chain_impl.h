@@ -33,6 +33,8 @@ struct taper_chain_spec {
     double load;        /* static force F0                                */
     double damping;     /* Kuwabara-Kono time                             */
     double drag;        /* hydrodynamic friction coefficient              */
+    double piston_duration;   /* 0: no piston; INFINITY: a steady push    */
+    double piston_compliance; /* of the piston's face, relative to c_1    */
 };
 
 /* Room for the reason the theory does not apply (taper_chain_theory_note). */
@@ -51,6 +53,7 @@ struct taper_chain {
     double end_contact[TAPER_N_ENDS];     /* NaN for a free end         */
     double striker_radius, striker_mass, striker_contact; /* NaN: none  */
     double load, damping, drag;
+    double piston_duration, piston_contact; /* 0, NaN: no piston          */
     size_t pattern_period;                /* P of a decorated chain; 0  */
     char theory_note[CHAIN_NOTE_SIZE];    /* "" when the theory applies */
 };
@@ -62,6 +65,11 @@ taper_status chain_options_check(const taper_chain_spec *spec, taper_error *err)
 void chain_options_free(taper_chain_spec *spec);
 /* chain_options.c: the defaults of the options (the paper's chain). */
 void chain_options_default(taper_chain_spec *spec);
+
+/* chain_options.c: the piston of a built chain (its duration and the
+ * contact factor of its face with granule 1: a wall's, eq. (7) with the
+ * other radius infinite).  Called by chain.c once the radii are known. */
+void chain_options_fill_piston(taper_chain *chain, const taper_chain_spec *spec);
 
 /* disorder.c: u_k in [-1, 1) for granule k of the given seed, identical on
  * every machine (docs/physics.md, "Disorder"). */

@@ -14,6 +14,7 @@
  */
 #include "chain/chain_impl.h"
 
+#include <stdio.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -101,6 +102,8 @@ void chain_options_default(taper_chain_spec *spec)
     spec->load = 0.0;
     spec->damping = 0.0;
     spec->drag = 0.0;
+    spec->piston_duration = 0.0;
+    spec->piston_compliance = 0.0;
 }
 
 void chain_options_free(taper_chain_spec *spec)
@@ -191,6 +194,59 @@ double taper_chain_spec_striker_density(const taper_chain_spec *spec)
 double taper_chain_spec_striker_compliance(const taper_chain_spec *spec)
 {
     return spec ? spec->striker_compliance : NAN;
+}
+
+taper_status taper_chain_spec_set_piston(taper_chain_spec *spec, double duration,
+                                         double compliance, taper_error *err)
+{
+    if (!spec) return null_spec(err, __func__);
+    if (!(duration >= 0.0))
+        return taper_fail_field(err, TAPER_EINVAL, "piston_duration",
+                                "piston_duration = %g: the time the piston pushes must be > 0 "
+                                "(infinite: a steady push; 0: no piston)", duration);
+    if (!(compliance >= 0.0) || !isfinite(compliance))
+        return taper_fail_field(err, TAPER_EINVAL, "piston_compliance",
+                                "piston_compliance = %g: the piston's compliance (1 - nu^2)/E "
+                                "relative to granule 1's must be finite and >= 0 (0: rigid)",
+                                compliance);
+    spec->piston_duration = duration;
+    spec->piston_compliance = compliance;
+    return taper_ok(err);
+}
+
+double taper_chain_spec_piston_duration(const taper_chain_spec *spec)
+{
+    return spec ? spec->piston_duration : NAN;
+}
+double taper_chain_spec_piston_compliance(const taper_chain_spec *spec)
+{
+    return spec ? spec->piston_compliance : NAN;
+}
+
+/* The piston's face is a wall's (chain.c, fill_ends): sqrt(2 R_1) times
+ * 2 c_1 / (c_1 + c_piston). */
+void chain_options_fill_piston(taper_chain *chain, const taper_chain_spec *spec)
+{
+    const int on = spec->piston_duration > 0.0;
+    const double c1 = spec->compliance ? spec->compliance[0] : 1.0;
+    chain->piston_duration = on ? spec->piston_duration : 0.0;
+    chain->piston_contact = on ? sqrt(2.0 * chain->radius[0]) * 2.0 / (c1 + spec->piston_compliance)
+                               : NAN;
+    /* A push of finite duration is no impulse on granule 1 at rest: the
+     * pulse it launches is not the binary collision cascade of eq. (9). */
+    if (on && !chain->theory_note[0])
+        snprintf(chain->theory_note, sizeof chain->theory_note, "%s",
+                 "piston: the binary collision approximation of arXiv:0905.4512 starts from an "
+                 "impulse on granule 1, not from a push of prescribed velocity");
+}
+
+double taper_chain_piston_duration(const taper_chain *chain)
+{
+    return chain ? chain->piston_duration : NAN;
+}
+double taper_chain_piston_contact(const taper_chain *chain)
+{
+    return chain ? chain->piston_contact : NAN;
 }
 
 /* Load, damping and drag: one finite value >= 0 each. */
@@ -384,6 +440,28 @@ taper_status chain_options_check(const taper_chain_spec *spec, taper_error *err)
                                 "a left wall and a striker exclude each other (the striker comes "
                                 "from the left end): make left_end 'free' or remove the striker "
                                 "(striker_radius = 0)");
+    /* The piston pushes granule 1 from the left, as a striker or a left
+     * wall would be there; under a load its face would hold granule 1 by
+     * a static overlap, a case the piston's model does not cover. */
+    if (spec->piston_duration == 0.0 && spec->piston_compliance != 0.0)
+        return taper_fail_field(err, TAPER_EINVAL, "piston_compliance",
+                                "piston_compliance = %g has no effect without a piston: give "
+                                "piston_duration > 0 or leave it at 0", spec->piston_compliance);
+    if (spec->piston_duration > 0.0 && spec->striker_radius > 0.0)
+        return taper_fail_field(err, TAPER_EINVAL, "piston_duration",
+                                "a piston and a striker exclude each other (both push granule 1 "
+                                "from the left): remove one (piston_duration = 0 or "
+                                "striker_radius = 0)");
+    if (spec->piston_duration > 0.0 && spec->end[TAPER_LEFT] == TAPER_END_WALL)
+        return taper_fail_field(err, TAPER_EINVAL, "piston_duration",
+                                "a piston and a left wall exclude each other (the piston is the "
+                                "left end): make left_end 'free' or remove the piston "
+                                "(piston_duration = 0)");
+    if (spec->piston_duration > 0.0 && spec->load > 0.0)
+        return taper_fail_field(err, TAPER_EINVAL, "piston_duration",
+                                "a piston under a static load is not modelled (the piston starts "
+                                "just touching granule 1 of a chain at rest): set load = 0 or "
+                                "remove the piston");
     /* The Kuwabara-Kono force damping r (n-1) z^(n-2) dz/dt diverges as a
      * contact closes when n < 2 (z^(n-2) -> oo at z -> 0+): no finite force
      * law to integrate.  Refused here, before any run (issue 18: refuse

@@ -29,6 +29,7 @@
  */
 #include "sim.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -42,6 +43,15 @@ static double compression(const taper_sim *sim, const double *y, const double *x
     return x[k - 1] - x[k];
 }
 
+double taper_budget_piston_work(const taper_sim *sim, const double *q)
+{
+    if (!sim->model.piston) return NAN;
+    /* u = 1 while it moves, 0 after: W = int F u dt = J(min(t, duration)),
+     * J its impulse (no load with a piston: the quadrature is all of it) */
+    if (!sim->piston_moving && sim->ran) return sim->piston_work;
+    return q ? q[TAPER_QUAD_WALL_LEFT] : 0.0;
+}
+
 static int is_wall(const taper_model *m, size_t k)
 {
     return (k == 1 && m->wall_left) || (k == m->bodies && m->wall_right);
@@ -52,6 +62,7 @@ void taper_budget_compute(taper_sim *sim, const double *q)
     const taper_model *m = &sim->model;
     taper_run_statistics *s = &sim->stats;
     const size_t n = sim->n, i0 = m->impulse;
+    /* A piston has mass 0 (sim.h): E(0) = P(0) = 0 */
     const double e0 = 0.5 * sim->mass[i0 - 1], p0 = sim->mass[i0 - 1];
     s->energy_initial = e0;
     s->energy_dissipated = q ? q[TAPER_QUAD_DISSIPATED] : 0.0;
@@ -60,6 +71,7 @@ void taper_budget_compute(taper_sim *sim, const double *q)
     s->wall_impulse[TAPER_LEFT] = m->wall_left && q ? q[TAPER_QUAD_WALL_LEFT] + static_impulse : NAN;
     s->wall_impulse[TAPER_RIGHT] = m->wall_right && q ? q[TAPER_QUAD_WALL_RIGHT] + static_impulse : NAN;
     s->energy_transmitted = s->energy_reflected = s->energy_in_chain = NAN;
+    s->piston_work = taper_budget_piston_work(sim, q);
     if (!sim->cv.y) return;
     double *x = malloc(n * sizeof(double)), *v = malloc(n * sizeof(double));
     double *phi = malloc(n * sizeof(double));
@@ -99,7 +111,14 @@ void taper_budget_compute(taper_sim *sim, const double *q)
     s->energy_reflected = first_open && p_near < 0.0 ? near : 0.0;
     s->energy_transmitted = first_open && (p_far > 0.0 || m->wall_right) ? far : 0.0;
     s->energy_in_chain = total - s->energy_reflected - s->energy_transmitted;
-    if (m->options) {
+    if (m->piston) {
+        /* E + D = E(0) + W, relative to the energy put in (E(0) = 0) */
+        const double w = s->piston_work;
+        s->energy_error = fabs(total + s->energy_dissipated - e0 - w) / fmax(fmax(e0, w), DBL_MIN);
+        double external = drag_impulse + (q ? q[TAPER_QUAD_WALL_LEFT] : 0.0);
+        if (q && m->wall_right) external -= q[TAPER_QUAD_WALL_RIGHT];
+        s->momentum_error = fabs(p - p0 - external) / fmax(fmax(p0, p_abs), DBL_MIN);
+    } else if (m->options) {
         s->energy_error = fabs(total + s->energy_dissipated - e0) / e0;
         /* Each end pushes with F0 t (a free end's load, or a wall's static
          * part) plus a wall's dynamic impulse: the F0 t cancel. */

@@ -296,7 +296,8 @@ void taper_dyn_quadrature_rhs(const taper_dyn *d, const double *y, double *out)
     for (size_t k = lo; k <= hi; k++) {
         const double v = taper_dyn_v(d, y, k);
         if (k < hi) loss += contact_loss(d, k, taper_dyn_z(d, y, k), v - taper_dyn_v(d, y, k + 1));
-        loss += d->drag * v * v;
+        /* a body of inverse mass 0 feels no drag (the rhs), even moving: a piston */
+        if (d->inv_mass[k - 1] > 0.0) loss += d->drag * v * v;
     }
     out[2] = loss;
 }

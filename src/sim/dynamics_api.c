@@ -40,10 +40,12 @@ taper_dynamics *taper_dynamics_alloc(const taper_chain *chain, taper_error *err)
         option = "damping";
     else if (taper_chain_drag(chain) > 0.0)
         option = "drag";
+    else if (taper_chain_piston_duration(chain) > 0.0)
+        option = "piston_duration";
     if (option) {
         taper_fail_field(err, TAPER_EINVAL, option,
                          "taper_dynamics_alloc: the chain has the option '%s'; taper_dynamics "
-                         "integrates the paper's eq. (6) only (no walls, striker, load or losses)",
+                         "integrates the paper's eq. (6) only (no walls, striker, piston, load or losses)",
                          option);
         return NULL;
     }

@@ -221,7 +221,8 @@ static double wall_rate(const taper_sim *sim, const double *y, int end)
     if (!wall_contact(sim, end, &k, &g)) return 1.0;
     const double sign = end == TAPER_LEFT ? -1.0 : 1.0; /* dz/dt = sign v_g: the wall rests */
     const double z = taper_dyn_z(d, y, k);
-    const double zdot = sign * taper_dyn_v(d, y, g);
+    double zdot = sign * taper_dyn_v(d, y, g);
+    if (end == TAPER_LEFT && sim->piston_moving) zdot += taper_dyn_v(d, y, 1); /* it moves */
     if (!(taper_dyn_contact_force(d, k, z, zdot) > 0.0)) return 1.0;
     double rate = zdot;
     if (d->damping > 0.0) {
@@ -411,6 +412,21 @@ taper_root_report taper_events_record(taper_sim *sim, const int *roots_found)
         .gap_closed = roots_found[np + nk + 1] > 0,
         .passed = sim->pulse.next_pass != passed_before,
     };
+}
+
+void taper_events_piston_stopped(taper_sim *sim)
+{
+    const double *y = taper_sim_data(sim, sim->cv.y);
+    /* v_2 - v_1 jumps to v_2 > 0 when v_1 did not reach 1: the pass */
+    if (sim->pulse.next_pass == 1 && !known(sim, 1, TAPER_EV_PASS)) {
+        sim->pulse.events[0] |= TAPER_EV_PASS;
+        sim->pulse.obs[TAPER_T_PASS][0] = sim->t;
+        sim->pulse.obs[TAPER_X_PASS][0] = sim->rest[0] + taper_dyn_position(&sim->dyn, y, 1);
+        if (velocity(sim, y, 2) > 0.0) sim->pulse.v_ref = velocity(sim, y, 2);
+        if (taper_dyn_z(&sim->dyn, y, 1) > 0.0) sim->pulse.z_ref = taper_dyn_z(&sim->dyn, y, 1);
+    }
+    record_wall(sim, y, TAPER_LEFT); /* its force stops growing here */
+    advance_rings(sim, y);
 }
 
 int taper_events_passes_complete(const taper_sim *sim) { return sim->pulse.next_pass > sim->pass_limit; }

@@ -23,7 +23,7 @@
 static int any_option(const taper_model *m)
 {
     return m->striker || m->wall_left || m->wall_right || m->load > 0.0 || m->damping > 0.0 ||
-           m->drag > 0.0;
+           m->drag > 0.0 || m->piston;
 }
 
 int taper_model_init(taper_model *m, const taper_chain *chain)
@@ -37,6 +37,9 @@ int taper_model_init(taper_model *m, const taper_chain *chain)
     m->striker = taper_chain_striker_radius(chain) > 0.0;
     m->wall_left = taper_chain_end(chain, TAPER_LEFT) == TAPER_END_WALL;
     m->wall_right = taper_chain_end(chain, TAPER_RIGHT) == TAPER_END_WALL;
+    m->piston = taper_chain_piston_duration(chain) > 0.0;
+    m->piston_duration = m->piston ? taper_chain_piston_duration(chain) : 0.0;
+    if (m->piston) m->wall_left = 1; /* a moving left wall (sim.h) */
     const double load = taper_chain_load(chain), damping = taper_chain_damping(chain);
     const double drag = taper_chain_drag(chain);
     m->load = load > 0.0 ? load : 0.0;
@@ -48,8 +51,9 @@ int taper_model_init(taper_model *m, const taper_chain *chain)
     m->off = (m->striker || m->wall_left) ? 1 : 0;
     m->bodies = m->off + N + (m->wall_right ? 1 : 0);
     /* A left wall rests; granule 1 carries the impulse.  A striker carries
-     * it itself (body 1). */
-    m->impulse = m->wall_left ? 2 : 1;
+     * it itself (body 1), and so does a piston (its velocity 1; inverse
+     * mass 0 keeps it, solve.c stops it at its duration). */
+    m->impulse = m->wall_left && !m->piston ? 2 : 1;
     const size_t nb = m->bodies;
     m->mass = malloc(nb * sizeof(double));
     m->contact = malloc(nb * sizeof(double));
@@ -67,9 +71,11 @@ int taper_model_init(taper_model *m, const taper_chain *chain)
         m->rest[0] = -(Rs + radius[0]);
     } else if (m->wall_left) {
         m->mass[0] = 0.0;
-        m->contact[0] = taper_chain_end_contact(chain, TAPER_LEFT);
-        m->rest[0] = -radius[0]; /* the wall's plane */
+        m->contact[0] = m->piston ? taper_chain_piston_contact(chain)
+                                  : taper_chain_end_contact(chain, TAPER_LEFT);
+        m->rest[0] = -radius[0]; /* the wall's (the piston's face at t = 0) plane */
     }
+    m->scale_mass = m->piston ? m->mass[1] : m->mass[m->impulse - 1];
     if (m->wall_right) {
         m->contact[nb - 2] = taper_chain_end_contact(chain, TAPER_RIGHT);
         m->mass[nb - 1] = 0.0;

@@ -462,6 +462,12 @@ taper_status taper_sim_state(const taper_sim *sim, double *x, double *v, taper_e
 
 double taper_sim_time(const taper_sim *sim) { return sim ? sim->t : NAN; }
 
+double taper_sim_piston_work(const taper_sim *sim)
+{
+    if (!sim || !sim->model.piston || !sim->cv.y) return NAN;
+    return sim->stats.piston_work;
+}
+
 taper_status taper_sim_striker_state(const taper_sim *sim, double *x, double *v, taper_error *err)
 {
     taper_status status = check_ran(sim, "taper_sim_striker_state", err);

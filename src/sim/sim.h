@@ -57,7 +57,16 @@ typedef struct taper_model {
     size_t off;             /* bodies before granule 1 (0 or 1)             */
     size_t bodies;          /* off + N + (1 with a right wall)              */
     int striker, wall_left, wall_right;
+    /* A piston is a left wall (wall_left is set: body 1, inverse mass 0,
+     * its force and impulse the left wall's) that moves at velocity 1 until
+     * t = piston_duration (INFINITY: never stops), then rests; the body
+     * with the impulse is the piston itself (impulse = 1), granule 1
+     * rests.  docs/physics.md, "Piston". */
+    int piston;
+    double piston_duration;
     size_t impulse;         /* the body moving at t = 0 (velocity 1)        */
+    double scale_mass;      /* its mass, granule 1's behind a piston: the
+                               scale of energies and impulses              */
     double load, damping, drag;
     int options;            /* any option: the general right-hand side      */
     int free_flight;        /* no load, no losses: bodies that leave the
@@ -107,6 +116,7 @@ typedef struct taper_run_statistics {
     double energy_initial, energy_dissipated, energy_transmitted, energy_reflected,
         energy_in_chain;
     double wall_impulse[TAPER_N_ENDS]; /* NaN: no wall                     */
+    double piston_work;     /* W(t_final); NaN: no piston                  */
 } taper_run_statistics;
 
 /* The largest force of each wall and its time (events.c; NaN: no wall). */
@@ -192,6 +202,9 @@ struct taper_sim {
     taper_out out;
     taper_cvode cv;
     double t;               /* time of the current state                    */
+    int piston_moving;      /* the piston has not stopped yet (solve.c)     */
+    double phase_stop;      /* CVODE stop time of the run's phase (solve.c) */
+    double piston_work;     /* W at the stop: the impulse J(duration)       */
     int ran;
     taper_run_statistics stats;
 };
@@ -243,6 +256,8 @@ int taper_sample_call(taper_sim *sim);
  * momentum errors from the state at sim->t and the quadratures q (NULL:
  * none). */
 void taper_budget_compute(taper_sim *sim, const double *q);
+/* The piston's work W(sim->t) from the quadratures q (NaN: no piston). */
+double taper_budget_piston_work(const taper_sim *sim, const double *q);
 
 /* ---- events.c: pulse events -------------------------------------------------- */
 /* What a root return asks of the window. */
@@ -266,6 +281,11 @@ int taper_events_fit_rings(taper_sim *sim);
 /* Records the events of one CVODE root return at the current state. */
 taper_root_report taper_events_record(taper_sim *sim, const int *roots_found);
 int taper_events_complete(const taper_sim *sim);
+/* At the piston's stop (solve.c, before v_1 is set to 0): the jump of
+ * dz_1/dt from v_1 - v_2 to -v_2 is a maximum of the piston's compression
+ * and force that no root function sees (CVODE restarts there); the
+ * piston's pass, if still unknown, and its force are recorded here. */
+void taper_events_piston_stopped(taper_sim *sim);
 int taper_events_passes_complete(const taper_sim *sim);
 
 /* ---- window.c: the window policy (decisions only) ---------------------------- */

@@ -124,7 +124,7 @@ static int error_weights(N_Vector yv, N_Vector wv, void *user)
         w[i + 1] = 1.0 / (rtol * fabs(y[i + 1]) + atol * sim->z_scale[k - 1]);
     }
     if (sim->model.quadratures) { /* impulses on the scale of P(0), D of E(0) */
-        const double m0 = sim->mass[sim->model.impulse - 1];
+        const double m0 = sim->model.scale_mass;
         w[i + TAPER_QUAD_WALL_LEFT] = 1.0 / (rtol * fabs(y[i + TAPER_QUAD_WALL_LEFT]) + atol * m0);
         w[i + TAPER_QUAD_WALL_RIGHT] = 1.0 / (rtol * fabs(y[i + TAPER_QUAD_WALL_RIGHT]) + atol * m0);
         w[i + TAPER_QUAD_DISSIPATED] = 1.0 / (rtol * fabs(y[i + TAPER_QUAD_DISSIPATED]) + atol * 0.5 * m0);
@@ -464,6 +464,43 @@ static void shrink(taper_sim *sim)
     if (sim->dyn.lo != lo) window_changed(sim);
 }
 
+/* ---- the piston's stop ------------------------------------------------------ */
+/* The piston's velocity jumps from 1 to 0 at t = duration: a discontinuity
+ * of the right-hand side that no step may straddle (the error control would
+ * smear it over the steps around it).  CVODE stops there exactly
+ * (CVodeSetStopTime), the piston's velocity is set to 0 in the state, and
+ * CVODE restarts from that state with a fresh history.  The piston never
+ * leaves the window while it moves (window.c), so its velocity is always
+ * the state's. */
+static int piston_stop_pending(const taper_sim *sim)
+{
+    return sim->piston_moving && isfinite(sim->model.piston_duration);
+}
+
+/* The stop time a phase of the run asked for (grace, t_end): kept, so that
+ * it can be set again after the piston's stop replaced it. */
+static void set_stop_time(taper_sim *sim, double t)
+{
+    sim->phase_stop = t;
+    if (!piston_stop_pending(sim)) CVodeSetStopTime(sim->cv.mem, t);
+}
+
+static taper_status stop_piston(taper_sim *sim, taper_error *err)
+{
+    double *y = taper_sim_data(sim, sim->cv.y);
+    sim->piston_work = y[taper_dyn_end(&sim->dyn) - taper_dyn_begin(&sim->dyn) + TAPER_QUAD_WALL_LEFT];
+    taper_events_piston_stopped(sim);
+    y[taper_idx_v(1) - taper_dyn_begin(&sim->dyn)] = 0.0; /* lo == 1 (window.c) */
+    sim->piston_moving = 0;
+    taper_sim_log(sim, 0, "the piston stops at t = %.17g (work done: %.17g)", sim->t,
+                  sim->piston_work);
+    taper_status status = restart(sim, err);
+    /* CVODE 6.4 keeps a reached stop time through CVodeReInit and then
+     * refuses to start from it (flag -22): the phase's, or none. */
+    if (!status) CVodeSetStopTime(sim->cv.mem, sim->phase_stop > sim->t ? sim->phase_stop : NO_TIME_LIMIT);
+    return status;
+}
+
 /* ---- the run -------------------------------------------------------------- */
 static int call_monitor(const taper_sim *sim)
 {
@@ -516,10 +553,24 @@ static double grace_time(const taper_sim *sim)
 static taper_status advance(taper_sim *sim, double tout, int *reached, taper_error *err)
 {
     const double t_sample = taper_sample_next(sim);
-    double t = sim->t;
-    int flag = CVode(sim->cv.mem, t_sample < tout ? t_sample : tout, sim->cv.y, &t, CV_NORMAL);
+    double t = sim->t, target = t_sample < tout ? t_sample : tout;
+    const int piston_first = piston_stop_pending(sim) && sim->model.piston_duration <= target;
+    if (piston_first) target = sim->model.piston_duration;
+    if (piston_stop_pending(sim)) { /* CVODE's stop: the piston's or the phase's, the first */
+        double tn = t, stop_at = sim->model.piston_duration;
+        CVodeGetCurrentTime(sim->cv.mem, &tn);
+        if (sim->phase_stop > tn && sim->phase_stop < stop_at) stop_at = sim->phase_stop;
+        CVodeSetStopTime(sim->cv.mem, stop_at);
+    }
+    int flag = CVode(sim->cv.mem, target, sim->cv.y, &t, CV_NORMAL);
     sim->t = t;
     *reached = 0;
+    if (piston_first && (flag == CV_SUCCESS || flag == CV_TSTOP_RETURN) && t >= target) {
+        taper_status status = stop_piston(sim, err);
+        /* a sample or tout at the stop time: served below, from the
+         * stopped state (CVODE would refuse a call for tout = t now) */
+        if (status != TAPER_OK || (t < t_sample && t < tout)) return status;
+    }
     if (flag == CV_ROOT_RETURN) return handle_roots(sim, err);
     if (flag == CV_TOO_MUCH_WORK) {
         if (call_monitor(sim)) return stop(sim, err, STOP_INTERRUPTED, 0);
@@ -555,7 +606,7 @@ static taper_status continue_to_end(taper_sim *sim, taper_error *err)
      * refused. */
     double tn = sim->t;
     CVodeGetCurrentTime(sim->cv.mem, &tn);
-    if (tout > tn) CVodeSetStopTime(sim->cv.mem, tout);
+    if (tout > tn) set_stop_time(sim, tout);
     for (int reached = 0; !reached;) {
         if (sim->spec.max_steps > 0 && total_counters(sim).steps >= sim->spec.max_steps)
             return stop(sim, err, STOP_MAX_STEPS, 0);
@@ -576,7 +627,7 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
             grace = 1;
             double tg = grace_time(sim);
             if (tg < tout) tout = tg;
-            CVodeSetStopTime(sim->cv.mem, tout);
+            set_stop_time(sim, tout);
         }
         double t_before = sim->t;
         taper_status status = step_once(sim, tout, grace, err);
@@ -709,6 +760,7 @@ static void finish(taper_sim *sim, taper_status status)
         double v = k < d->lo ? sim->out.v_free[k - 1] : k <= d->hi ? taper_dyn_v(d, y, k) : 0.0;
         p_abs += sim->mass[k - 1] * fabs(v);
     }
+    /* (a piston's run: budget.c replaces both with the work's balance) */
     const double m0 = sim->mass[sim->model.impulse - 1], e0 = 0.5 * m0, p0 = m0;
     s->energy_error = fabs(e - e0) / e0;
     /* Relative to the momentum in motion: in backward chains granules carry
@@ -723,6 +775,8 @@ taper_status taper_sim_run(taper_sim *sim, taper_error *err)
     if (!sim) return taper_fail(err, TAPER_EINVAL, "taper_sim_run: sim is NULL");
     if (sim->ran) return taper_fail(err, TAPER_EINVAL, "taper_sim_run: this sim has already run");
     sim->ran = 1;
+    sim->piston_moving = sim->model.piston;
+    sim->phase_stop = 0.0;
     taper_status status = setup_cvode(sim, err);
     /* the sampler's first call: the initial state, t = 0 */
     if (status == TAPER_OK && taper_sample_next(sim) == 0.0 && taper_sample_call(sim))

@@ -204,6 +204,9 @@ taper_departure taper_window_departure(const taper_sim *sim)
     const double *y = taper_sim_data(sim, sim->cv.y);
     const size_t j = d->lo;
     if (j + 2 >= d->hi || j >= sim->pulse.next_pass || j >= sim->pulse.next_peak) return stays;
+    /* A moving piston stays: its stop sets its velocity in the state
+     * (solve.c); once stopped it is a wall at rest and may leave. */
+    if (j == 1 && sim->piston_moving) return stays;
     const double v = taper_dyn_v(d, y, j), v_next = taper_dyn_v(d, y, j + 1);
     const double z = taper_dyn_z(d, y, j);
     const double z_back = j > 1 ? y[0] : -INFINITY; /* gap z_{j-1} */

@@ -140,10 +140,12 @@ module taper
             taper_chain_spec_striker_radius, taper_chain_spec_striker_density, &
             taper_chain_spec_striker_compliance, taper_chain_spec_set_load, taper_chain_spec_load, &
             taper_chain_spec_set_damping, taper_chain_spec_damping, taper_chain_spec_set_drag, &
-            taper_chain_spec_drag
+            taper_chain_spec_drag, taper_chain_spec_set_piston, &
+            taper_chain_spec_piston_duration, taper_chain_spec_piston_compliance
   public :: taper_chain_end, taper_chain_end_contact, taper_chain_striker_radius, &
             taper_chain_striker_mass, taper_chain_striker_contact, taper_chain_load, &
-            taper_chain_damping, taper_chain_drag, c_taper_chain_theory_note
+            taper_chain_damping, taper_chain_drag, c_taper_chain_theory_note, &
+            taper_chain_piston_duration, taper_chain_piston_contact
   public :: taper_unit_scale
   public :: taper_chain_alloc, taper_chain_free, taper_chain_size, taper_chain_exponent, &
             taper_chain_profile, taper_chain_radius, taper_chain_mass, taper_chain_contact, &
@@ -163,7 +165,7 @@ module taper
             taper_solver_spec_sample_interval
   public :: taper_sim_alloc, taper_sim_free, taper_sim_run, taper_sim_observable, &
             taper_sim_theory, taper_sim_statistic, taper_sim_state, taper_sim_time, &
-            taper_sim_striker_state, taper_sim_forces
+            taper_sim_striker_state, taper_sim_forces, taper_sim_piston_work
   public :: taper_asymptotic_exponent, taper_asymptotic_A, taper_asymptotic_lnA, &
             taper_asymptotic_eta, taper_asymptotic_f, taper_asymptotic_position_exponent, &
             taper_asymptotic_speed_exponent, taper_asymptotic_timescale, taper_asymptotic_M, &
@@ -479,6 +481,29 @@ module taper
        integer(c_int), value :: end
        real(c_double) :: x
      end function taper_chain_spec_end_compliance
+     ! A piston pushing granule 1 at unit velocity for 0 <= t <= duration
+     ! (ieee_positive_inf: a steady push; 0: none), its face a wall's of the
+     ! given compliance.
+     function taper_chain_spec_set_piston(spec, duration, compliance, err) &
+          bind(C, name="taper_chain_spec_set_piston") result(status)
+       import :: c_ptr, c_int, c_double, taper_error
+       type(c_ptr), value :: spec
+       real(c_double), value :: duration, compliance
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_chain_spec_set_piston
+     function taper_chain_spec_piston_duration(spec) bind(C, name="taper_chain_spec_piston_duration") &
+          result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_piston_duration
+     function taper_chain_spec_piston_compliance(spec) bind(C, name="taper_chain_spec_piston_compliance") &
+          result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: spec
+       real(c_double) :: x
+     end function taper_chain_spec_piston_compliance
      function taper_chain_spec_set_striker(spec, radius, density, compliance, err) &
           bind(C, name="taper_chain_spec_set_striker") result(status)
        import :: c_ptr, c_int, c_double, taper_error
@@ -620,6 +645,18 @@ module taper
        type(c_ptr), value :: chain
        real(c_double) :: x
      end function taper_chain_striker_contact
+     function taper_chain_piston_duration(chain) bind(C, name="taper_chain_piston_duration") &
+          result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: chain
+       real(c_double) :: x
+     end function taper_chain_piston_duration
+     function taper_chain_piston_contact(chain) bind(C, name="taper_chain_piston_contact") &
+          result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: chain
+       real(c_double) :: x
+     end function taper_chain_piston_contact
      function taper_chain_load(chain) bind(C, name="taper_chain_load") result(x)
        import :: c_ptr, c_double
        type(c_ptr), value :: chain
@@ -924,6 +961,13 @@ module taper
        type(c_ptr), value :: sim
        real(c_double) :: t
      end function taper_sim_time
+     ! The piston's work until t_final (NaN: no piston, or not run).
+     function taper_sim_piston_work(sim) bind(C, name="taper_sim_piston_work") &
+          result(x)
+       import :: c_ptr, c_double
+       type(c_ptr), value :: sim
+       real(c_double) :: x
+     end function taper_sim_piston_work
      ! x, v: the striker's displacement and velocity (TAPER_EINVAL if none).
      function taper_sim_striker_state(sim, x, v, err) bind(C, name="taper_sim_striker_state") &
           result(status)

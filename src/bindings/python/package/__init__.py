@@ -131,7 +131,10 @@ def simulate(*, profile: Optional[str] = None, s: Optional[Real] = None,
     ``pattern`` (the radii of one period of the "decorated" profile),
     ``materials`` (a pair (density, compliance) of N values each, relative
     to granule 1's), ``disorder`` ("radius" or "mass"),
-    ``disorder_amplitude`` (0 <= a < 1), ``disorder_seed``.  The energy
+    ``disorder_amplitude`` (0 <= a < 1), ``disorder_seed``,
+    ``piston_duration`` (a piston pushing granule 1 at unit velocity for
+    that long, ``math.inf``: for ever; 0: none) and ``piston_compliance``
+    (its face's, as a wall's; docs/physics.md, "Piston").  The energy
     budget is in ``stats`` (energy_initial, energy_dissipated,
     energy_transmitted, energy_reflected, energy_in_chain) with the wall
     forces (wall_peak_force_left, ...).

@@ -17,7 +17,7 @@ __all__ = ["Chain", "chain", "CHAIN_COLUMNS", "BEYOND_PAPER"]
 BEYOND_PAPER = ("left_end", "right_end", "left_wall_compliance", "right_wall_compliance",
                 "striker_radius", "striker_density", "striker_compliance", "load", "damping",
                 "drag", "pattern", "materials", "disorder", "disorder_amplitude",
-                "disorder_seed")
+                "disorder_seed", "piston_duration", "piston_compliance")
 
 #: The columns of a Chain, in order.
 CHAIN_COLUMNS = ("k", "R", "m", "X0", "r", "mu")

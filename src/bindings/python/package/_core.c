@@ -144,6 +144,7 @@ static const setting settings[] = {
     {"pattern", 1, K_PATTERN},              {"materials", 1, K_MATERIALS},
     {"disorder", 1, K_DISORDER},            {"disorder_amplitude", 1, K_REAL},
     {"disorder_seed", 1, K_SEED},
+    {"piston_duration", 1, K_REAL},         {"piston_compliance", 1, K_REAL},
     {"t_end", 0, K_REAL},         {"sample_interval", 0, K_REAL},
 };
 #define N_SETTINGS (sizeof settings / sizeof settings[0])
@@ -236,7 +237,7 @@ static int get_str(const char *name, PyObject *v, const char **out)
 }
 
 /* The settings whose library setter takes several values at once
- * (taper_chain_spec_set_end, _set_striker, _set_disorder): collected over
+ * (taper_chain_spec_set_end, _set_striker, _set_piston, _set_disorder): collected over
  * all keywords, then set together (apply_pending), so that the order of the
  * keywords does not matter.  given[i]: keyword i of the group was passed. */
 typedef struct pending {
@@ -245,6 +246,8 @@ typedef struct pending {
     double end_compliance[TAPER_N_ENDS];
     int striker_given[3];          /* radius, density, compliance */
     double striker[3];
+    int piston_given[2];           /* duration, compliance        */
+    double piston[2];
     int disorder_given[3];         /* kind, amplitude, seed       */
     taper_disorder disorder;
     double disorder_amplitude;
@@ -346,6 +349,10 @@ static int apply_setting(const setting *st, PyObject *v, taper_chain_spec *cs, t
             int i = strcmp(name, "striker_radius") == 0 ? 0 : strcmp(name, "striker_density") == 0 ? 1 : 2;
             pd->striker_given[i] = 1;
             pd->striker[i] = x;
+        } else if (strncmp(name, "piston_", 7) == 0) {
+            int i = strcmp(name, "piston_duration") == 0 ? 0 : 1;
+            pd->piston_given[i] = 1;
+            pd->piston[i] = x;
         } else if (strcmp(name, "disorder_amplitude") == 0) {
             pd->disorder_given[1] = 1;
             pd->disorder_amplitude = x;
@@ -541,6 +548,14 @@ static int apply_pending(const pending *pd, taper_chain_spec *cs)
             return -1;
         }
     }
+    if (pd->piston_given[0] || pd->piston_given[1]) {
+        double T = pd->piston_given[0] ? pd->piston[0] : taper_chain_spec_piston_duration(cs);
+        double c = pd->piston_given[1] ? pd->piston[1] : taper_chain_spec_piston_compliance(cs);
+        if (taper_chain_spec_set_piston(cs, T, c, &err) != TAPER_OK) {
+            raise_library(&err);
+            return -1;
+        }
+    }
     if (pd->disorder_given[0] || pd->disorder_given[1] || pd->disorder_given[2]) {
         taper_disorder d = pd->disorder_given[0] ? pd->disorder : taper_chain_spec_disorder(cs);
         double a = pd->disorder_given[1] ? pd->disorder_amplitude
@@ -676,6 +691,8 @@ static int beyond_paper_settings(PyObject *d, const taper_chain_spec *cs)
         put(d, "striker_radius", PyFloat_FromDouble(taper_chain_spec_striker_radius(cs))) < 0 ||
         put(d, "striker_density", PyFloat_FromDouble(taper_chain_spec_striker_density(cs))) < 0 ||
         put(d, "striker_compliance", PyFloat_FromDouble(taper_chain_spec_striker_compliance(cs))) < 0 ||
+        put(d, "piston_duration", PyFloat_FromDouble(taper_chain_spec_piston_duration(cs))) < 0 ||
+        put(d, "piston_compliance", PyFloat_FromDouble(taper_chain_spec_piston_compliance(cs))) < 0 ||
         put(d, "load", PyFloat_FromDouble(taper_chain_spec_load(cs))) < 0 ||
         put(d, "damping", PyFloat_FromDouble(taper_chain_spec_damping(cs))) < 0 ||
         put(d, "drag", PyFloat_FromDouble(taper_chain_spec_drag(cs))) < 0 ||
