@@ -44,8 +44,10 @@ static void write_dimensioned(const granules_run *r, FILE *fp, taper_statistic w
 
 /* The statistics of the run, by name, in the order of taper_statistic:
  * counts as integers, the time to every digit, errors to four; then the
- * energy budget (every run has one), and the peak force, its time and the
- * impulse of each wall the chain has (a free end has none: no line). */
+ * energy budget (every run has one; with a piston its work, which the
+ * budget adds up to), and the peak force, its time and the impulse of each
+ * wall the chain has (a free end has none: no line; a piston's are the left
+ * wall's). */
 static void write_stats_comment(const granules_run *r, FILE *fp)
 {
     if (!r->sim) {
@@ -68,6 +70,14 @@ static void write_stats_comment(const granules_run *r, FILE *fp)
     }
     for (int i = TAPER_STAT_ENERGY_INITIAL; i <= TAPER_STAT_ENERGY_IN_CHAIN; i++)
         write_dimensioned(r, fp, (taper_statistic)i, TAPER_DIM_ENERGY);
+    /* A piston: the budget adds up to its work, E(0) = 0 (the energy error
+     * above is relative to it); its force is the left wall's. */
+    const int piston = taper_chain_piston_duration(r->chain) > 0.0;
+    if (piston) {
+        const char *unit = scene_unit_suffix(&r->at, TAPER_DIM_ENERGY);
+        fprintf(fp, "# piston_work%s%s%s = %.17g\n", unit ? "[" : "", unit ? unit : "",
+                unit ? "]" : "", taper_sim_piston_work(r->sim) * scene_unit(&r->at, TAPER_DIM_ENERGY));
+    }
     static const taper_statistic wall_stats[TAPER_N_ENDS][3] = {
         {TAPER_STAT_WALL_PEAK_FORCE_LEFT, TAPER_STAT_WALL_PEAK_TIME_LEFT,
          TAPER_STAT_WALL_IMPULSE_LEFT},
@@ -76,7 +86,8 @@ static void write_stats_comment(const granules_run *r, FILE *fp)
     static const taper_dimension wall_dims[3] = {TAPER_DIM_FORCE, TAPER_DIM_TIME,
                                                  TAPER_DIM_IMPULSE};
     for (int e = 0; e < TAPER_N_ENDS; e++) {
-        if (taper_chain_end(r->chain, (taper_end)e) != TAPER_END_WALL) continue;
+        if (taper_chain_end(r->chain, (taper_end)e) != TAPER_END_WALL && !(piston && e == TAPER_LEFT))
+            continue;
         for (int j = 0; j < 3; j++) write_dimensioned(r, fp, wall_stats[e][j], wall_dims[j]);
     }
 }

@@ -479,7 +479,7 @@ static int write_report_data(const run *r, char **msg)
 }
 
 /* The energy budget at the end of the run (docs/physics.md), one line on
- * stdout: where the initial energy went. */
+ * stdout: where the initial energy (and a piston's work) went. */
 static void print_energy(const run *r)
 {
     if (!r->sim) return;
@@ -491,15 +491,19 @@ static void print_energy(const run *r)
                  {TAPER_STAT_ENERGY_IN_CHAIN, "in the chain"},
                  {TAPER_STAT_ENERGY_DISSIPATED, "dissipated"}};
     double e0 = taper_sim_statistic(r->sim, TAPER_STAT_ENERGY_INITIAL);
-    if (!(e0 > 0)) return;
+    const double work = taper_sim_piston_work(r->sim); /* NaN: no piston */
+    const double input = e0 + (work > 0 ? work : 0);
+    if (!(input > 0)) return;
     double scale = scene_unit(r->cfg, TAPER_DIM_ENERGY);
     const char *unit = scene_unit_suffix(r->cfg, TAPER_DIM_ENERGY);
     fprintf(r->out, "! energy at t_final: initial %.6g%s%s", e0 * scale, unit ? " " : "",
             unit ? unit : "");
+    if (!isnan(work))
+        fprintf(r->out, ", piston work %.6g%s%s", work * scale, unit ? " " : "", unit ? unit : "");
     for (size_t i = 0; i < sizeof parts / sizeof parts[0]; i++) {
         double x = taper_sim_statistic(r->sim, parts[i].which);
         fprintf(r->out, ", %s %.6g%s%s (%.3g %%)", parts[i].label, x * scale, unit ? " " : "",
-                unit ? unit : "", 100 * x / e0);
+                unit ? unit : "", 100 * x / input);
     }
     fputc('\n', r->out);
 }

@@ -37,6 +37,8 @@ static const char *profile_choice(int i) { return taper_profile_name((taper_prof
 static const char *method_choice(int i) { return taper_method_name((taper_method)i); }
 static const char *fit_model_choice(int i) { return scene_fit_model_name(i); }
 static const char *boundary_choice(int i) { return taper_boundary_name((taper_boundary)i); }
+static const char *const pistons[] = {"none", "push", "steady", NULL};
+static const char *piston_choice(int i) { return i >= 0 && i < 3 ? pistons[i] : NULL; }
 static const char *disorder_choice(int i) { return taper_disorder_name((taper_disorder)i); }
 
 /* The scene's own choices. */
@@ -79,7 +81,8 @@ const char *scene_units_name(scene_units u) { return NAME_AT(units, (int)u); }
 static const char *const groups[SCENE_N_GROUPS][2] = {
     {"chain", "the granular chain: radius profile, size, contact law, disorder, static load"},
     {"ends", "what holds the chain at each end: nothing (free) or a wall"},
-    {"striker", "a striker (granule 0) hitting granule 1, instead of the paper's impulse"},
+    {"striker", "a striker (granule 0) hitting granule 1, or a piston pushing it, instead of "
+                "the paper's impulse"},
     {"losses", "dissipation: viscoelastic contacts and drag"},
     {"material", "real units (Hertz contacts, n = 5/2): materials, R_1 and the impact velocity"},
     {"solver", "the integration of the equations of motion (CVODE)"},
@@ -184,6 +187,17 @@ static const scene_var table[] = {
      SCENE_LIB_CHAIN, "striker_compliance", 0, INFINITY, NO_CHOICE,
      "the striker's compliance (1 - nu^2)/E relative to granule 1's (with &material: from "
      "&material striker)"},
+    {"striker", "piston", SCENE_CHOICE, SCENE_EXTRA, AT(striker.piston), NULL, SCENE_LIB_CHAIN,
+     NULL, 0, 0, CHOICE(piston_choice, 0),
+     "'none', or a piston touching granule 1 (at rest) that moves at unit velocity: 'push' for "
+     "piston_duration, then stops; 'steady' for ever (not with a striker, a left wall or a "
+     "load).  The energy budget adds up to its work (docs/physics.md, \"Piston\")"},
+    {"striker", "piston_duration", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA,
+     AT(striker.piston_duration), NULL, SCENE_LIB_CHAIN, "piston_duration", 0, INFINITY,
+     NO_CHOICE, "how long piston = 'push' pushes (rescaled time, > 0); 0 otherwise"},
+    {"striker", "piston_compliance", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA,
+     AT(striker.piston_compliance), NULL, SCENE_LIB_CHAIN, "piston_compliance", 0, INFINITY,
+     NO_CHOICE, "compliance of the piston's face relative to granule 1's (as a wall's: 0 rigid)"},
 
     {"losses", "damping", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(losses.damping), NULL,
      SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,

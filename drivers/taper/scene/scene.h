@@ -118,9 +118,17 @@ typedef struct scene_ends_config {
     double left_compliance, right_compliance; /* wall's, relative to granule 1 */
 } scene_ends_config;
 
-/* &striker: radius 0 is the paper's impulse. */
+/* &striker: radius 0 is the paper's impulse; or a piston pushing granule
+ * 1 at unit velocity (docs/physics.md, "Piston"). */
+typedef enum scene_piston {
+    SCENE_PISTON_NONE = 0,
+    SCENE_PISTON_PUSH = 1,    /* for piston_duration                         */
+    SCENE_PISTON_STEADY = 2   /* for ever                                    */
+} scene_piston;
 typedef struct scene_striker_config {
     double radius, density, compliance;  /* relative to granule 1            */
+    int piston;                          /* scene_piston                      */
+    double piston_duration, piston_compliance;
 } scene_striker_config;
 
 /* &losses. */

@@ -48,6 +48,13 @@ int scene_library_defaults(scene_config *cfg)
     cfg->striker.radius = taper_chain_spec_striker_radius(chain);
     cfg->striker.density = taper_chain_spec_striker_density(chain);
     cfg->striker.compliance = taper_chain_spec_striker_compliance(chain);
+    {
+        const double T = taper_chain_spec_piston_duration(chain);
+        cfg->striker.piston = T > 0.0 ? (isinf(T) ? SCENE_PISTON_STEADY : SCENE_PISTON_PUSH)
+                                      : SCENE_PISTON_NONE;
+        cfg->striker.piston_duration = isinf(T) ? 0.0 : T;
+        cfg->striker.piston_compliance = taper_chain_spec_piston_compliance(chain);
+    }
     cfg->losses.damping = taper_chain_spec_damping(chain);
     cfg->losses.drag = taper_chain_spec_drag(chain);
     cfg->solver.method = taper_solver_spec_method(solver);
@@ -140,6 +147,12 @@ static void apply_beyond_paper(sink *k, const scene_config *at, taper_chain_spec
                                          striker_mat ? mp.striker_density : st->density,
                                          striker_mat ? mp.striker_compliance : st->compliance, &e),
          &e);
+    /* The piston: 'steady' is an infinite duration (a scene holds finite
+     * numbers); 'none' passes the duration on, so that one given without a
+     * piston is refused by name (scene_check.c) rather than ignored. */
+    const double T = st->piston == SCENE_PISTON_STEADY ? INFINITY
+                     : st->piston == SCENE_PISTON_PUSH ? st->piston_duration : 0.0;
+    note(k, taper_chain_spec_set_piston(spec, T, st->piston_compliance, &e), &e);
     note(k, taper_chain_spec_set_damping(spec, at->losses.damping, &e), &e);
     note(k, taper_chain_spec_set_drag(spec, at->losses.drag, &e), &e);
 

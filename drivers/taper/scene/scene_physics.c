@@ -330,12 +330,34 @@ static void check_seed(scene *sc)
         }
 }
 
+/* piston = 'push' needs its duration (the library takes 0 for no piston),
+ * and only 'push' has one ('steady' is for ever). */
+static void check_piston(scene *sc)
+{
+    const scene_striker_config *st = &sc->cfg.striker;
+    size_t r = (size_t)row("striker", "piston_duration");
+    for (size_t j = 0; j < scene_row_count(&sc->cfg, r); j++) {
+        double T = scene_row_value(&sc->cfg, r, j);
+        if (st->piston == SCENE_PISTON_PUSH && !(T > 0.0)) {
+            scene_var_error(sc, r, "piston = 'push' pushes for piston_duration > 0 (%g given); "
+                                   "piston = 'steady' pushes for ever", T);
+            return;
+        }
+        if (st->piston != SCENE_PISTON_PUSH && T != 0.0) {
+            scene_var_error(sc, r, "piston_duration = %g has no effect without piston = 'push' "
+                                   "(a 'steady' piston pushes for ever): leave it at 0", T);
+            return;
+        }
+    }
+}
+
 void scene_check_physics(scene *sc)
 {
     check_material(sc);
     check_sensors(sc);
     check_units(sc);
     check_seed(sc);
+    check_piston(sc);
 }
 
 /* ---- what the library receives ------------------------------------------------- */

@@ -372,7 +372,7 @@ static const char doc_intro[] =
     "\n"
     "**Beyond the paper** (issue 15; models and sources in docs/physics.md, one scene\n"
     "per capability in `share/scenes/physics/`).  `&ends` puts a wall at either end,\n"
-    "`&striker` replaces the impulse by a striker, `&chain load` precompresses,\n"
+    "`&striker` replaces the impulse by a striker or a piston, `&chain load` precompresses,\n"
     "`&losses` adds viscoelastic damping and drag, `&chain disorder` perturbs radii or\n"
     "masses from a seed, `profile = 'decorated'` repeats a `pattern`, `radii_file`\n"
     "reads a measured chain.  Every one defaults to the paper's idealisation, and the\n"

@@ -39,7 +39,7 @@
 ! (as taper's; taper_nml does not check conservation, so never 4).
 program taper_nml
   use, intrinsic :: iso_c_binding
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_positive_inf
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
   use taper
   implicit none
@@ -69,6 +69,8 @@ program taper_nml
   character(len=LEN_STR) :: ends_left, ends_right
   real(c_double) :: ends_left_compliance, ends_right_compliance
   real(c_double) :: striker_radius, striker_density, striker_compliance
+  character(len=LEN_STR) :: striker_piston
+  real(c_double) :: striker_piston_duration, striker_piston_compliance
   real(c_double) :: losses_damping, losses_drag
   real(c_double) :: material_young, material_poisson, material_density, material_radius, &
        material_velocity
@@ -116,6 +118,7 @@ program taper_nml
   character(len=*), parameter :: CURVES(3) = [character(len=8) :: "both", "theory", "numerics"]
   character(len=*), parameter :: SWEEP_MODES(2) = [character(len=4) :: "grid", "zip"]
   character(len=*), parameter :: UNITS_CHOICES(2) = [character(len=8) :: "rescaled", "si"]
+  character(len=*), parameter :: PISTONS(3) = [character(len=6) :: "none", "push", "steady"]
 
   namelist /chain/ profile, n_granules, s, q, exponent, radii, radii_file, pattern, disorder, &
        disorder_amplitude, seed, load
@@ -131,7 +134,8 @@ program taper_nml
        KEYS_OUTPUT = "dir, progress, threads, columns, every, max_energy_error, " // &
        "max_momentum_error, units", &
        KEYS_ENDS = "left, right, left_compliance, right_compliance", &
-       KEYS_STRIKER = "radius, density, compliance", &
+       KEYS_STRIKER = "radius, density, compliance, piston, piston_duration, " // &
+       "piston_compliance", &
        KEYS_LOSSES = "damping, drag", &
        KEYS_MATERIAL = "young, poisson, density, radius, velocity, other_young, " // &
        "other_poisson, other_density, sequence, wall, striker", &
@@ -249,6 +253,7 @@ program taper_nml
   call check_length("chain", "disorder", disorder)
   call check_length("ends", "left", ends_left)
   call check_length("ends", "right", ends_right)
+  call check_length("striker", "piston", striker_piston)
   call check_length("output", "units", units)
 
   ! Allowed strings in their canonical spelling, as the C parser stores them:
@@ -272,6 +277,7 @@ program taper_nml
   ends_left = library_name(ends_left, "boundary")
   ends_right = library_name(ends_right, "boundary")
   units = canonical(units, UNITS_CHOICES)
+  striker_piston = canonical(striker_piston, PISTONS)
 
   ! Resolve: a sweep is the list given; nothing given is the library's default.
   n_s = count_given(s)
@@ -306,6 +312,13 @@ program taper_nml
   call check_finite("striker", "radius", [striker_radius])
   call check_finite("striker", "density", [striker_density])
   call check_finite("striker", "compliance", [striker_compliance])
+  call check_finite("striker", "piston_duration", [striker_piston_duration])
+  call check_finite("striker", "piston_compliance", [striker_piston_compliance])
+  if ((trim(striker_piston) == "push") .neqv. (abs(striker_piston_duration) > 0)) then
+     write (error_unit, '(a)') trim(path)//": &striker piston_duration: piston = 'push' "// &
+          "pushes for piston_duration > 0, and only it has one ('steady' pushes for ever)"
+     call quit(2)
+  end if
   call check_finite("losses", "damping", [losses_damping])
   call check_finite("losses", "drag", [losses_drag])
   call check_finite("solver", "t_end", [t_end])
@@ -623,18 +636,25 @@ contains
   recursive subroutine read_striker(file, unit)
     character(len=*), intent(in) :: file
     integer, intent(in) :: unit
-    real(c_double) :: radius, density, compliance
-    namelist /striker/ radius, density, compliance
+    real(c_double) :: radius, density, compliance, piston_duration, piston_compliance
+    character(len=LEN_STR) :: piston
+    namelist /striker/ radius, density, compliance, piston, piston_duration, piston_compliance
     integer :: ios
     character(len=512) :: msg
     radius = taper_chain_spec_striker_radius(chain_defaults)
     density = taper_chain_spec_striker_density(chain_defaults)
     compliance = taper_chain_spec_striker_compliance(chain_defaults)
+    piston = "none"   ! the library's default: duration 0
+    piston_duration = taper_chain_spec_piston_duration(chain_defaults)
+    piston_compliance = taper_chain_spec_piston_compliance(chain_defaults)
     read (unit, nml=striker, iostat=ios, iomsg=msg)
     call check_read(file, unit, "striker", ios, msg)
     striker_radius = radius
     striker_density = density
     striker_compliance = compliance
+    striker_piston = piston
+    striker_piston_duration = piston_duration
+    striker_piston_compliance = piston_compliance
   end subroutine read_striker
 
   ! &losses with the library's defaults (elastic, no drag); copied to losses_*.
@@ -1361,6 +1381,9 @@ contains
     call print_real("striker.radius", striker_radius)
     call print_real("striker.density", striker_density)
     call print_real("striker.compliance", striker_compliance)
+    write (output_unit, '(a)') "striker.piston = "//trim(striker_piston)
+    call print_real("striker.piston_duration", striker_piston_duration)
+    call print_real("striker.piston_compliance", striker_piston_compliance)
     call print_real("losses.damping", losses_damping)
     call print_real("losses.drag", losses_drag)
     call print_optional("material.young", material_young)
@@ -1490,6 +1513,20 @@ contains
     if (st == TAPER_OK) st = taper_chain_spec_set_end(cs, TAPER_RIGHT, b, ends_right_compliance, e)
     if (st == TAPER_OK) st = taper_chain_spec_set_striker(cs, striker_radius, striker_density, &
          striker_compliance, e)
+    ! piston 'steady': an infinite duration; 'none': the duration given,
+    ! so that one without a piston is refused by name (the C driver's rule)
+    if (st == TAPER_OK) then
+       select case (trim(striker_piston))
+       case ("steady")
+          st = taper_chain_spec_set_piston(cs, ieee_value(1.0_c_double, ieee_positive_inf), &
+               striker_piston_compliance, e)
+       case ("push")
+          st = taper_chain_spec_set_piston(cs, striker_piston_duration, &
+               striker_piston_compliance, e)
+       case default
+          st = taper_chain_spec_set_piston(cs, 0.0_c_double, striker_piston_compliance, e)
+       end select
+    end if
     if (st == TAPER_OK) st = taper_chain_spec_set_damping(cs, losses_damping, e)
     if (st == TAPER_OK) st = taper_chain_spec_set_drag(cs, losses_drag, e)
     if (st == TAPER_OK) c = taper_chain_alloc(cs, e)
@@ -1513,6 +1550,8 @@ contains
        write (error_unit, '(a)') trim(path)//": &ends "//trim(field)//": "//taper_message(e)
     case ("striker_radius", "striker_density", "striker_compliance")
        write (error_unit, '(a)') trim(path)//": &striker "//field(9:)//": "//taper_message(e)
+    case ("piston_duration", "piston_compliance")
+       write (error_unit, '(a)') trim(path)//": &striker "//field//": "//taper_message(e)
     case ("damping", "drag")
        write (error_unit, '(a)') trim(path)//": &losses "//field//": "//taper_message(e)
     case default
