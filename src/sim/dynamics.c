@@ -264,12 +264,8 @@ double taper_dyn_acceleration(const taper_dyn *d, const double *y, size_t k)
 void taper_dyn_peak_terms(const taper_dyn *d, const double *y, size_t k, double *left,
                           double *right)
 {
-    if (!d->dissipative) {
-        *left = k > 1 ? d->rho[k - 2] * taper_dyn_z(d, y, k - 1) : 0.0;
-        *right = d->rho[k - 1] * taper_dyn_z(d, y, k);
-        return;
-    }
-    /* the force balance, both sides less F0 */
+    /* the force balance, both sides less F0 (elastic chains use the rho
+     * form of taper_dyn_peak_function instead) */
     *left = excess_left(d, y, k);
     *right = excess_right(d, y, k) + d->drag * taper_dyn_v(d, y, k);
 }

@@ -130,13 +130,12 @@ void taper_dyn_energy_momentum(const taper_dyn *d, const double *y, double *ener
  * contact of k is closed, and unlike the force difference it is never
  * identically zero on an interval (CVODE rejects such root functions). */
 double taper_dyn_peak_function(const taper_dyn *d, const double *y, size_t k);
-/* The two terms of the peak function, g = left - right.  Elastic chains
- * (with or without a load: rho_k delta_k = F0^(1/(n-1)) for every contact,
- * so the shifted terms of a closed contact differ by the same constant):
- * rho_{k-1} z_{k-1} and rho_k z_k.  Dissipative chains: the forces
- * themselves, F_{k-1} and F_k + drag v_k (k's acceleration times m_k; the
- * caller arms it only while v_k > 0, where it cannot vanish on an
- * interval). */
+/* The two terms of the peak function of a dissipative chain (d->dissipative),
+ * g = left - right: the forces themselves, F_{k-1} and F_k + drag v_k (k's
+ * acceleration times m_k; the caller arms it only while v_k > 0, where it
+ * cannot vanish on an interval).  Elastic chains, with or without a load,
+ * use rho_{k-1} z_{k-1} - rho_k z_k (taper_dyn_peak_function: rho_k delta_k
+ * = F0^(1/(n-1)) for every contact, so the load cancels). */
 void taper_dyn_peak_terms(const taper_dyn *d, const double *y, size_t k, double *left,
                           double *right);
 

@@ -186,11 +186,14 @@ static int genuine_peak_root(const taper_sim *sim, const double *y, size_t k)
         double g = fabs(l - r);
         return g <= GENUINE_ROOT * (fabs(l) + fabs(r)) || g <= 1e-9 * (isfinite(scale) ? scale : 0.0);
     }
-    double left = k > 1 ? d->rho[k - 2] * taper_dyn_z(d, y, k - 1) : 0.0;
+    /* the terms of taper_dyn_peak_function: the gap slot (k = lo > 1)
+     * pushes nothing */
+    const int behind = k > d->lo;
+    double left = behind ? d->rho[k - 2] * taper_dyn_z(d, y, k - 1) : 0.0;
     double right = d->rho[k - 1] * taper_dyn_z(d, y, k);
     double typical = (k > 1 ? d->rho[k - 2] * sim->z_scale[k - 2] : 0.0) + d->rho[k - 1] * sim->z_scale[k - 1];
     double v = velocity(sim, y, k), v_next = velocity(sim, y, k + 1);
-    double rate = (k > 1 ? d->rho[k - 2] * (velocity_from_behind(sim, y, k - 1) - v) : 0.0) -
+    double rate = (behind ? d->rho[k - 2] * (velocity_from_behind(sim, y, k - 1) - v) : 0.0) -
                   d->rho[k - 1] * (v - v_next); /* dg/dt: dz_j/dt = v_j - v_{j+1} */
     double g = fabs(left - right);
     return g <= GENUINE_ROOT * (fabs(left) + fabs(right)) || g <= 1e-9 * typical ||
@@ -309,15 +312,13 @@ int taper_events_fit_rings(taper_sim *sim)
 }
 
 /* Acceleration of granule k as the equations of motion have it (0 ahead
- * of the window; the contact (hi, hi+1) is not integrated, dynamics.h). */
+ * of the window; the contact (hi, hi+1) is not integrated and the gap slot
+ * pushes nothing, dynamics.h): taper_dyn_acceleration, which is the
+ * right-hand side's own force law for the paper's chain too (no load, no
+ * losses), so the two cannot disagree. */
 static double acceleration(const taper_sim *sim, const double *y, size_t k)
 {
-    const taper_dyn *d = &sim->dyn;
-    if (d->general) return taper_dyn_acceleration(d, y, k);
-    if (k < d->lo || k > d->hi) return 0.0;
-    double left = k > 1 ? taper_dyn_force(d, k - 1, taper_dyn_z(d, y, k - 1)) : 0.0;
-    double right = k < d->hi ? taper_dyn_force(d, k, taper_dyn_z(d, y, k)) : 0.0;
-    return (left - right) * d->inv_mass[k - 1];
+    return taper_dyn_acceleration(&sim->dyn, y, k);
 }
 
 /* Whether the pass function's value at a root is a genuine zero: small
