@@ -255,8 +255,9 @@ typedef struct pending {
 } pending;
 
 /* A real sequence as a contiguous one-dimensional array of doubles (a new
- * reference), or NULL with a TypeError naming `name`. */
-static PyArrayObject *real_sequence(const char *name, PyObject *v)
+ * reference), or NULL with a TypeError naming `name`: chain settings and
+ * the fits' data alike. */
+static PyArrayObject *real_vector(const char *name, PyObject *v)
 {
     if (PyUnicode_Check(v) || PyBytes_Check(v) || is_bool(v)) {
         type_error(name, "a sequence of real numbers", v);
@@ -293,8 +294,8 @@ static int materials_pair(PyObject *v, PyArrayObject **rho, PyArrayObject **c)
     }
     PyObject *first = PySequence_GetItem(v, 0), *second = PySequence_GetItem(v, 1);
     if (first && second) {
-        *rho = real_sequence("materials density", first);
-        if (*rho) *c = real_sequence("materials compliance", second);
+        *rho = real_vector("materials density", first);
+        if (*rho) *c = real_vector("materials compliance", second);
     }
     Py_XDECREF(first);
     Py_XDECREF(second);
@@ -450,7 +451,7 @@ static int apply_setting(const setting *st, PyObject *v, taper_chain_spec *cs, t
             rc = taper_chain_spec_set_pattern(cs, NULL, 0, &err);
             break;
         }
-        PyArrayObject *a = real_sequence(name, v);
+        PyArrayObject *a = real_vector(name, v);
         if (!a) return -1;
         Py_ssize_t n = PyArray_DIM(a, 0);
         rc = taper_chain_spec_set_pattern(cs, n ? (const double *)PyArray_DATA(a) : NULL, (size_t)n,
@@ -1393,30 +1394,6 @@ static PyObject *py_asymptotic_exponent(PyObject *self, PyObject *args)
 }
 
 /* ---- fits ------------------------------------------------------------------ */
-
-/* A one-dimensional array of doubles from `v`, or a TypeError naming it. */
-static PyArrayObject *real_vector(const char *name, PyObject *v)
-{
-    if (PyUnicode_Check(v) || PyBytes_Check(v) || is_bool(v)) {
-        type_error(name, "a sequence of real numbers", v);
-        return NULL;
-    }
-    PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(v, NPY_DOUBLE, 0, 0, NPY_ARRAY_CARRAY_RO);
-    if (!a) {
-        if (PyErr_ExceptionMatches(PyExc_TypeError) || PyErr_ExceptionMatches(PyExc_ValueError)) {
-            PyErr_Clear();
-            type_error(name, "a sequence of real numbers", v);
-        }
-        return NULL;
-    }
-    if (PyArray_NDIM(a) != 1) {
-        Py_DECREF(a);
-        PyErr_Format(PyExc_TypeError, "%s must be a one-dimensional sequence of real numbers",
-                     name);
-        return NULL;
-    }
-    return a;
-}
 
 /* A pair (tuple or list of two) for the two-valued setters. */
 static int get_pair(const char *name, PyObject *v, PyObject **first, PyObject **second)
