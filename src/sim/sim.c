@@ -8,6 +8,7 @@
 
 #include <cvode/cvode.h>
 
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -197,6 +198,43 @@ static taper_status theory_and_scales(taper_sim *sim, taper_error *err)
     return TAPER_OK;
 }
 
+/* A collision shorter than the resolution of its own time cannot be
+ * integrated: t + h == t inside it, and the pass times from there on are
+ * equal to rounding.  The binary collision theory gives both sides of that
+ * comparison before the run: the residence time T_k of eq. (18) and the
+ * time t_k of eq. (19).  Measured (docs/robustness.md, the stress matrix of
+ * issue 18): forward linear at its last valid S (N = 10: T_9 = 0.18 eps
+ * t_9; N = 100: 4e-3 eps t_99) and forward exponential q = 1000, N = 10
+ * (1.5e-9) stopped with CVODE flag -4 after warnings "t + h = t" whatever
+ * the method; smoother forward tapers below the limit (q = 0.4 and 0.5 at
+ * N = 100, q = 0.1 at N = 1000: 4e-3 down to 8e-39) completed with pass
+ * times out of order, values that cannot be trusted.  So the run is refused
+ * where T_k < eps t_k for a granule whose pass it times, naming the number
+ * of granules that can be resolved.  Chains without a theory (loads,
+ * losses: NaN columns) are not checked; on chains where the theory
+ * underestimates the pulse (non-monotone ones) T_k is too long, so the test
+ * never refuses a chain the dynamics could resolve on that account. */
+static taper_status check_time_resolution(const taper_sim *sim, taper_error *err)
+{
+    const double *T = sim->theory[TAPER_THEORY_T_RES], *t = sim->theory[TAPER_THEORY_T];
+    const size_t timed = sim->pass_limit - sim->model.off; /* contacts 1 .. timed */
+    for (size_t k = 1; k <= timed; k++) {
+        if (!(T[k - 1] < DBL_EPSILON * t[k - 1])) continue; /* NaN: no theory */
+        const taper_profile profile = taper_chain_profile(sim->chain);
+        const char *field = profile == TAPER_CUSTOM ? "radii" : profile == TAPER_DECORATED ? "pattern" : "n_granules";
+        const char *taper = profile == TAPER_FORWARD_LINEAR ? ", or a smaller s"
+                            : profile == TAPER_FORWARD_EXPONENTIAL ? ", or a smaller q" : "";
+        return taper_fail_field(err, TAPER_ERANGE, field,
+                                "the collision of granules %zu and %zu lasts T_%zu = %.3g (binary "
+                                "collision theory, eqs. (18) and (19) of arXiv:0905.4512), less than "
+                                "the resolution of double precision at its time t_%zu = %.6g (%.3g): "
+                                "its pass cannot be told from the one before and the integration "
+                                "cannot step through it; use at most %zu granules%s",
+                                k, k + 1, k, T[k - 1], k, t[k - 1], DBL_EPSILON * t[k - 1], k, taper);
+    }
+    return TAPER_OK;
+}
+
 taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec, taper_error *err)
 {
     taper_solver_spec defaults;
@@ -251,6 +289,10 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
     const size_t target = spec->last_granule ? spec->last_granule : n;
     sim->target = target + m->off;
     sim->pass_limit = (target < n ? target : n - 1) + m->off;
+    if (check_time_resolution(sim, err) != TAPER_OK) {
+        taper_sim_free(sim);
+        return NULL;
+    }
     taper_pulse *p = &sim->pulse;
     /* The body with the impulse (granule 1, or the striker) peaks at t = 0;
      * a left wall before it has no events. */

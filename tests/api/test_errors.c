@@ -338,6 +338,36 @@ static void relation_refusals(void)
           "BDF max_order 6: field %s", FIELD(err));
     taper_solver_spec_free(ss);
 
+    /* A collision shorter than the resolution of its time (the theory's
+     * T_k < eps t_k): forward linear at its last valid S for 100 granules,
+     * whose last radius is one rounding error of 1 (T_99 = 0.004 eps t_99),
+     * is refused before the run, naming n_granules and the count that
+     * resolves; those 99 granules run to completion with every pass timed
+     * (granule 98 passes just before 97: the light end of a steep forward
+     * taper, docs/robustness.md finding A). */
+    const double s_last = nextafter(1.0 / 99.0, 0.0);
+    taper_chain *steep = chain_of(TAPER_FORWARD_LINEAR, 100, s_last);
+    taper_chain *cut = chain_of(TAPER_FORWARD_LINEAR, 99, s_last);
+    CHECK(steep && cut, "forward linear chains at the last valid S");
+    if (steep && cut) {
+        CHECK(taper_sim_alloc(steep, NULL, &err) == NULL &&
+                  refused(err.status, &err, TAPER_ERANGE, "n_granules") &&
+                  strstr(err.message, "use at most 99 granules"),
+              "collision below the resolution of t: %d field %s '%s'", err.status, FIELD(err),
+              err.message);
+        taper_sim *fine = taper_sim_alloc(cut, NULL, &err);
+        CHECK(fine && taper_sim_run(fine, &err) == TAPER_OK &&
+                  taper_sim_statistic(fine, TAPER_STAT_COMPLETE) == 1.0,
+              "the 99 granules that resolve: '%s'", err.message);
+        const double *t_pass = taper_sim_observable(fine, TAPER_T_PASS);
+        int timed = t_pass != NULL;
+        for (size_t k = 0; timed && k + 1 < 99; k++) timed = isfinite(t_pass[k]) && t_pass[k] > 0.0;
+        CHECK(timed, "the 99 granules' passes timed");
+        taper_sim_free(fine);
+    }
+    taper_chain_free(steep);
+    taper_chain_free(cut);
+
     CHECK(taper_sim_alloc(NULL, NULL, &err) == NULL && err.status == TAPER_EINVAL, "NULL chain");
     CHECK(taper_sim_run(NULL, &err) == TAPER_EINVAL, "run NULL");
     CHECK(taper_theory_compute(NULL, NULL, NULL, NULL, NULL, &err) == TAPER_EINVAL, "theory NULL");

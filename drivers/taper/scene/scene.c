@@ -728,6 +728,10 @@ int scene_line(const scene *sc, size_t offset)
 int scene_error_row(const scene *sc, scene_lib lib, const char *field)
 {
     int i = scene_var_of_field(lib, field);
+    /* taper_sim_alloc checks the chain with the solver: its fields name
+     * either's settings (damping with n < 2, n_granules beyond the
+     * resolution of time). */
+    if (i < 0 && lib == SCENE_LIB_SOLVER) i = scene_var_of_field(SCENE_LIB_CHAIN, field);
     int from_file = sc->cfg.chain.file_radii.n > 0;
     if (i >= 0 && sc->n_from_radii && table[i].offset == offsetof(scene_config, chain.n_granules))
         i = scene_var_find("chain", from_file ? "radii_file" : "radii");
