@@ -474,6 +474,19 @@ static void write_doc_outro(FILE *fp)
             "any valid scene fits the same limits and reads back.  Inline custom radii are "
             "therefore at most %d; a `radii_file` (echoed as its path) has no such limit.\n",
             SCENE_MAX_FILE, SCENE_MAX_FILE >> 20, SCENE_MAX_LINE, SCENE_MAX_LIST, SCENE_MAX_LIST);
+    fputs("\n"
+          "Some chains are refused although every value is in its range, before any run, "
+          "with status 2 and the key to change (`FILE:LINE: &chain n_granules: ...`): a mass "
+          "beyond double precision (the message says how many granules fit); a collision "
+          "shorter than the resolution of double precision at its time (the binary-collision "
+          "theory's residence time T_k below 2.2e-16 t_k: a steep forward taper or an abrupt "
+          "drop to a tiny last granule, e.g. `forward_linear` at the last valid `s`; the "
+          "message says how many granules resolve); `damping` with an exponent below 2.  "
+          "Below n = 2 the precursor sets every granule moving at once, and on a steep forward "
+          "taper (forward_exponential q = 0.1 with 100 granules) the light end then takes "
+          "millions of steps per unit time: such a run is slow, not refused, and the progress "
+          "line shows its rate (docs/robustness.md).\n",
+          fp);
 }
 
 void scene_write_doc(const scene *sc, FILE *fp)
