@@ -3,6 +3,7 @@
  */
 #include "results/output.h"
 
+#include "util/number.h"
 #include "util/text.h"
 
 #include <errno.h>
@@ -190,12 +191,20 @@ int out_remove(const char *dir, const char *name, char **msg)
     return rc;
 }
 
+/* One number, %.17g (number_17g: the same characters, ~8x faster than
+ * fprintf, which took 5-8 % of a long run's CPU time in granules.tsv). */
+static void put_number(FILE *fp, double x)
+{
+    char buf[NUMBER_17G_SIZE];
+    fwrite(buf, 1, (size_t)number_17g(buf, x), fp);
+}
+
 void out_cell(FILE *fp, double x, int last)
 {
     if (isnan(x))
         fputs("nan", fp);
     else
-        fprintf(fp, "%.17g", x);
+        put_number(fp, x);
     fputc(last ? '\n' : '\t', fp);
 }
 
@@ -230,7 +239,7 @@ void out_write_rows(FILE *fp, const out_columns *cols, const char *lead_name, do
             if (isnan(x))
                 fputs("nan", fp);
             else
-                fprintf(fp, "%.17g", x);
+                put_number(fp, x);
         }
         fputc('\n', fp);
     }
