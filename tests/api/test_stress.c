@@ -26,11 +26,15 @@
  *   test_stress --full      the long matrix of docs/robustness.md
  *                           (N up to 1e5; add --nmax N to cap it): the
  *                           documented range of every variable first
- *                           (full_ranges), then the older matrix;
- *                           --ranges-only: full_ranges alone; --nmin N:
- *                           leave out sizes below N
+ *                           (full_ranges, ending with issue 15's chain
+ *                           options: physics_ranges), then the older
+ *                           matrix; --ranges-only: full_ranges alone;
+ *                           --physics-only: physics_ranges alone; --nmin
+ *                           N: leave out sizes below N
  *
- * Prints one line per run and closes with "N passed, N failed".
+ * Prints one line per run and closes with how many cells completed, were
+ * refused before the run and stopped mid-run, then "N passed, N failed,
+ * N known".
  */
 #include "taper.h"
 
