@@ -612,7 +612,11 @@ typedef enum taper_statistic {
                                        impulses J_left - J_right + F0 t (free
                                        first body) - F0 t (free last body)
                                        - drag sum x_k                          */
-    TAPER_STAT_COMPLETE = 13,      /* 1 when every requested observable is known */
+    TAPER_STAT_COMPLETE = 13,      /* 1 when the run ended by itself: every
+                                       requested observable known, or NaN
+                                       because it does not exist (a peak that
+                                       never came; passes beyond a pulse that
+                                       drag absorbed, said in the log)       */
     /* The energy budget at t_final (docs/physics.md): every granule carries
      * its kinetic energy and half of each closed contact's (a wall's
      * contact: all of it); with a static load, energies are measured from
