@@ -800,7 +800,7 @@ static void finish(taper_sim *sim, taper_status status)
     report_untimed(sim, residence_times(sim));
     taper_run_statistics *s = &sim->stats;
     s->cvode = total_counters(sim);
-    s->granule_reached = sim->pulse.next_pass - 1;
+    s->granule_reached = granule_of(sim, sim->pulse.next_pass - 1); /* a granule, not a body */
     s->t_final = sim->t;
     s->complete = status == TAPER_OK;
     const taper_dyn *d = &sim->dyn;

@@ -90,6 +90,10 @@ static void identical_striker_is_one_more_granule(void **state)
         assert_double_abs(xa[k], xb[k + 1], 1e-9);
         assert_double_abs(va[k], vb[k + 1], 1e-9);
     }
+    /* GRANULE_REACHED counts granules, not bodies: N - 1 for either run
+     * (the last granule has no pass); the striker, body 0, made it N. */
+    assert_true(taper_sim_statistic(a, TAPER_STAT_GRANULE_REACHED) == (double)(N_GRANULES - 1));
+    assert_true(taper_sim_statistic(b, TAPER_STAT_GRANULE_REACHED) == (double)N_GRANULES);
     /* a chain without a striker has no striker state */
     taper_error err;
     assert_int_equal(taper_sim_striker_state(b, &xs, &vs, &err), TAPER_EINVAL);
