@@ -152,7 +152,8 @@ taper_status taper_theory_compute(const taper_chain *chain, double *v, double *m
         if (!(vk >= DBL_MIN && vk <= DBL_MAX))
             return taper_fail_field(err, TAPER_ERANGE, range_field(chain),
                                     "theory: velocity of granule %zu is exp(%g), outside double "
-                                    "precision", out + 1, log_v);
+                                    "precision; use at most %zu granules",
+                                    out + 1, log_v, out > 1 ? out : (size_t)1);
         if (v) v[out] = vk;
         if (K == n) {
             if (mu) mu[out] = NAN;
@@ -170,7 +171,8 @@ taper_status taper_theory_compute(const taper_chain *chain, double *v, double *m
         if (!isfinite(Tk) || !isfinite(elapsed))
             return taper_fail_field(err, TAPER_ERANGE, range_field(chain),
                                     "theory: residence time of granule %zu overflows double "
-                                    "precision (ln T = %g)", out + 1, log_T);
+                                    "precision (ln T = %g); use at most %zu granules",
+                                    out + 1, log_T, out + 1);
         if (mu) mu[out] = exp(log_mu);
         if (T) T[out] = Tk;
         if (t) t[out] = elapsed;

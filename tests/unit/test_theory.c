@@ -540,6 +540,9 @@ static void test_errors(void **state)
     assert_int_equal(taper_theory_compute(c, v, NULL, NULL, NULL, &err), TAPER_ERANGE);
     /* The radii are the setting to change. */
     assert_taper_error(err, TAPER_ERANGE, "radii", "granule 6");
+    /* ... and how many granules the theory can take (the stress matrix
+     * found this refusal naming no count, unlike the mass refusals). */
+    assert_non_null(strstr(err.message, "use at most 5 granules"));
     /* Filled up to the granule named. */
     for (size_t k = 1; k < 6; k++) assert_true(v[k - 1] > 0.0 && isfinite(v[k - 1]));
     taper_chain_free(c);
