@@ -175,6 +175,8 @@ typedef struct outcome {
     taper_method method;   /* the case's integration method                 */
     taper_profile profile; /* the case's profile (its energy bound)          */
     int drift_warned;      /* the log warned that the run drifted (energy) */
+    size_t absorbed_from;  /* the log said drag absorbed the pulse: the
+                              first granule never passed (0: not absorbed) */
 } outcome;
 
 /* The library's log says how many passes it left untimed (out of order in
@@ -188,6 +190,9 @@ static void count_untimed(int level, const char *message, void *user)
         sscanf(message, "%zu pass times and", &passes) == 1)
         o->untimed_passes = passes;
     if (level >= 1 && strstr(message, "the integration has drifted")) o->drift_warned = 1;
+    /* "the pulse was absorbed by drag: ... from granule %zu on no pass" */
+    const char *from = level >= 1 && strstr(message, "absorbed by drag") ? strstr(message, "from granule ") : NULL;
+    if (from) sscanf(from, "from granule %zu", &o->absorbed_from);
 }
 
 static long g_max_steps = 400000;
@@ -379,7 +384,16 @@ static const char *contract_values(const outcome *o, double rtol, double exponen
         size_t untimed = 0;
         for (size_t k = 0; k + 1 < n; k++) untimed += isnan(o->t_pass[k]);
         const int reported = forward && untimed > 0 && untimed <= o->untimed_passes;
-        for (size_t k = 0; k + 1 < n; k++) {
+        /* A pulse that drag absorbed (its log says from which granule on)
+         * has no passes beyond: NaN there, finite before. */
+        const size_t passes = o->absorbed_from > 0 && o->absorbed_from < n ? o->absorbed_from : n;
+        for (size_t k = passes - 1; k + 1 < n; k++)
+            if (!isnan(o->t_pass[k])) {
+                snprintf(why, sizeof why, "absorbed from granule %zu but t_pass(%zu) = %g", passes, k + 1,
+                         o->t_pass[k]);
+                return why;
+            }
+        for (size_t k = 0; k + 1 < passes; k++) {
             if (reported && isnan(o->t_pass[k])) continue;
             if (!(o->t_pass[k] > 0.0) || !isfinite(o->t_pass[k])) {
                 snprintf(why, sizeof why, "TAPER_OK with t_pass(%zu) = %g", k + 1, o->t_pass[k]);
@@ -607,6 +621,8 @@ static void check_case(const stress_case *in)
     outcome_free(&o);
 }
 
+static int is_refusal(taper_status status) { return status == TAPER_EINVAL || status == TAPER_ERANGE; }
+
 /* Convergence: runs at rtol, rtol/1e3 and a reference at rtol/1e6 (at
  * least 1e-13): every run meets the contract, and the pass-time error
  * shrinks with the tolerance and stays below CONV_FACTOR * rtol. */
@@ -640,7 +656,10 @@ static void check_convergence(const stress_case *in)
                      e_mid, e_lo);
             problem = why;
         }
-    } else if (!problem) {
+    } else if (!problem && !(is_refusal(ref.status) && is_refusal(lo.status) && is_refusal(mid.status))) {
+        /* (a chain refused before the run at every tolerance is a refusal,
+         * not a convergence run that stopped: forward exponential q = 0.1,
+         * N = 1000, since 87c02f3) */
         problem = "a convergence run stopped early";
     }
     verdict(c, c->rtol, &lo, problem, extra);
@@ -908,6 +927,9 @@ typedef struct physics_case {
                                      this field                              */
     int costly;                   /* 1: N <= 100 only (> 15 s or a guard's
                                      stop at N = 1000)                       */
+    int bdf;                      /* 1: method 'bdf', which taper_sim_alloc's
+                                     warning names for drag much faster than
+                                     a collision (stiff)                     */
 } physics_case;
 
 static taper_status set_physics_options(taper_chain_spec *cs, const physics_case *c, taper_error *err)
@@ -1048,7 +1070,7 @@ static void physics_label(const physics_case *c, char *buf, size_t size)
     else
         snprintf(head, sizeof head, "%-6s %s%-6.3g", profile_label(c->profile),
                  c->profile == TAPER_DECORATED ? "1," : is_exponential(c->profile) ? "q=" : "S=", c->param);
-    snprintf(buf, size, "%s N=%-5zu n=%-4.3g %s", head, c->n, c->exponent, c->what);
+    snprintf(buf, size, "%s N=%-5zu n=%-4.3g %s%s", head, c->n, c->exponent, c->what, c->bdf ? " (bdf)" : "");
 }
 
 /* Runs cell c at rtol (atol = rtol / 2000, the matrix's 1e-14 at 2e-11)
@@ -1095,7 +1117,12 @@ static void run_physics(const physics_case *c, double rtol, outcome *out, physic
         if (ss && taper_solver_spec_set_rtol(ss, rtol, &err) == TAPER_OK &&
             taper_solver_spec_set_atol(ss, atol, &err) == TAPER_OK &&
             taper_solver_spec_set_max_steps(ss, g_max_steps, &err) == TAPER_OK &&
-            (!(t_cross > 0.0 && isfinite(t_cross)) ||
+            (!c->bdf || taper_solver_spec_set_method(ss, TAPER_BDF, &err) == TAPER_OK) &&
+            /* Under drag no t_max: a pulse that drag absorbs ends the run by
+             * itself (src/sim/solve.c, absorbed_by_drag), long after the
+             * elastic crossing time (drag 0.1, N = 1000: t = 1.3e6, 870
+             * elastic crossings; drag 100, N = 10: t = 4e4). */
+            (!(t_cross > 0.0 && isfinite(t_cross)) || c->drag > 0.0 ||
              taper_solver_spec_set_t_max(ss, 1e3 * t_cross, &err) == TAPER_OK) &&
             (c->follow == 0.0 || taper_solver_spec_set_t_end(ss, c->follow * t_cross, &err) == TAPER_OK)) {
             taper_solver_spec_set_monitor(ss, wall_monitor, &w);
@@ -1132,13 +1159,10 @@ static void run_physics(const physics_case *c, double rtol, outcome *out, physic
 /* What is wrong with cell c's outcome at rtol (NULL: nothing): the pass
  * times, peaks and a stop's message by the matrix's contract, a refusal's
  * field, and every balance of a complete run within its bound. */
-static const char *const KNOWN_REACHED_OFFSET =
-    "reported in session 6 (docs/robustness.md): TAPER_STAT_GRANULE_REACHED counts the body before "
-    "granule 1 (a left wall, a striker or a piston), one more than the last granule passed, while "
-    "the stop message names the right one (src/sim/solve.c: next_pass - 1 without granule_of)";
-
 /* The statistic TAPER_STAT_GRANULE_REACHED against the pass times: the
- * last granule passed, N - 1 in a complete run. */
+ * last granule passed, N - 1 in a complete run.  With a body before
+ * granule 1 (a left wall, a striker, a piston) it counted that body, one
+ * too many, until a47e860 (found by these cells): a failure now. */
 static int reached_is_offset(const physics_case *c, const outcome *o)
 {
     size_t reached = o->stats.granule_reached;
@@ -1156,8 +1180,6 @@ static const char *physics_problem(const physics_case *c, const outcome *o, cons
     int ok_run;
     outcome values = *o;
     values.stats.energy_error = 0.0;
-    /* (the rest of the contract read with the granule the run reached) */
-    if (reached_is_offset(c, o)) values.stats.granule_reached--;
     /* Passes need not come in order where radii or masses jump (decorated,
      * disorder, materials: as custom chains), nor where every granule moves
      * ahead of the pulse: n < 2 (the precursor, docs/window.md; under a
@@ -1217,7 +1239,6 @@ static void check_physics(const physics_case *c)
         snprintf(why, sizeof why, "TAPER_STAT_GRANULE_REACHED = %zu, the last granule passed %zu",
                  o.stats.granule_reached, o.stats.granule_reached - 1);
         problem = why;
-        known = KNOWN_REACHED_OFFSET;
     }
     const char *tag = !problem ? "ok" : known ? "KNOWN" : "FAIL";
     if (!problem)
@@ -1365,7 +1386,10 @@ static void physics_ranges(size_t n_max)
             {.what = "damping 1e4", .n = n, .exponent = 2.5, .damping = 1e4, .costly = 1},
             {.what = "drag 0.1", .n = n, .exponent = 2.5, .drag = 0.1},
             {.what = "drag 1", .n = n, .exponent = 2.5, .drag = 1, .costly = 1},
-            {.what = "drag 100", .n = n, .exponent = 2.5, .drag = 100, .costly = 1},
+            /* Adams steps at the relaxation time m/drag = 0.01 for the whole
+             * creep (N = 100: 2.4e8 steps, 212 s); the library warns and
+             * names BDF (1437 steps), which the N >= 100 cells follow. */
+            {.what = "drag 100", .n = n, .exponent = 2.5, .drag = 100, .costly = 1, .bdf = n >= 100},
             {.what = "decorated", .profile = TAPER_DECORATED, .param = 0.1, .n = n, .exponent = 2.5},
             {.what = "decorated", .profile = TAPER_DECORATED, .param = 0.01, .n = n, .exponent = 2.5, .costly = 1},
             {.what = "decorated", .profile = TAPER_DECORATED, .param = 10, .n = n, .exponent = 2.5},
@@ -1526,8 +1550,15 @@ int main(int argc, char **argv)
         }
     }
     if (full) {
-        g_max_steps = 20000000;
-        g_wall_limit = 60.0;
+        /* Guards for the long matrix: they bound its time, and a cell that
+         * reaches one stops, neither complete nor refused.  300 s of wall
+         * clock (the machine is shared: forward exponential q = 0.1,
+         * N = 100, n = 7/4 completes in 45 s of CPU and stopped at 60 s of
+         * wall; the dimer 1, 0.7 of 1000 granules at n = 3/2 in 73 s) and
+         * 5e7 steps (n = 3/2 on that forward chain: over 1e8 at rtol
+         * 2e-11, docs/robustness.md). */
+        g_max_steps = 50000000;
+        g_wall_limit = 300.0;
         if (physics_only)
             physics_ranges(n_max);
         else if (ranges_only)
