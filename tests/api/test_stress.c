@@ -1151,8 +1151,9 @@ static void run_physics(const physics_case *c, double rtol, outcome *out, physic
     taper_sim_free(sim);
     taper_chain_free(chain);
     o.seconds = now() - t0;
-    o.untimed_passes = out->untimed_passes;
+    o.untimed_passes = out->untimed_passes; /* what the log (into *out) said */
     o.drift_warned = out->drift_warned;
+    o.absorbed_from = out->absorbed_from;
     *out = o;
 }
 
