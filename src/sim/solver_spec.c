@@ -16,10 +16,13 @@ void taper_solver_spec_defaults(struct taper_solver_spec *spec)
 {
     *spec = (struct taper_solver_spec){0};
     spec->method = TAPER_ADAMS;
-    /* Measured (docs/design.md, "Defaults"): with atol relative to each
-     * granule's binary-collision scale, t_pass and v_peak stay within 1.2e-9
-     * and 6.7e-9 of a rtol = 1e-13 reference on the five paper profiles up to
-     * N = 1000: an 8x margin on the 1e-8 / 1e-7 targets. */
+    /* Measured (docs/benchmarks.md, "Results (full run)", session 6: the
+     * work-precision study at 87c02f3): with atol relative to each
+     * granule's binary-collision scale, t_pass and v_peak stay within 3.8e-9
+     * and 2.1e-8 of the reference on the five benchmark chains up to
+     * N = 1000 (the largest: backward exponential q = 0.05, N = 200): a
+     * 2.6x / 4.7x margin on the 1e-8 / 1e-7 targets.  (At order 6, commit
+     * d28163c: 1.2e-9 and 6.7e-9.) */
     spec->rtol = 1e-10;
     spec->atol = 1e-13;
     spec->last_granule = 0;
