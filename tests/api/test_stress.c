@@ -1086,6 +1086,7 @@ static void run_physics(const physics_case *c, double rtol, outcome *out, physic
     o.profile = c->profile;
     taper_error err = {0};
     double t0 = now();
+    wall w = {t0, g_wall_limit}; /* the sim's monitor reads it while it runs */
     *b = (physics_balances){NAN, NAN, NAN, NAN, NAN};
     taper_chain *chain = build_physics_chain(c, &err);
     taper_sim *sim = NULL;
@@ -1112,7 +1113,7 @@ static void run_physics(const physics_case *c, double rtol, outcome *out, physic
             if (!(t_cross >= t_sound)) t_cross = t_sound;
         }
         free(T);
-        wall w = {now(), g_wall_limit};
+        w.start = now();
         taper_solver_spec *ss = taper_solver_spec_alloc(&err);
         if (ss && taper_solver_spec_set_rtol(ss, rtol, &err) == TAPER_OK &&
             taper_solver_spec_set_atol(ss, atol, &err) == TAPER_OK &&
