@@ -509,7 +509,7 @@ static void set_stop_time(taper_sim *sim, double t)
 static taper_status stop_piston(taper_sim *sim, taper_error *err)
 {
     double *y = taper_sim_data(sim, sim->cv.y);
-    sim->piston_work = y[taper_dyn_end(&sim->dyn) - taper_dyn_begin(&sim->dyn) + TAPER_QUAD_WALL_LEFT];
+    sim->piston_work = quadrature_entries(sim, sim->cv.y)[TAPER_QUAD_WALL_LEFT];
     taper_events_piston_stopped(sim);
     y[taper_idx_v(1) - taper_dyn_begin(&sim->dyn)] = 0.0; /* lo == 1 (window.c) */
     sim->piston_moving = 0;
@@ -654,7 +654,8 @@ static int absorbed_by_drag(const taper_sim *sim)
     if (!(sim->model.drag > 0.0) || sim->piston_moving) return 0;
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, sim->cv.y);
-    for (size_t k = d->lo; k <= d->hi; k++)
+    /* from the front, where the pulse is: a moving run answers at once */
+    for (size_t k = d->hi; k >= d->lo; k--)
         if (fabs(taper_dyn_v(d, y, k)) > sim->spec.rtol + sim->spec.atol * sim->v_scale[k - 1]) return 0;
     return 1;
 }
@@ -714,12 +715,10 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
  * T_res ~ 6e-5 t_pass is good to 7e-5 (twice the t_pass error). */
 #define PASS_TIME_RESOLUTION (2e4 * DBL_EPSILON)
 
-/* T_res(k) = t_pass(k) - t_pass(k-1), unless the difference is below what
- * the pass times resolve (the last, tiny granules of forward chains are
- * passed within 1e-15 t of each other): then NaN, not a number that is
- * noise. */
 /* Residence times T_res(k) = t_pass(k) - t_pass(k-1), NaN where they are
- * not a residence: below the pass times' resolution, or negative, where
+ * not a residence: below the pass times' resolution (the last, tiny
+ * granules of forward chains are passed within 1e-15 t of each other: a
+ * difference that is noise), or negative, where
  * granule k is passed before granule k-1 (below n = 2 the precursor moves
  * the chain's end as a block and its last granule may be passed first; the
  * light end of a steep forward taper, small granules of decorated and mixed
