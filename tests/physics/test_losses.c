@@ -82,6 +82,18 @@ static taper_chain *lossy_chain(double damping, double drag)
     return chain;
 }
 
+/* A sim of chain with spec, run: it must complete. */
+static taper_sim *run_to_completion(const taper_chain *chain, const taper_solver_spec *spec)
+{
+    taper_sim *sim = taper_sim_alloc(chain, spec, NULL);
+    assert_non_null(sim);
+    taper_error err;
+    taper_status status = taper_sim_run(sim, &err);
+    if (status != TAPER_OK) print_error("%s\n", err.message);
+    assert_int_equal(status, TAPER_OK);
+    return sim;
+}
+
 /* Runs to t_end = 40 sampling every DT; returns E(t_end) + D - E(0)
  * relative to E(0), and D / E(0) in *share. */
 static double run_balance(double damping, double drag, balance *b, double *share)
@@ -94,12 +106,7 @@ static double run_balance(double damping, double drag, balance *b, double *share
     assert_int_equal(taper_solver_spec_set_rtol(spec, RTOL, NULL), TAPER_OK);
     assert_int_equal(taper_solver_spec_set_t_end(spec, 40.0, NULL), TAPER_OK);
     assert_int_equal(taper_solver_spec_set_sampler(spec, DT, sample, b, NULL), TAPER_OK);
-    taper_sim *sim = taper_sim_alloc(chain, spec, NULL);
-    assert_non_null(sim);
-    taper_error err;
-    taper_status status = taper_sim_run(sim, &err);
-    if (status != TAPER_OK) print_error("%s\n", err.message);
-    assert_int_equal(status, TAPER_OK);
+    taper_sim *sim = run_to_completion(chain, spec);
     /* the final state (t_end = 40 is not a multiple of DT in binary: read it
      * after the run) */
     assert_int_equal(taper_sim_state(sim, b->x, b->v, NULL), TAPER_OK);
@@ -200,12 +207,7 @@ static void drag_absorbs_the_pulse(void **state)
     taper_sim_free(adams);
     assert_int_equal(taper_solver_spec_set_method(spec, TAPER_BDF, NULL), TAPER_OK);
     assert_int_equal(taper_solver_spec_set_t_max(spec, 1e8, NULL), TAPER_OK);
-    taper_sim *sim = taper_sim_alloc(chain, spec, NULL);
-    assert_non_null(sim);
-    taper_error err;
-    taper_status status = taper_sim_run(sim, &err);
-    if (status != TAPER_OK) print_error("%s\n", err.message);
-    assert_int_equal(status, TAPER_OK);
+    taper_sim *sim = run_to_completion(chain, spec);
     assert_true(taper_sim_statistic(sim, TAPER_STAT_COMPLETE) == 1.0);
     const size_t reached = (size_t)taper_sim_statistic(sim, TAPER_STAT_GRANULE_REACHED);
     const double *t_pass = taper_sim_observable(sim, TAPER_T_PASS);
