@@ -1555,7 +1555,7 @@ int main(int argc, char **argv)
         /* Guards for the long matrix: they bound its time, and a cell that
          * reaches one stops, neither complete nor refused.  300 s of wall
          * clock (the machine is shared: forward exponential q = 0.1,
-         * N = 100, n = 7/4 completes in 45 s of CPU and stopped at 60 s of
+         * N = 100, n = 7/4 completes in 61 s of CPU and stopped at 60 s of
          * wall; the dimer 1, 0.7 of 1000 granules at n = 3/2 in 73 s) and
          * 5e7 steps (n = 3/2 on that forward chain: over 1e8 at rtol
          * 2e-11, docs/robustness.md). */
