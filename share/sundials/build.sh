@@ -16,8 +16,9 @@
 #   4. Below 6.5.0: share/sundials/rootfind-underflow.patch (the upstream
 #      6.5.0 root-finding underflow fix, backported); then, where it applies,
 #      share/sundials/fused-predictor.patch (CVODE's predictor without a
-#      vector call per addition: bit for bit the same results, 1.12x on
-#      taper's short window vectors; docs/benchmarks.md).
+#      vector call per addition, each element's column in registers: bit
+#      for bit the same results, 1.12x and then a further 1.12x on taper's
+#      short window vectors; docs/benchmarks.md).
 #   5. CMake Release (-O3 -DNDEBUG), shared libraries only, CVODE and ARKODE
 #      and no other package, no examples; installed in PREFIX, work dir removed.
 #
