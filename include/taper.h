@@ -414,6 +414,7 @@ TAPER_API const char *taper_chain_theory_note(const taper_chain *chain);
     X(TAPER_DIM_FORCE, "force", "N")            /* M_1 V^2 / length                  */ \
     X(TAPER_DIM_ENERGY, "energy", "J")          /* M_1 V^2                           */ \
     X(TAPER_DIM_IMPULSE, "impulse", "N s")      /* M_1 V                             */ \
+    X(TAPER_DIM_SIZE, "size", "m")              /* R_1: radii and rest positions      */ \
     X(TAPER_DIM_DENSITY, "density", "kg/m^3")   /* rho_1: densities are relative to
                                                    granule 1's                       */ \
     X(TAPER_DIM_COMPLIANCE, "compliance", "1/Pa") /* c_1 = (1 - nu_1^2)/E_1          */ \

@@ -12,7 +12,8 @@
  * r'_k = sqrt(2 R*), it gives a = (4/3) E* / sqrt(2) = sqrt(2) E / (3 (1 - nu^2)).
  * Eq. (5): y = R_1 alpha^(1/n) x and tau = (R_1/V) alpha^(1/n) t; the other
  * units follow: velocity V, mass M_1, force M_1 V^2 / (R_1 alpha^(1/n)),
- * energy M_1 V^2, impulse M_1 V, a drag coefficient mass / time.  Densities
+ * energy M_1 V^2, impulse M_1 V, a drag coefficient mass / time.  Sizes
+ * (radii, rest positions) are in units of R_1, the paper's convention.  Densities
  * and compliances are relative to granule 1's: their units are rho_1 and
  * c_1 = (1 - nu^2)/E.
  */
@@ -61,6 +62,7 @@ double taper_unit_scale(taper_dimension dim, double young, double poisson, doubl
     case TAPER_DIM_FORCE: return mass * velocity * velocity / length;
     case TAPER_DIM_ENERGY: return mass * velocity * velocity;
     case TAPER_DIM_IMPULSE: return mass * velocity;
+    case TAPER_DIM_SIZE: return radius;
     case TAPER_DIM_DENSITY: return density;
     case TAPER_DIM_COMPLIANCE: return (1.0 - poisson * poisson) / young;
     case TAPER_DIM_DRAG: return mass * velocity / length; /* mass / time */

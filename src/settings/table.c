@@ -68,14 +68,14 @@ const setting_row taper_setting_rows[] = {
                                     "contact onset and the integration stalls; 20 is the "
                                     "stiffest contact law tested",
      REAL, CHAIN_AT(exponent)},
-    {.info.name = "radii", .info.group = "chain", DIM(LENGTH), POSITIVE,
+    {.info.name = "radii", .info.group = "chain", DIM(SIZE), POSITIVE,
               .info.description = "custom profile only: the radii R_1, ..., R_N (R_1 = 1 is the "
                                   "unit of length)",
               .info.bounds_reason = "a radius is finite and > 0",
      LIST_AT(radii, n_radii)},
 
     /* ---- the chain beyond the paper ------------------------------------ */
-    {.info.name = "pattern", .info.group = "chain", DIM(LENGTH), POSITIVE, .info.beyond_paper = 1,
+    {.info.name = "pattern", .info.group = "chain", DIM(SIZE), POSITIVE, .info.beyond_paper = 1,
               .info.description = "decorated profile only: the radii of one period, starting "
                                   "with R_1 = 1; granule k has radius pattern((k-1) mod P + 1), "
                                   "e.g. 1, 0.5 for a large and a small granule",
@@ -145,7 +145,7 @@ const setting_row taper_setting_rows[] = {
                                     "infinite compliance",
      REAL, CHAIN_AT(end_compliance[TAPER_RIGHT])},
 
-    {.info.name = "striker_radius", .info.group = "striker", DIM(LENGTH), RANGE(0.0, 1e100),
+    {.info.name = "striker_radius", .info.group = "striker", DIM(SIZE), RANGE(0.0, 1e100),
               .info.beyond_paper = 1,
               .info.description = "radius of a striker hitting granule 1 (at rest) with the "
                                   "impulse's velocity; 0: no striker, the impulse v_1 = 1 of the "
@@ -170,7 +170,8 @@ const setting_row taper_setting_rows[] = {
               .info.description = "how long a piston touching granule 1 (at rest) pushes it at the "
                                   "impulse's velocity; 0: no piston; infinite: for ever (not with "
                                   "a striker, a left wall or a load)",
-              .info.bounds_reason = "a duration is >= 0",
+              .info.bounds_reason = "0 is no piston, infinite a push for ever; a duration "
+                                   "cannot be negative",
      REAL, CHAIN_AT(piston_duration)},
     {.info.name = "piston_compliance", .info.group = "striker", DIM(COMPLIANCE), NONNEGATIVE,
               .info.beyond_paper = 1,

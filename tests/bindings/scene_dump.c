@@ -60,7 +60,7 @@ int main(int argc, char **argv)
         case SCENE_REAL_LIST: {
             size_t n = 0;
             const double *x = scene_var_reals(sc, i, &n);
-            if (scene_var_type(i) == SCENE_REAL_LIST || scene_var_sweeps(i)) printf(" %zu", n);
+            if (scene_var_type(i) == SCENE_REAL_LIST || scene_var_takes_list(i)) printf(" %zu", n);
             for (size_t k = 0; k < n; k++) print_bits(x[k]);
             break;
         }

@@ -63,9 +63,9 @@ static void test_dimensions(void **state)
 static void test_names_and_domain(void **state)
 {
     (void)state;
-    const char *names[] = {"length", "time", "velocity", "mass", "force", "energy", "impulse",
+    const char *names[] = {"length", "time", "velocity", "mass", "force", "energy", "impulse", "size",
                            "density", "compliance", "drag", "number"};
-    const char *units[] = {"m", "s", "m/s", "kg", "N", "J", "N s", "kg/m^3", "1/Pa", "kg/s", "1"};
+    const char *units[] = {"m", "s", "m/s", "kg", "N", "J", "N s", "m", "kg/m^3", "1/Pa", "kg/s", "1"};
     int i;
     for (i = 0; taper_dimension_name((taper_dimension)i); i++) {
         assert_true(i < TAPER_N_DIMENSIONS);
@@ -88,6 +88,7 @@ static void test_names_and_domain(void **state)
     /* The units of the settings' dimensions: granule 1's density and
      * compliance (1 - nu^2)/E, a drag coefficient's mass / time, and 1. */
     const double E = 193e9, nu = 0.3, rho = 8000, R = 4.76e-3, V = 0.5;
+    assert_true(taper_unit_scale(TAPER_DIM_SIZE, E, nu, rho, R, V) == R);
     assert_true(taper_unit_scale(TAPER_DIM_DENSITY, E, nu, rho, R, V) == rho);
     assert_true(taper_unit_scale(TAPER_DIM_COMPLIANCE, E, nu, rho, R, V) == (1 - nu * nu) / E);
     assert_true(taper_unit_scale(TAPER_DIM_NUMBER, E, nu, rho, R, V) == 1.0);

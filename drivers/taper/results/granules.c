@@ -100,7 +100,9 @@ static void write_units_comment(const granules_run *r, FILE *fp)
     if (!scene_unit_suffix(cfg, TAPER_DIM_LENGTH)) return;
     fputs("# units: SI (&output units = 'si'); one rescaled unit (eq. (5) of arXiv:0905.4512) "
           "is:\n", fp);
-    for (int d = 0; d < TAPER_N_DIMENSIONS; d++)
+    /* The dimensions of results (length to impulse); the others are those
+     * of inputs (sizes, densities, compliances, drag). */
+    for (int d = 0; d <= TAPER_DIM_IMPULSE; d++)
         fprintf(fp, "# unit_%s = %.17g %s\n", taper_dimension_name((taper_dimension)d),
                 scene_unit(cfg, (taper_dimension)d), taper_dimension_unit((taper_dimension)d));
     fprintf(fp, "# unit_radius = %.17g m: the sizes R and X0 are in units of R_1 (eq. (5): "

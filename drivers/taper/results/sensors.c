@@ -81,7 +81,7 @@ sensors *sensors_new(const scene_config *at, const taper_chain *chain, int *fail
     if (!s) goto nomem;
     s->at = *at;
     s->n = taper_chain_size(chain);
-    s->interval = c->interval;
+    s->interval = scene_sample_interval(at); /* rescaled: the library's time */
     s->n_granule = c->granules.n;
     if (s->n_granule && !(s->granule = malloc(s->n_granule * sizeof *s->granule))) goto nomem;
     for (size_t i = 0; i < s->n_granule; i++) s->granule[i] = (size_t)c->granules.v[i];

@@ -252,8 +252,8 @@ static int attach_sensors(run *r, taper_solver_spec *spec)
         fprintf(r->log, "%s: out of memory for the sensors\n", r->label);
         return RUN_FAILED;
     }
-    if (taper_solver_spec_set_sampler(spec, r->cfg->sensors.interval, sensors_sample, r->sensors,
-                                      &r->err) == TAPER_OK)
+    if (taper_solver_spec_set_sampler(spec, scene_sample_interval(r->cfg), sensors_sample,
+                                      r->sensors, &r->err) == TAPER_OK)
         return RUN_COMPLETE;
     return refused(r, SCENE_LIB_SOLVER);
 }

@@ -84,9 +84,8 @@ static double estimate(const scene_config *cfg, size_t point)
 {
     scene_config at;
     scene_config_at(cfg, point, &at);
-    double n = (double)at.chain.n_granules;
-    if (at.solver.last_granule > 0 && (double)at.solver.last_granule < n)
-        n = (double)at.solver.last_granule;
+    double n = scene_setting(&at, "n_granules"), last = scene_setting(&at, "last_granule");
+    if (last > 0 && last < n) n = last;
     return at.solver.numerics ? n : 1e-3 * n;
 }
 

@@ -3,15 +3,26 @@
  * and where they came from), diagnostics, and typed access to a row's
  * field.
  *
- * The table below is the only place a variable is declared: the parser
- * (scene_parse.c), the validation (scene_check.c, scene_lib.c), the echo,
- * --defaults, --doc and --get (scene_write.c) all walk it.  Each row names
- * the field of scene_config it fills, so that resolving is generic.
+ * The table is the only place a variable is declared: one row per setting
+ * of the library's table of settings (taper_setting_at: name, group, type,
+ * range, default, dimension, description), and below the scene's own
+ * variables (&material, &sensors, &output, &fit, &table, &figure, &sweep,
+ * and a few of the other groups).  The parser (scene_parse.c), the
+ * validation (scene_check.c, scene_lib.c), the echo, --defaults, --doc and
+ * --get (scene_write.c) all walk it.  Each row names the field of
+ * scene_config it fills, so that resolving is generic.
+ *
+ * Names: every variable has one name (its keyword: the Python keyword, the
+ * library's field), unique over all groups; a scene file writes it inside
+ * its group without the group's name in front, if it has it:
+ * striker_radius is &striker radius, figure_every is &figure every, load
+ * is &chain load.
  */
 #include "scene_impl.h"
 
 #include <ctype.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -28,52 +39,47 @@ _Static_assert(sizeof(taper_disorder) == sizeof(int), "enum size");
 _Static_assert(sizeof(scene_units) == sizeof(int), "enum size");
 /* No field is larger than a list (scene_set moves fields through one). */
 _Static_assert(sizeof(scene_reals) >= sizeof(double) && sizeof(scene_reals) >= sizeof(long long) &&
-               sizeof(scene_reals) >= sizeof(char *), "field size");
+               sizeof(scene_reals) >= sizeof(char *) && sizeof(scene_slot) == sizeof(scene_reals),
+               "field size");
 
 /* ---- names of the choices -------------------------------------------------- */
 
-/* Library choices: the library's one list of names. */
-static const char *profile_choice(int i) { return taper_profile_name((taper_profile)i); }
-static const char *method_choice(int i) { return taper_method_name((taper_method)i); }
-static const char *fit_model_choice(int i) { return scene_fit_model_name(i); }
-static const char *boundary_choice(int i) { return taper_boundary_name((taper_boundary)i); }
+#define ENUM_NAME(constant, name) name,
 static const char *const pistons[] = {"none", "push", "steady", NULL};
-static const char *piston_choice(int i) { return i >= 0 && i < 3 ? pistons[i] : NULL; }
-static const char *disorder_choice(int i) { return taper_disorder_name((taper_disorder)i); }
-
-/* The scene's own choices. */
-#define NAME_AT(list, i) \
-    ((i) >= 0 && (size_t)(i) < sizeof(list) / sizeof(list[0]) ? list[i] : NULL)
-static const char *const quantities[] = {"k", "v", "T_res", "t", "t_reach", "t_peak"};
-static const char *const fit_reports[] = {"a", "b", "c", "m", "p", "f"};
-static const char *const fit_theories[] = {"fit", "rate", "f", "b"};
-static const char *const curves[] = {"both", "theory", "numerics"};
-static const char *const chain_params[] = {"s", "q"};
-static const char *const sweep_modes[] = {"grid", "zip"};
-static const char *const units[] = {"rescaled", "si"};
-static const char *const columns[SCENE_N_COLUMNS] = {
+static const char *const fit_models[] = {"none", TAPER_FIT_MODEL_LIST(ENUM_NAME) NULL};
+static const char *const quantities[] = {"k", "v", "T_res", "t", "t_reach", "t_peak", NULL};
+static const char *const fit_reports[] = {"a", "b", "c", "m", "p", "f", NULL};
+static const char *const fit_theories[] = {"fit", "rate", "f", "b", NULL};
+static const char *const curves[] = {"both", "theory", "numerics", NULL};
+static const char *const chain_params[] = {"s", "q", NULL};
+static const char *const sweep_modes[] = {"grid", "zip", NULL};
+static const char *const units[] = {"rescaled", "si", NULL};
+static const char *const columns[SCENE_N_COLUMNS + 1] = {
     "k", "R", "m", "X0", "t_pass", "T_res", "v_peak", "t_peak", "X_pass",
-    "theory_v", "theory_T", "theory_t"};
+    "theory_v", "theory_T", "theory_t", NULL};
 
-const char *scene_column_name(scene_column c) { return NAME_AT(columns, (int)c); }
-int scene_column_numerics(scene_column c) { return c >= SCENE_COL_T_PASS && c <= SCENE_COL_X_PASS; }
-
-const char *scene_quantity_name(scene_quantity q) { return NAME_AT(quantities, (int)q); }
-const char *scene_fit_report_name(scene_fit_report r) { return NAME_AT(fit_reports, (int)r); }
-const char *scene_fit_theory_name(scene_fit_theory t) { return NAME_AT(fit_theories, (int)t); }
-const char *scene_chain_param_name(scene_chain_param p) { return NAME_AT(chain_params, (int)p); }
-const char *scene_fit_model_name(int model)
+/* names[i] of a NULL-terminated list, NULL past its end. */
+static const char *name_at(const char *const *names, int i)
 {
-    return model == SCENE_FIT_NONE ? "none" : taper_fit_model_name((taper_fit_model)model);
+    for (int j = 0; j < i; j++)
+        if (!names[j]) return NULL;
+    return i >= 0 ? names[i] : NULL;
 }
 
-static const char *quantity_choice(int i) { return NAME_AT(quantities, i); }
-static const char *report_choice(int i) { return NAME_AT(fit_reports, i); }
-static const char *theory_choice(int i) { return NAME_AT(fit_theories, i); }
-static const char *curves_choice(int i) { return NAME_AT(curves, i); }
-static const char *sweep_mode_choice(int i) { return NAME_AT(sweep_modes, i); }
-static const char *units_choice(int i) { return NAME_AT(units, i); }
-const char *scene_units_name(scene_units u) { return NAME_AT(units, (int)u); }
+const char *scene_column_name(scene_column c) { return name_at(columns, (int)c); }
+int scene_column_numerics(scene_column c) { return c >= SCENE_COL_T_PASS && c <= SCENE_COL_X_PASS; }
+
+const char *scene_quantity_name(scene_quantity q) { return name_at(quantities, (int)q); }
+const char *scene_fit_report_name(scene_fit_report r) { return name_at(fit_reports, (int)r); }
+const char *scene_fit_theory_name(scene_fit_theory t) { return name_at(fit_theories, (int)t); }
+const char *scene_chain_param_name(scene_chain_param p) { return name_at(chain_params, (int)p); }
+const char *scene_fit_model_name(int model) { return name_at(fit_models, model + 1); }
+const char *scene_units_name(scene_units u) { return name_at(units, (int)u); }
+
+const char *scene_choice_name(const scene_var *var, int v)
+{
+    return var->choices ? name_at(var->choices, v - var->choice_first) : NULL;
+}
 
 /* ---- groups ------------------------------------------------------------------ */
 
@@ -107,331 +113,403 @@ int scene_group_index(const char *name)
 /* ---- the table ----------------------------------------------------------------- */
 
 #define AT(field) offsetof(scene_config, field)
-#define CHOICE(fn, first) fn, first
-#define NO_CHOICE NULL, 0
 
-/* The scene's own bounds are generous but finite: a number outside them is
- * a typo, not a physics question.  The library's settings carry taper.h's
- * ranges for the documentation only: the library's setters check them. */
-static const scene_var table[] = {
-    {"chain", "profile", SCENE_CHOICE, 0, AT(chain.profile), NULL, SCENE_LIB_CHAIN, NULL, 0, 0,
-     CHOICE(profile_choice, 0),
-     "radius profile R_k: monodisperse (1), backward_linear (1+s(k-1)), forward_linear "
-     "(1-s(k-1)), backward_exponential ((1-q)^(1-k)), forward_exponential ((1+q)^(1-k)), "
-     "custom (radii or radii_file), decorated (pattern repeated)"},
-    {"chain", "n_granules", SCENE_INTEGER, SCENE_COUNT | SCENE_SWEEP, AT(chain.n_granules), NULL,
-     SCENE_LIB_CHAIN, NULL, TAPER_N_GRANULES_MIN, TAPER_N_GRANULES_MAX, NO_CHOICE,
-     "number of granules N (custom profile: may be left out, then N = number of radii)"},
-    {"chain", "s", SCENE_REAL, SCENE_SWEEP | SCENE_LIST_FIELD, AT(chain.s), NULL, SCENE_LIB_CHAIN, NULL, 0,
-     TAPER_S_MAX, NO_CHOICE,
-     "linear tapering S (backward_linear, forward_linear: N < 1 + 1/S); a list of values "
-     "sweeps it"},
-    {"chain", "q", SCENE_REAL, SCENE_SWEEP | SCENE_LIST_FIELD, AT(chain.q), NULL, SCENE_LIB_CHAIN, NULL, 0,
-     TAPER_Q_MAX, NO_CHOICE,
-     "exponential tapering q (backward_exponential needs q < 1); a list of values sweeps it"},
-    {"chain", "exponent", SCENE_REAL, SCENE_SWEEP, AT(chain.exponent), NULL, SCENE_LIB_CHAIN,
-     NULL, TAPER_EXPONENT_MIN, TAPER_EXPONENT_MAX, NO_CHOICE,
-     "contact exponent n: force ~ overlap^(n-1); 2.5 is Hertz"},
-    {"chain", "radii", SCENE_REAL_LIST, SCENE_LO_OPEN, AT(chain.radii), NULL, SCENE_LIB_CHAIN,
-     NULL, 0, INFINITY, NO_CHOICE,
-     "custom profile only: the radii R_1, ..., R_N (R_1 = 1 is the unit of length)"},
-    {"chain", "radii_file", SCENE_STRING, SCENE_EXTRA, AT(chain.radii_file), "''", SCENE_OWN,
-     NULL, 0, 0, NO_CHOICE,
-     "custom profile only, instead of radii: a text file with one radius per line ('#' starts "
-     "a comment), its path relative to the scene file; any number of granules"},
-    {"chain", "pattern", SCENE_REAL_LIST, SCENE_LO_OPEN | SCENE_EXTRA, AT(chain.pattern), NULL,
-     SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
-     "decorated profile only: the radii of one period, starting with 1 (R_1); granule k has "
-     "radius pattern((k-1) mod P + 1), e.g. 1, 0.5 for a large and a small granule"},
-    {"chain", "disorder", SCENE_CHOICE, SCENE_EXTRA, AT(chain.disorder), NULL, SCENE_LIB_CHAIN,
-     NULL, 0, 0, CHOICE(disorder_choice, 0),
-     "what a random disorder perturbs: the 'radius' or the 'mass' of every granule k >= 2, "
-     "by a factor 1 + disorder_amplitude u_k, u_k uniform in [-1, 1)"},
-    {"chain", "disorder_amplitude", SCENE_REAL, SCENE_HI_OPEN | SCENE_SWEEP | SCENE_EXTRA,
-     AT(chain.disorder_amplitude), NULL, SCENE_LIB_CHAIN, NULL, 0, 1, NO_CHOICE,
-     "amplitude of the disorder, below 1; 0: none"},
-    {"chain", "seed", SCENE_INTEGER, SCENE_SWEEP | SCENE_EXTRA, AT(chain.seed), NULL,
-     SCENE_LIB_CHAIN, NULL, 0, 9007199254740992.0, NO_CHOICE,
-     "seed of the disorder: u_k depends on (seed, k) alone, the same on every machine and for "
-     "every N; a list of seeds runs an ensemble"},
-    {"chain", "load", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(chain.load), NULL,
-     SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
-     "static compressive force F0 through the chain (precompression; rescaled force of eq. "
-     "(5)): every contact starts at its static overlap; 0: the paper's just-touching chain"},
+/* The scene's own variables.  Their bounds are generous but finite: a
+ * number outside them is a typo, not a physics question.  Each sits in its
+ * group after the library's settings of that group, or after the one its
+ * `after` names. */
+static const scene_var own[] = {
+    {.group = "chain", .keyword = "radii_file", .type = SCENE_STRING, .flags = SCENE_EXTRA,
+     .offset = AT(chain.radii_file), .def = "''", .lib = SCENE_OWN, .after = "radii",
+     .doc = "custom profile only, instead of radii: a text file with one radius per line ('#' "
+            "starts a comment), its path relative to the scene file; any number of granules"},
 
-    {"ends", "left", SCENE_CHOICE, SCENE_EXTRA, AT(ends.left), NULL, SCENE_LIB_CHAIN, NULL, 0, 0,
-     CHOICE(boundary_choice, 0),
-     "granule 1's end: 'free', or 'wall' (a fixed flat wall touching granule 1; not with a "
-     "striker)"},
-    {"ends", "right", SCENE_CHOICE, SCENE_EXTRA, AT(ends.right), NULL, SCENE_LIB_CHAIN, NULL, 0,
-     0, CHOICE(boundary_choice, 0),
-     "granule N's end: 'free', or 'wall' (the pulse reflects from it; its force is a sensor's "
-     "reading)"},
-    {"ends", "left_compliance", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(ends.left_compliance),
-     NULL, SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
-     "compliance (1 - nu^2)/E of the left wall relative to granule 1's: 0 rigid, 1 granule 1's "
-     "material (with &material: from &material wall)"},
-    {"ends", "right_compliance", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA,
-     AT(ends.right_compliance), NULL, SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
-     "compliance of the right wall relative to granule 1's (as left_compliance)"},
+    {.group = "striker", .keyword = "piston", .type = SCENE_CHOICE, .flags = SCENE_EXTRA,
+     .offset = AT(striker.piston), .lib = SCENE_OWN, .choices = pistons,
+     .after = "striker_compliance",
+     .doc = "'none', or a piston touching granule 1 (at rest) that moves at unit velocity: "
+            "'push' for piston_duration, then stops; 'steady' for ever (not with a striker, a "
+            "left wall or a load). The energy budget adds up to its work (docs/physics.md, "
+            "\"Piston\")"},
 
-    {"striker", "radius", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(striker.radius), NULL,
-     SCENE_LIB_CHAIN, "striker_radius", 0, INFINITY, NO_CHOICE,
-     "radius of a striker relative to R_1, hitting granule 1 (at rest) with unit velocity; 0: "
-     "no striker, the impulse v_1 = 1 of the paper"},
-    {"striker", "density", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA,
-     AT(striker.density), NULL, SCENE_LIB_CHAIN, "striker_density", 0, INFINITY, NO_CHOICE,
-     "the striker's density relative to granule 1's: its mass is density radius^3 (with "
-     "&material: from &material striker)"},
-    {"striker", "compliance", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(striker.compliance), NULL,
-     SCENE_LIB_CHAIN, "striker_compliance", 0, INFINITY, NO_CHOICE,
-     "the striker's compliance (1 - nu^2)/E relative to granule 1's (with &material: from "
-     "&material striker)"},
-    {"striker", "piston", SCENE_CHOICE, SCENE_EXTRA, AT(striker.piston), NULL, SCENE_LIB_CHAIN,
-     NULL, 0, 0, CHOICE(piston_choice, 0),
-     "'none', or a piston touching granule 1 (at rest) that moves at unit velocity: 'push' for "
-     "piston_duration, then stops; 'steady' for ever (not with a striker, a left wall or a "
-     "load).  The energy budget adds up to its work (docs/physics.md, \"Piston\")"},
-    {"striker", "piston_duration", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA,
-     AT(striker.piston_duration), NULL, SCENE_LIB_CHAIN, "piston_duration", 0, INFINITY,
-     NO_CHOICE, "how long piston = 'push' pushes (rescaled time, > 0); 0 otherwise"},
-    {"striker", "piston_compliance", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA,
-     AT(striker.piston_compliance), NULL, SCENE_LIB_CHAIN, "piston_compliance", 0, INFINITY,
-     NO_CHOICE, "compliance of the piston's face relative to granule 1's (as a wall's: 0 rigid)"},
+    {.group = "material", .keyword = "young", .type = SCENE_REAL,
+     .flags = SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA, .offset = AT(material.young),
+     .lib = SCENE_OWN, .lo = 0, .hi = INFINITY,
+     .doc = "Young's modulus E of material 1 [Pa] (e.g. 193e9, stainless steel); the group "
+            "needs young, poisson, density, radius, velocity"},
+    {.group = "material", .keyword = "poisson", .type = SCENE_REAL,
+     .flags = SCENE_LO_OPEN | SCENE_HI_OPEN | SCENE_SWEEP | SCENE_EXTRA,
+     .offset = AT(material.poisson), .lib = SCENE_OWN, .lo = -1, .hi = 0.5,
+     .doc = "Poisson ratio nu of material 1"},
+    {.group = "material", .keyword = "density", .type = SCENE_REAL,
+     .flags = SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA, .offset = AT(material.density),
+     .lib = SCENE_OWN, .lo = 0, .hi = INFINITY,
+     .doc = "density of material 1 [kg/m^3]"},
+    {.group = "material", .keyword = "radius", .type = SCENE_REAL,
+     .flags = SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA, .offset = AT(material.radius),
+     .lib = SCENE_OWN, .lo = 0, .hi = INFINITY,
+     .doc = "radius R_1 of granule 1 [m] (every length of the scene is relative to it)"},
+    {.group = "material", .keyword = "velocity", .type = SCENE_REAL,
+     .flags = SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA, .offset = AT(material.velocity),
+     .lib = SCENE_OWN, .lo = 0, .hi = INFINITY,
+     .doc = "velocity of the impulse given to granule 1, or of the striker [m/s]"},
+    {.group = "material", .keyword = "other_young", .type = SCENE_REAL_LIST,
+     .flags = SCENE_LO_OPEN | SCENE_EXTRA, .offset = AT(material.other_young), .lib = SCENE_OWN,
+     .lo = 0, .hi = INFINITY,
+     .doc = "mixed chains: Young's moduli of materials 2, 3, ... [Pa]"},
+    {.group = "material", .keyword = "other_poisson", .type = SCENE_REAL_LIST,
+     .flags = SCENE_LO_OPEN | SCENE_HI_OPEN | SCENE_EXTRA, .offset = AT(material.other_poisson),
+     .lib = SCENE_OWN, .lo = -1, .hi = 0.5,
+     .doc = "Poisson ratios of materials 2, 3, ..."},
+    {.group = "material", .keyword = "other_density", .type = SCENE_REAL_LIST,
+     .flags = SCENE_LO_OPEN | SCENE_EXTRA, .offset = AT(material.other_density), .lib = SCENE_OWN,
+     .lo = 0, .hi = INFINITY,
+     .doc = "densities of materials 2, 3, ... [kg/m^3]"},
+    {.group = "material", .keyword = "sequence", .type = SCENE_REAL_LIST, .flags = SCENE_EXTRA,
+     .offset = AT(material.sequence), .lib = SCENE_OWN, .lo = 1, .hi = 1000,
+     .doc = "the material of granules 1, 2, ..., repeated along the chain (e.g. 1, 2: "
+            "alternating); left out: material 1 throughout"},
+    {.group = "material", .keyword = "wall", .type = SCENE_INTEGER, .flags = SCENE_EXTRA,
+     .offset = AT(material.wall), .def = "0", .lib = SCENE_OWN, .lo = 0, .hi = 1000,
+     .doc = "the walls' material (&ends); 0: rigid"},
+    {.group = "material", .keyword = "striker", .type = SCENE_INTEGER, .flags = SCENE_EXTRA,
+     .offset = AT(material.striker), .def = "1", .lib = SCENE_OWN, .lo = 1, .hi = 1000,
+     .doc = "the striker's material (&striker)"},
 
-    {"losses", "damping", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(losses.damping), NULL,
-     SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
-     "viscoelastic contacts (Kuwabara-Kono): each contact pushes with r_k (z^(n-1) + damping "
-     "d(z^(n-1))/dt), never pulls; a (rescaled) time; 0: elastic"},
-    {"losses", "drag", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(losses.drag), NULL,
-     SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
-     "hydrodynamic friction: a force -drag v_k on every granule (and the striker); 0: none"},
+    {.group = "solver", .keyword = "numerics", .type = SCENE_LOGICAL,
+     .offset = AT(solver.numerics), .def = ".true.", .lib = SCENE_OWN,
+     .doc = "integrate the dynamics; .false.: binary-collision theory only (fast)"},
 
-    {"material", "young", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA,
-     AT(material.young), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
-     "Young's modulus E of material 1 [Pa] (e.g. 193e9, stainless steel); the group needs "
-     "young, poisson, density, radius, velocity"},
-    {"material", "poisson", SCENE_REAL, SCENE_LO_OPEN | SCENE_HI_OPEN | SCENE_SWEEP | SCENE_EXTRA,
-     AT(material.poisson), NULL, SCENE_OWN, NULL, -1, 0.5, NO_CHOICE,
-     "Poisson ratio nu of material 1"},
-    {"material", "density", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA,
-     AT(material.density), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
-     "density of material 1 [kg/m^3]"},
-    {"material", "radius", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA,
-     AT(material.radius), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
-     "radius R_1 of granule 1 [m] (every length of the scene is relative to it)"},
-    {"material", "velocity", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA,
-     AT(material.velocity), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
-     "velocity of the impulse given to granule 1, or of the striker [m/s]"},
-    {"material", "other_young", SCENE_REAL_LIST, SCENE_LO_OPEN | SCENE_EXTRA,
-     AT(material.other_young), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
-     "mixed chains: Young's moduli of materials 2, 3, ... [Pa]"},
-    {"material", "other_poisson", SCENE_REAL_LIST, SCENE_LO_OPEN | SCENE_HI_OPEN | SCENE_EXTRA,
-     AT(material.other_poisson), NULL, SCENE_OWN, NULL, -1, 0.5, NO_CHOICE,
-     "Poisson ratios of materials 2, 3, ..."},
-    {"material", "other_density", SCENE_REAL_LIST, SCENE_LO_OPEN | SCENE_EXTRA,
-     AT(material.other_density), NULL, SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
-     "densities of materials 2, 3, ... [kg/m^3]"},
-    {"material", "sequence", SCENE_REAL_LIST, SCENE_EXTRA, AT(material.sequence), NULL,
-     SCENE_OWN, NULL, 1, 1000, NO_CHOICE,
-     "the material of granules 1, 2, ..., repeated along the chain (e.g. 1, 2: alternating); "
-     "left out: material 1 throughout"},
-    {"material", "wall", SCENE_INTEGER, SCENE_EXTRA, AT(material.wall), "0", SCENE_OWN, NULL, 0,
-     1000, NO_CHOICE, "the walls' material (&ends); 0: rigid"},
-    {"material", "striker", SCENE_INTEGER, SCENE_EXTRA, AT(material.striker), "1", SCENE_OWN,
-     NULL, 1, 1000, NO_CHOICE, "the striker's material (&striker)"},
+    {.group = "sensors", .keyword = "interval", .type = SCENE_REAL,
+     .flags = SCENE_SWEEP | SCENE_EXTRA | SCENE_TIME, .offset = AT(sensors.interval), .def = "0",
+     .lib = SCENE_OWN, .lo = 0, .hi = INFINITY,
+     .doc = "sampling interval (a time: in s with &material) of the sensors (DIR/sensors.tsv), the wall "
+            "forces (DIR/walls.tsv) and the space-time picture; 0: no sampling"},
+    {.group = "sensors", .keyword = "granules", .type = SCENE_REAL_LIST, .flags = SCENE_EXTRA,
+     .offset = AT(sensors.granules), .lib = SCENE_OWN, .lo = 1, .hi = TAPER_N_GRANULES_MAX,
+     .doc = "granules whose displacement x, velocity v and contact forces are written to "
+            "DIR/sensors.tsv at every sample"},
+    {.group = "sensors", .keyword = "spacetime", .type = SCENE_LOGICAL, .flags = SCENE_EXTRA,
+     .offset = AT(sensors.spacetime), .def = ".false.", .lib = SCENE_OWN,
+     .doc = "the space-time picture of v(k, t): DIR/spacetime.tsv and DIR/spacetime.png "
+            "(gnuplot)"},
+    {.group = "sensors", .keyword = "spacetime_granules", .type = SCENE_INTEGER,
+     .flags = SCENE_EXTRA, .offset = AT(sensors.spacetime_granules), .def = "200",
+     .lib = SCENE_OWN, .lo = 2, .hi = 100000,
+     .doc = "at most this many granules across the picture: every ceil(N / this)-th granule"},
+    {.group = "sensors", .keyword = "spacetime_times", .type = SCENE_INTEGER, .flags = SCENE_EXTRA,
+     .offset = AT(sensors.spacetime_times), .def = "500", .lib = SCENE_OWN, .lo = 2, .hi = 1000000,
+     .doc = "at most this many times down the picture: whenever more samples come, every other "
+            "row is dropped (the picture's interval doubles)"},
 
-    {"solver", "method", SCENE_CHOICE, 0, AT(solver.method), NULL, SCENE_LIB_SOLVER, NULL, 0, 0,
-     CHOICE(method_choice, 0),
-     "integrator: 'adams' (Adams-Moulton, fixed point) or 'bdf' (BDF, banded Jacobian)"},
-    {"solver", "rtol", SCENE_REAL, SCENE_SWEEP, AT(solver.rtol), NULL, SCENE_LIB_SOLVER, NULL,
-     TAPER_RTOL_MIN, TAPER_RTOL_MAX, NO_CHOICE,
-     "relative tolerance of the integrator (below 1e-14 double precision cannot follow)"},
-    {"solver", "atol", SCENE_REAL, SCENE_LO_OPEN | SCENE_SWEEP, AT(solver.atol), NULL, SCENE_LIB_SOLVER, NULL,
-     0, TAPER_ATOL_MAX, NO_CHOICE,
-     "absolute tolerance, in units of each granule's binary-collision velocity and maximum "
-     "compression (relative to the pulse wherever it is)"},
-    {"solver", "window", SCENE_LOGICAL, 0, AT(solver.window), NULL, SCENE_LIB_SOLVER, NULL, 0,
-     0, NO_CHOICE,
-     "integrate only the granules that can move (exact and faster); .false.: the whole chain"},
-    {"solver", "last_granule", SCENE_INTEGER, SCENE_COUNT | SCENE_SWEEP, AT(solver.last_granule),
-     NULL, SCENE_LIB_SOLVER, NULL, 0, TAPER_N_GRANULES_MAX, NO_CHOICE,
-     "stop once the pulse has passed this granule (at most n_granules); 0: the whole chain"},
-    {"solver", "t_max", SCENE_REAL, SCENE_SWEEP, AT(solver.t_max), NULL, SCENE_LIB_SOLVER, NULL, 0,
-     INFINITY, NO_CHOICE, "stop at this time with a partial result; 0: no limit"},
-    {"solver", "max_steps", SCENE_INTEGER, SCENE_SWEEP, AT(solver.max_steps), NULL, SCENE_LIB_SOLVER, NULL,
-     0, INFINITY, NO_CHOICE,
-     "stop after this many internal steps with a partial result; 0: no limit"},
-    {"solver", "t_end", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(solver.t_end), NULL,
-     SCENE_LIB_SOLVER, NULL, 0, INFINITY, NO_CHOICE,
-     "integrate until this time even after the pulse has passed every granule (to follow "
-     "reflections, and the sensors); 0: stop once the pulse has passed"},
-    {"solver", "numerics", SCENE_LOGICAL, 0, AT(solver.numerics), ".true.", SCENE_OWN, NULL, 0,
-     0, NO_CHOICE, "integrate the dynamics; .false.: binary-collision theory only (fast)"},
+    {.group = "output", .keyword = "dir", .type = SCENE_STRING, .flags = SCENE_FROM_PATH,
+     .offset = AT(output.dir), .lib = SCENE_OWN,
+     .doc = "output directory, created if missing (default out/NAME for scene NAME.nml; -o "
+            "overrides)"},
+    {.group = "output", .keyword = "progress", .type = SCENE_LOGICAL,
+     .offset = AT(output.progress), .def = ".true.", .lib = SCENE_OWN,
+     .doc = "show a progress line on stderr when it is a terminal"},
+    {.group = "output", .keyword = "threads", .type = SCENE_INTEGER, .offset = AT(output.threads),
+     .def = "0", .lib = SCENE_OWN, .lo = 0, .hi = 256,
+     .doc = "runs of a sweep computed at once (results identical to one at a time); 0: one per "
+            "core"},
+    {.group = "output", .keyword = "columns", .type = SCENE_STRING, .offset = AT(output.columns),
+     .def = "''", .lib = SCENE_OWN,
+     .doc = "columns of granules.tsv and sweep.tsv, names separated by blanks or commas, "
+            "written in the file's order with k always first (e.g. 'v_peak theory_v'); empty: "
+            "every column the run has (without numerics: k R m X0 theory_v theory_T theory_t)"},
+    {.group = "output", .keyword = "every", .type = SCENE_INTEGER, .offset = AT(output.every),
+     .def = "1", .lib = SCENE_OWN, .lo = 1, .hi = 1e7,
+     .doc = "write the rows of granules k = 1, 1 + every, 1 + 2 every, ... and the last"},
+    {.group = "output", .keyword = "max_energy_error", .type = SCENE_REAL, .flags = SCENE_LO_OPEN,
+     .offset = AT(output.max_energy_error), .def = "1e-3", .lib = SCENE_OWN, .lo = 0, .hi = 1e300,
+     .doc = "a run whose relative energy error exceeds this is UNTRUSTED: its granules.tsv says"
+            " so and taper exits with status 4"},
+    {.group = "output", .keyword = "max_momentum_error", .type = SCENE_REAL,
+     .flags = SCENE_LO_OPEN, .offset = AT(output.max_momentum_error), .def = "1e-3",
+     .lib = SCENE_OWN, .lo = 0, .hi = 1e300,
+     .doc = "the same bound on the relative momentum error"},
+    {.group = "output", .keyword = "units", .type = SCENE_CHOICE, .flags = SCENE_EXTRA,
+     .offset = AT(output.units), .def = "'rescaled'", .lib = SCENE_OWN, .choices = units,
+     .doc = "units of the result files: 'rescaled' (eq. (5) of arXiv:0905.4512), or 'si' (needs"
+            " &material; each column's unit in its header, e.g. t_pass[s])"},
 
-    {"sensors", "interval", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(sensors.interval), "0",
-     SCENE_OWN, NULL, 0, INFINITY, NO_CHOICE,
-     "sampling interval (rescaled time) of the sensors (DIR/sensors.tsv), the wall forces "
-     "(DIR/walls.tsv) and the space-time picture; 0: no sampling"},
-    {"sensors", "granules", SCENE_REAL_LIST, SCENE_EXTRA, AT(sensors.granules), NULL, SCENE_OWN,
-     NULL, 1, TAPER_N_GRANULES_MAX, NO_CHOICE,
-     "granules whose displacement x, velocity v and contact forces are written to "
-     "DIR/sensors.tsv at every sample"},
-    {"sensors", "spacetime", SCENE_LOGICAL, SCENE_EXTRA, AT(sensors.spacetime), ".false.",
-     SCENE_OWN, NULL, 0, 0, NO_CHOICE,
-     "the space-time picture of v(k, t): DIR/spacetime.tsv and DIR/spacetime.png (gnuplot)"},
-    {"sensors", "spacetime_granules", SCENE_INTEGER, SCENE_EXTRA, AT(sensors.spacetime_granules),
-     "200", SCENE_OWN, NULL, 2, 100000, NO_CHOICE,
-     "at most this many granules across the picture: every ceil(N / this)-th granule"},
-    {"sensors", "spacetime_times", SCENE_INTEGER, SCENE_EXTRA, AT(sensors.spacetime_times), "500",
-     SCENE_OWN, NULL, 2, 1000000, NO_CHOICE,
-     "at most this many times down the picture: whenever more samples come, every other row "
-     "is dropped (the picture's interval doubles)"},
+    {.group = "fit", .keyword = "fit_model", .type = SCENE_CHOICE, .offset = AT(fit.model),
+     .def = "'none'", .lib = SCENE_LIB_FIT, .lib_field = "model", .choices = fit_models,
+     .choice_first = -1,
+     .doc = "'none' (no fit), or y = 'power' a x^b, 'exponential' a e^(b x), 'divergence_b' a "
+            "(1 - b x)^-p, 'divergence_c' a (1 - x/C)^-p, 'divergence_m' a (1 + x/M)^-f; fitted"
+            " to ln y; writes DIR/fits.tsv"},
+    {.group = "fit", .keyword = "fit_x", .type = SCENE_CHOICE, .offset = AT(fit.x), .def = "'k'",
+     .lib = SCENE_OWN, .choices = quantities,
+     .doc = "abscissa: k (granule), v (numerics: v_peak; theory: v_k, eq. (9)), T_res (T_res; "
+            "T_k), t (pulse passes k: t_pass; eq. (19)), t_reach (pulse reaches k: t of k-1), "
+            "t_peak (time of v_peak; theory: t_reach, when k leaves its collision with k-1)"},
+    {.group = "fit", .keyword = "fit_y", .type = SCENE_CHOICE, .offset = AT(fit.y), .def = "'v'",
+     .lib = SCENE_OWN, .choices = quantities,
+     .doc = "ordinate, one of the quantities of x"},
+    {.group = "fit", .keyword = "fit_k_min", .type = SCENE_INTEGER, .offset = AT(fit.k_min),
+     .def = "1", .lib = SCENE_OWN, .lo = 1, .hi = 1e7,
+     .doc = "first granule of the fit window"},
+    {.group = "fit", .keyword = "fit_k_max", .type = SCENE_INTEGER, .offset = AT(fit.k_max),
+     .def = "0", .lib = SCENE_OWN, .lo = 0, .hi = 1e7,
+     .doc = "last granule of the fit window; 0: the last granule with a value"},
+    {.group = "fit", .keyword = "fit_p", .type = SCENE_REAL, .flags = SCENE_LO_OPEN,
+     .offset = AT(fit.p), .lib = SCENE_LIB_FIT, .lib_field = "exponent", .lo = 0, .hi = INFINITY,
+     .doc = "fixed exponent p of divergence_b and divergence_c; left out: 3/2 (divergence_b), "
+            "fitted (divergence_c)"},
+    {.group = "fit", .keyword = "fit_report", .type = SCENE_CHOICE, .offset = AT(fit.report),
+     .def = "'b'", .lib = SCENE_OWN, .choices = fit_reports,
+     .doc = "the parameter tabulated: a or b (power, exponential, divergence_b), p "
+            "(divergence_b, _c), c (divergence_c), m or f (divergence_m)"},
+    {.group = "fit", .keyword = "fit_factor", .type = SCENE_REAL, .offset = AT(fit.factor),
+     .def = "1", .lib = SCENE_OWN, .lo = -1e3, .hi = 1e3,
+     .doc = "the tabulated value is factor * parameter (e.g. -1: a decay rate from b < 0)"},
+    {.group = "fit", .keyword = "fit_label", .type = SCENE_STRING, .offset = AT(fit.label),
+     .def = "''", .lib = SCENE_OWN,
+     .doc = "name of the tabulated value in tables and plots; empty: the parameter's name"},
+    {.group = "fit", .keyword = "fit_theory", .type = SCENE_CHOICE, .offset = AT(fit.theory),
+     .def = "'fit'", .lib = SCENE_OWN, .choices = fit_theories,
+     .doc = "theory column: 'fit' (the same fit of the exact binary-collision theory), or the "
+            "closed form: 'rate' |ln A(q)|, 'f' f(q) (q -> -q for forward chains), 'b' S/(1+S)"},
 
-    {"output", "dir", SCENE_STRING, SCENE_FROM_PATH, AT(output.dir), NULL, SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE,
-     "output directory, created if missing (default out/NAME for scene NAME.nml; -o overrides)"},
-    {"output", "progress", SCENE_LOGICAL, 0, AT(output.progress), ".true.", SCENE_OWN, NULL, 0,
-     0, NO_CHOICE, "show a progress line on stderr when it is a terminal"},
-    {"output", "threads", SCENE_INTEGER, 0, AT(output.threads), "0", SCENE_OWN, NULL, 0, 256,
-     NO_CHOICE,
-     "runs of a sweep computed at once (results identical to one at a time); 0: one per core"},
-    {"output", "columns", SCENE_STRING, 0, AT(output.columns), "''", SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE,
-     "columns of granules.tsv and sweep.tsv, names separated by blanks or commas, written in "
-     "the file's order with k always first (e.g. 'v_peak theory_v'); empty: every column the "
-     "run has (without numerics: k R m X0 theory_v theory_T theory_t)"},
-    {"output", "every", SCENE_INTEGER, 0, AT(output.every), "1", SCENE_OWN, NULL, 1, 1e7,
-     NO_CHOICE, "write the rows of granules k = 1, 1 + every, 1 + 2 every, ... and the last"},
-    {"output", "max_energy_error", SCENE_REAL, SCENE_LO_OPEN, AT(output.max_energy_error),
-     "1e-3", SCENE_OWN, NULL, 0, 1e300, NO_CHOICE,
-     "a run whose relative energy error exceeds this is UNTRUSTED: its granules.tsv says so "
-     "and taper exits with status 4"},
-    {"output", "max_momentum_error", SCENE_REAL, SCENE_LO_OPEN, AT(output.max_momentum_error),
-     "1e-3", SCENE_OWN, NULL, 0, 1e300, NO_CHOICE,
-     "the same bound on the relative momentum error"},
-    {"output", "units", SCENE_CHOICE, SCENE_EXTRA, AT(output.units), "'rescaled'", SCENE_OWN,
-     NULL, 0, 0, CHOICE(units_choice, 0),
-     "units of the result files: 'rescaled' (eq. (5) of arXiv:0905.4512), or 'si' (needs "
-     "&material; each column's unit in its header, e.g. t_pass[s])"},
+    {.group = "table", .keyword = "table_name", .type = SCENE_STRING, .offset = AT(table.name),
+     .def = "''", .lib = SCENE_OWN,
+     .doc = "table label (e.g. 'Table I'); non-empty: write DIR/table.tsv and print the table"},
+    {.group = "table", .keyword = "table_caption", .type = SCENE_STRING,
+     .offset = AT(table.caption), .def = "''", .lib = SCENE_OWN,
+     .doc = "one line printed above the table"},
+    {.group = "table", .keyword = "table_digits", .type = SCENE_INTEGER,
+     .offset = AT(table.digits), .def = "4", .lib = SCENE_OWN, .lo = 1, .hi = 12,
+     .doc = "decimals printed on stdout (table.tsv has every digit)"},
+    {.group = "table", .keyword = "table_paper_theory", .type = SCENE_REAL_LIST,
+     .offset = AT(table.paper_theory), .lib = SCENE_OWN,
+     .doc = "the paper's theory column, one value per swept value"},
+    {.group = "table", .keyword = "table_paper_numerics", .type = SCENE_REAL_LIST,
+     .offset = AT(table.paper_numerics), .lib = SCENE_OWN,
+     .doc = "the paper's numerics column, one value per swept value"},
 
-    {"fit", "model", SCENE_CHOICE, 0, AT(fit.model), "'none'", SCENE_LIB_FIT, NULL, 0, 0,
-     CHOICE(fit_model_choice, SCENE_FIT_NONE),
-     "'none' (no fit), or y = 'power' a x^b, 'exponential' a e^(b x), 'divergence_b' "
-     "a (1 - b x)^-p, 'divergence_c' a (1 - x/C)^-p, 'divergence_m' a (1 + x/M)^-f; fitted "
-     "to ln y; writes DIR/fits.tsv"},
-    {"fit", "x", SCENE_CHOICE, 0, AT(fit.x), "'k'", SCENE_OWN, NULL, 0, 0,
-     CHOICE(quantity_choice, 0),
-     "abscissa: k (granule), v (numerics: v_peak; theory: v_k, eq. (9)), T_res (T_res; T_k), "
-     "t (pulse passes k: t_pass; eq. (19)), t_reach (pulse reaches k: t of k-1), "
-     "t_peak (time of v_peak; theory: t_reach, when k leaves its collision with k-1)"},
-    {"fit", "y", SCENE_CHOICE, 0, AT(fit.y), "'v'", SCENE_OWN, NULL, 0, 0,
-     CHOICE(quantity_choice, 0), "ordinate, one of the quantities of x"},
-    {"fit", "k_min", SCENE_INTEGER, 0, AT(fit.k_min), "1", SCENE_OWN, NULL, 1, 1e7, NO_CHOICE,
-     "first granule of the fit window"},
-    {"fit", "k_max", SCENE_INTEGER, 0, AT(fit.k_max), "0", SCENE_OWN, NULL, 0, 1e7, NO_CHOICE,
-     "last granule of the fit window; 0: the last granule with a value"},
-    {"fit", "p", SCENE_REAL, SCENE_LO_OPEN, AT(fit.p), NULL, SCENE_LIB_FIT, "exponent", 0,
-     INFINITY, NO_CHOICE,
-     "fixed exponent p of divergence_b and divergence_c; left out: 3/2 (divergence_b), "
-     "fitted (divergence_c)"},
-    {"fit", "report", SCENE_CHOICE, 0, AT(fit.report), "'b'", SCENE_OWN, NULL, 0, 0,
-     CHOICE(report_choice, 0),
-     "the parameter tabulated: a or b (power, exponential, divergence_b), p (divergence_b, "
-     "_c), c (divergence_c), m or f (divergence_m)"},
-    {"fit", "factor", SCENE_REAL, 0, AT(fit.factor), "1", SCENE_OWN, NULL, -1e3, 1e3, NO_CHOICE,
-     "the tabulated value is factor * parameter (e.g. -1: a decay rate from b < 0)"},
-    {"fit", "label", SCENE_STRING, 0, AT(fit.label), "''", SCENE_OWN, NULL, 0, 0, NO_CHOICE,
-     "name of the tabulated value in tables and plots; empty: the parameter's name"},
-    {"fit", "theory", SCENE_CHOICE, 0, AT(fit.theory), "'fit'", SCENE_OWN, NULL, 0, 0,
-     CHOICE(theory_choice, 0),
-     "theory column: 'fit' (the same fit of the exact binary-collision theory), or the "
-     "closed form: 'rate' |ln A(q)|, 'f' f(q) (q -> -q for forward chains), 'b' S/(1+S)"},
+    {.group = "figure", .keyword = "figure_name", .type = SCENE_STRING, .offset = AT(figure.name),
+     .def = "''", .lib = SCENE_OWN,
+     .doc = "figure label (e.g. 'Fig. 1'); non-empty: write DIR/figure.gp, its data, and "
+            "DIR/figure.png when gnuplot is installed"},
+    {.group = "figure", .keyword = "figure_title", .type = SCENE_STRING,
+     .offset = AT(figure.title), .def = "''", .lib = SCENE_OWN,
+     .doc = "title line of the plot"},
+    {.group = "figure", .keyword = "figure_x", .type = SCENE_CHOICE, .offset = AT(figure.x),
+     .def = "'k'", .lib = SCENE_OWN, .choices = quantities,
+     .doc = "abscissa of the main panel (quantities as for &fit x)"},
+    {.group = "figure", .keyword = "figure_y", .type = SCENE_CHOICE, .offset = AT(figure.y),
+     .def = "'v'", .lib = SCENE_OWN, .choices = quantities,
+     .doc = "ordinate of the main panel"},
+    {.group = "figure", .keyword = "figure_curves", .type = SCENE_CHOICE,
+     .offset = AT(figure.curves), .def = "'both'", .lib = SCENE_OWN, .choices = curves,
+     .doc = "series drawn: theory (open circles), numerics (filled circles), or both"},
+    {.group = "figure", .keyword = "figure_log_x", .type = SCENE_LOGICAL,
+     .offset = AT(figure.log_x), .def = ".false.", .lib = SCENE_OWN,
+     .doc = "logarithmic x axis"},
+    {.group = "figure", .keyword = "figure_log_y", .type = SCENE_LOGICAL,
+     .offset = AT(figure.log_y), .def = ".false.", .lib = SCENE_OWN,
+     .doc = "logarithmic y axis"},
+    {.group = "figure", .keyword = "figure_every", .type = SCENE_INTEGER,
+     .offset = AT(figure.every), .def = "1", .lib = SCENE_OWN, .lo = 1, .hi = 1e6,
+     .doc = "draw every n-th granule (the first and every n-th after it)"},
+    {.group = "figure", .keyword = "figure_k_max", .type = SCENE_INTEGER,
+     .offset = AT(figure.k_max), .def = "0", .lib = SCENE_OWN, .lo = 0, .hi = 1e7,
+     .doc = "last granule drawn; 0: the whole chain"},
+    {.group = "figure", .keyword = "figure_x_label", .type = SCENE_STRING,
+     .offset = AT(figure.x_label), .def = "''", .lib = SCENE_OWN,
+     .doc = "x axis label; empty: from x"},
+    {.group = "figure", .keyword = "figure_y_label", .type = SCENE_STRING,
+     .offset = AT(figure.y_label), .def = "''", .lib = SCENE_OWN,
+     .doc = "y axis label; empty: from y"},
+    {.group = "figure", .keyword = "figure_inset", .type = SCENE_LOGICAL,
+     .offset = AT(figure.inset), .def = ".false.", .lib = SCENE_OWN,
+     .doc = "an inset inside the main panel (as the paper's Figs. 1, 2, 9): the &fit value of "
+            "theory and numerics against the swept variable"},
+    {.group = "figure", .keyword = "figure_inset_reference", .type = SCENE_REAL,
+     .offset = AT(figure.inset_reference), .lib = SCENE_OWN, .lo = -1e3, .hi = 1e3,
+     .doc = "a horizontal line in the inset (e.g. an asymptotic exponent); left out: none"},
 
-    {"table", "name", SCENE_STRING, 0, AT(table.name), "''", SCENE_OWN, NULL, 0, 0, NO_CHOICE,
-     "table label (e.g. 'Table I'); non-empty: write DIR/table.tsv and print the table"},
-    {"table", "caption", SCENE_STRING, 0, AT(table.caption), "''", SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE, "one line printed above the table"},
-    {"table", "digits", SCENE_INTEGER, 0, AT(table.digits), "4", SCENE_OWN, NULL, 1, 12,
-     NO_CHOICE, "decimals printed on stdout (table.tsv has every digit)"},
-    {"table", "paper_theory", SCENE_REAL_LIST, 0, AT(table.paper_theory), NULL, SCENE_OWN, NULL,
-     0, 0, NO_CHOICE, "the paper's theory column, one value per swept value"},
-    {"table", "paper_numerics", SCENE_REAL_LIST, 0, AT(table.paper_numerics), NULL, SCENE_OWN,
-     NULL, 0, 0, NO_CHOICE, "the paper's numerics column, one value per swept value"},
-
-    {"figure", "name", SCENE_STRING, 0, AT(figure.name), "''", SCENE_OWN, NULL, 0, 0, NO_CHOICE,
-     "figure label (e.g. 'Fig. 1'); non-empty: write DIR/figure.gp, its data, and "
-     "DIR/figure.png when gnuplot is installed"},
-    {"figure", "title", SCENE_STRING, 0, AT(figure.title), "''", SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE, "title line of the plot"},
-    {"figure", "x", SCENE_CHOICE, 0, AT(figure.x), "'k'", SCENE_OWN, NULL, 0, 0,
-     CHOICE(quantity_choice, 0), "abscissa of the main panel (quantities as for &fit x)"},
-    {"figure", "y", SCENE_CHOICE, 0, AT(figure.y), "'v'", SCENE_OWN, NULL, 0, 0,
-     CHOICE(quantity_choice, 0), "ordinate of the main panel"},
-    {"figure", "curves", SCENE_CHOICE, 0, AT(figure.curves), "'both'", SCENE_OWN, NULL, 0, 0,
-     CHOICE(curves_choice, 0),
-     "series drawn: theory (open circles), numerics (filled circles), or both"},
-    {"figure", "log_x", SCENE_LOGICAL, 0, AT(figure.log_x), ".false.", SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE, "logarithmic x axis"},
-    {"figure", "log_y", SCENE_LOGICAL, 0, AT(figure.log_y), ".false.", SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE, "logarithmic y axis"},
-    {"figure", "every", SCENE_INTEGER, 0, AT(figure.every), "1", SCENE_OWN, NULL, 1, 1e6,
-     NO_CHOICE, "draw every n-th granule (the first and every n-th after it)"},
-    {"figure", "k_max", SCENE_INTEGER, 0, AT(figure.k_max), "0", SCENE_OWN, NULL, 0, 1e7,
-     NO_CHOICE, "last granule drawn; 0: the whole chain"},
-    {"figure", "x_label", SCENE_STRING, 0, AT(figure.x_label), "''", SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE, "x axis label; empty: from x"},
-    {"figure", "y_label", SCENE_STRING, 0, AT(figure.y_label), "''", SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE, "y axis label; empty: from y"},
-    {"figure", "inset", SCENE_LOGICAL, 0, AT(figure.inset), ".false.", SCENE_OWN, NULL, 0, 0,
-     NO_CHOICE, "an inset inside the main panel (as the paper's Figs. 1, 2, 9): the &fit value of theory and numerics against the swept variable"},
-    {"figure", "inset_reference", SCENE_REAL, 0, AT(figure.inset_reference), NULL, SCENE_OWN,
-     NULL, -1e3, 1e3, NO_CHOICE,
-     "a horizontal line in the inset (e.g. an asymptotic exponent); left out: none"},
-
-    {"sweep", "mode", SCENE_CHOICE, 0, AT(sweep.mode), "'grid'", SCENE_OWN, NULL, 0, 0,
-     CHOICE(sweep_mode_choice, 0),
-     "several variables given lists: 'grid' runs every combination (the variable later in "
-     "this table varies fastest), 'zip' the i-th values together (lists of equal length)"},
+    {.group = "sweep", .keyword = "sweep_mode", .type = SCENE_CHOICE, .offset = AT(sweep.mode),
+     .def = "'grid'", .lib = SCENE_OWN, .choices = sweep_modes,
+     .doc = "several variables given lists: 'grid' runs every combination (the variable later "
+            "in this table varies fastest), 'zip' the i-th values together (lists of equal "
+            "length)"},
 };
-#define N_VARS (sizeof table / sizeof table[0])
+#define N_OWN (sizeof own / sizeof own[0])
 
-/* Every validated scene's echo must read back (docs/robustness.md, finding
- * B).  The echo writes a list value in at most 32 bytes (24 for %.17g of a
- * double, then ',' and at most a line break and 6 spaces); all lists of
- * more than one value hold at most SCENE_MAX_LIST values together
- * (scene_parse.c); every other variable is one line of at most
- * SCENE_MAX_LINE characters (a string echoes as long as it was written)
- * plus its name. */
-_Static_assert(32ull * SCENE_MAX_LIST + N_VARS * (SCENE_MAX_LINE + 128ull) <= SCENE_MAX_FILE,
+/* The whole table: the library's settings and the scene's own, in the order
+ * they are written and documented.  Built once (pthread_once: Python
+ * threads read scenes concurrently) and read-only after. */
+static scene_var table[N_OWN + SCENE_MAX_SETTINGS];
+static size_t n_vars;
+static pthread_once_t table_once = PTHREAD_ONCE_INIT;
+
+/* The key of a keyword in its group: without the group's name in front. */
+static const char *key_of(const char *group, const char *keyword)
+{
+    size_t n = strlen(group);
+    return strncmp(keyword, group, n) == 0 && keyword[n] == '_' ? keyword + n + 1 : keyword;
+}
+
+/* A scene row for row i of the library's table. */
+static scene_var library_row(size_t i)
+{
+    const taper_setting *s = taper_setting_at(i);
+    static const scene_type types[] = {
+        [TAPER_SETTING_REAL] = SCENE_REAL,       [TAPER_SETTING_INTEGER] = SCENE_INTEGER,
+        [TAPER_SETTING_BOOLEAN] = SCENE_LOGICAL, [TAPER_SETTING_CHOICE] = SCENE_CHOICE,
+        [TAPER_SETTING_LIST] = SCENE_REAL_LIST,
+    };
+    scene_var v = {
+        .group = s->group,
+        .keyword = s->name,
+        .type = types[s->type],
+        .offset = AT(settings) + i * sizeof(scene_slot),
+        .lib = s->object == TAPER_SETTING_CHAIN ? SCENE_LIB_CHAIN : SCENE_LIB_SOLVER,
+        .lo = s->min,
+        .hi = s->max,
+        .choices = s->type == TAPER_SETTING_CHOICE ? s->choices : NULL,
+        .dim = s->dimension,
+        .setting = s,
+        .doc = s->description,
+    };
+    if (s->type == TAPER_SETTING_REAL || s->type == TAPER_SETTING_INTEGER) v.flags |= SCENE_SWEEP;
+    if (s->min_open) v.flags |= SCENE_LO_OPEN;
+    if (s->max_open) v.flags |= SCENE_HI_OPEN;
+    if (s->beyond_paper) v.flags |= SCENE_EXTRA;
+    if (s->type == TAPER_SETTING_BOOLEAN || s->type == TAPER_SETTING_CHOICE) v.lo = v.hi = 0;
+    return v;
+}
+
+static void append(scene_var v)
+{
+    v.name = key_of(v.group, v.keyword);
+    if (!v.lib_field) v.lib_field = v.keyword;
+    if (!v.setting) v.dim = (v.flags & SCENE_TIME) ? TAPER_DIM_TIME : TAPER_DIM_NUMBER;
+    table[n_vars++] = v;
+}
+
+/* The own rows of `group` that follow `after` (NULL: the group's end). */
+static void append_own(const char *group, const char *after)
+{
+    for (size_t j = 0; j < N_OWN; j++)
+        if (strcmp(own[j].group, group) == 0 &&
+            (after ? own[j].after && strcmp(own[j].after, after) == 0 : !own[j].after))
+            append(own[j]);
+}
+
+static void build_table(void)
+{
+    size_t n_lib = taper_setting_count();
+    if (n_lib > SCENE_MAX_SETTINGS) n_lib = SCENE_MAX_SETTINGS; /* tests/driver: scene_table */
+    for (size_t g = 0; g < SCENE_N_GROUPS; g++) {
+        const char *group = scene_group_name(g);
+        for (size_t i = 0; i < n_lib; i++) {
+            if (strcmp(taper_setting_at(i)->group, group) != 0) continue;
+            append(library_row(i));
+            append_own(group, taper_setting_at(i)->name);
+        }
+        append_own(group, NULL);
+    }
+}
+
+static void ensure_table(void) { pthread_once(&table_once, build_table); }
+
+/* Every validated scene's echo must read back (docs/robustness.md, "The
+ * echo reads back").  The echo writes a list value in at most 32 bytes (24
+ * for %.17g of a double, then ',' and at most a line break and 6 spaces);
+ * all lists of more than one value hold at most SCENE_MAX_LIST values
+ * together (scene_parse.c); every other variable is one line: an own row of
+ * at most SCENE_MAX_LINE characters (a string echoes as long as it was
+ * written) plus its name and unit, a library row (a number or a choice's
+ * name, never a string) of at most 256. */
+_Static_assert(32ull * SCENE_MAX_LIST + N_OWN * (SCENE_MAX_LINE + 160ull) +
+                       SCENE_MAX_SETTINGS * 256ull <= SCENE_MAX_FILE,
                "the echo of a valid scene may exceed SCENE_MAX_FILE");
 
-size_t scene_var_count(void) { return N_VARS; }
-const scene_var *scene_var_at(size_t i) { return i < N_VARS ? &table[i] : NULL; }
-const char *scene_var_group(size_t i) { return i < N_VARS ? table[i].group : NULL; }
-const char *scene_var_name(size_t i) { return i < N_VARS ? table[i].name : NULL; }
-scene_type scene_var_type(size_t i) { return i < N_VARS ? table[i].type : SCENE_STRING; }
-int scene_var_sweeps(size_t i) { return i < N_VARS && (table[i].flags & SCENE_LIST_FIELD) != 0; }
-int scene_var_takes_list(size_t i) { return i < N_VARS && (table[i].flags & SCENE_SWEEP) != 0; }
+size_t scene_var_count(void)
+{
+    ensure_table();
+    return n_vars;
+}
+const scene_var *scene_var_at(size_t i) { return i < scene_var_count() ? &table[i] : NULL; }
+const char *scene_var_group(size_t i) { return i < scene_var_count() ? table[i].group : NULL; }
+const char *scene_var_name(size_t i) { return i < scene_var_count() ? table[i].name : NULL; }
+const char *scene_var_keyword_at(size_t i)
+{
+    return i < scene_var_count() ? table[i].keyword : NULL;
+}
+scene_type scene_var_type(size_t i) { return i < scene_var_count() ? table[i].type : SCENE_STRING; }
+int scene_var_takes_list(size_t i)
+{
+    return i < scene_var_count() && (table[i].flags & SCENE_SWEEP) != 0;
+}
 size_t scene_var_index(const scene_var *var) { return (size_t)(var - table); }
 
 int scene_var_find(const char *group, const char *name)
 {
     if (!group || !name) return -1;
-    for (size_t i = 0; i < N_VARS; i++)
+    for (size_t i = 0; i < scene_var_count(); i++)
         if (strcasecmp(table[i].group, group) == 0 && strcasecmp(table[i].name, name) == 0)
             return (int)i;
     return -1;
 }
 
+int scene_var_keyword(const char *keyword)
+{
+    for (size_t i = 0; keyword && i < scene_var_count(); i++)
+        if (strcasecmp(table[i].keyword, keyword) == 0) return (int)i;
+    return -1;
+}
+
+/* The library checks its settings by their names (taper_error.field); the
+ * chain's and the solver's are one table, so either spec's refusal finds
+ * its row (taper_sim_alloc checks the chain with the solver). */
 int scene_var_of_field(scene_lib lib, const char *field)
 {
     if (lib == SCENE_OWN || !field) return -1;
-    for (size_t i = 0; i < N_VARS; i++) {
-        const char *name = table[i].lib_field ? table[i].lib_field : table[i].name;
-        if (table[i].lib == lib && strcmp(name, field) == 0) return (int)i;
+    for (size_t i = 0; i < scene_var_count(); i++) {
+        const scene_var *v = &table[i];
+        int library = v->setting && (lib == SCENE_LIB_CHAIN || lib == SCENE_LIB_SOLVER);
+        if ((library || v->lib == lib) && v->lib != SCENE_OWN && strcmp(v->lib_field, field) == 0)
+            return (int)i;
     }
     return -1;
+}
+
+/* ---- the library's settings by name ---------------------------------------------- */
+
+double scene_setting(const scene_config *cfg, const char *name)
+{
+    int i = scene_var_keyword(name);
+    if (i < 0 || !table[i].setting || table[i].type == SCENE_REAL_LIST) return NAN;
+    return scene_row_value(cfg, (size_t)i, 0);
+}
+
+void scene_setting_store(scene_config *cfg, const char *name, double value)
+{
+    int i = scene_var_keyword(name);
+    if (i < 0 || !table[i].setting) return;
+    void *f = scene_field(cfg, &table[i]);
+    long long n = (long long)value;
+    int b = (int)value;
+    switch (table[i].type) {
+    case SCENE_REAL: memcpy(f, &value, sizeof value); break;
+    case SCENE_INTEGER: memcpy(f, &n, sizeof n); break;
+    case SCENE_LOGICAL:
+    case SCENE_CHOICE: memcpy(f, &b, sizeof b); break;
+    default: break;
+    }
+}
+
+const scene_reals *scene_setting_list(const scene_config *cfg, const char *name)
+{
+    static const scene_reals none = {0};
+    int i = scene_var_keyword(name);
+    if (i < 0 || table[i].type != SCENE_REAL_LIST) return &none;
+    return scene_cfield(cfg, &table[i]);
 }
 
 const char *scene_type_name(const scene_var *var)
@@ -452,10 +530,7 @@ const void *scene_cfield(const scene_config *cfg, const scene_var *var)
     return (const char *)cfg + var->offset;
 }
 
-int scene_var_is_list(const scene_var *var)
-{
-    return var->type == SCENE_REAL_LIST || (var->flags & SCENE_LIST_FIELD);
-}
+int scene_var_is_list(const scene_var *var) { return var->type == SCENE_REAL_LIST; }
 
 size_t scene_field_size(const scene_var *var)
 {
@@ -491,8 +566,8 @@ void scene_field_clear(scene_config *cfg, const scene_var *var)
 
 int scene_choice_find(const scene_var *var, const char *name, int *value)
 {
-    for (int v = var->choice_first; var->choice(v); v++) {
-        if (strcasecmp(var->choice(v), name) == 0) {
+    for (int v = var->choice_first; scene_choice_name(var, v); v++) {
+        if (strcasecmp(scene_choice_name(var, v), name) == 0) {
             *value = v;
             return 0;
         }
@@ -502,7 +577,7 @@ int scene_choice_find(const scene_var *var, const char *name, int *value)
 
 const char *scene_var_text(const scene *sc, size_t i)
 {
-    if (i >= N_VARS) return "";
+    if (i >= scene_var_count()) return "";
     const scene_var *var = &table[i];
     const void *f = scene_cfield(&sc->cfg, var);
     if (var->type == SCENE_STRING) {
@@ -512,7 +587,7 @@ const char *scene_var_text(const scene *sc, size_t i)
     if (var->type == SCENE_CHOICE) {
         int v;
         memcpy(&v, f, sizeof v);
-        const char *name = var->choice(v);
+        const char *name = scene_choice_name(var, v);
         return name ? name : "";
     }
     return "";
@@ -520,7 +595,7 @@ const char *scene_var_text(const scene *sc, size_t i)
 
 long long scene_var_integer(const scene *sc, size_t i)
 {
-    if (i >= N_VARS) return 0;
+    if (i >= scene_var_count()) return 0;
     const void *f = scene_cfield(&sc->cfg, &table[i]);
     if (table[i].type == SCENE_INTEGER) {
         long long x;
@@ -538,7 +613,7 @@ long long scene_var_integer(const scene *sc, size_t i)
 const double *scene_var_reals(const scene *sc, size_t i, size_t *n)
 {
     *n = 0;
-    if (i >= N_VARS) return NULL;
+    if (i >= scene_var_count()) return NULL;
     const scene_var *var = &table[i];
     const void *f = scene_cfield(&sc->cfg, var);
     if (scene_var_is_list(var)) {
@@ -578,6 +653,11 @@ double scene_row_value(const scene_config *cfg, size_t i, size_t j)
         return j < cfg->sweep.lists[i].n ? cfg->sweep.lists[i].v[j] : NAN;
     if (var->type == SCENE_INTEGER) {
         long long x;
+        memcpy(&x, f, sizeof x);
+        return (double)x;
+    }
+    if (var->type == SCENE_LOGICAL || var->type == SCENE_CHOICE) {
+        int x;
         memcpy(&x, f, sizeof x);
         return (double)x;
     }
@@ -718,9 +798,33 @@ void scene_print_diags(const scene *sc, FILE *fp)
 
 int scene_line(const scene *sc, size_t offset)
 {
-    for (size_t i = 0; i < N_VARS; i++)
+    for (size_t i = 0; i < scene_var_count(); i++)
         if (table[i].offset == offset) return sc->origin[i].line;
     return 0;
+}
+
+/* The index of a library row's slot in scene_config.settings. */
+static size_t slot_of(const scene_var *var)
+{
+    return (var->offset - offsetof(scene_config, settings)) / sizeof(scene_slot);
+}
+
+void scene_mark_given(scene *sc, size_t i, int line)
+{
+    sc->origin[i].given = 1;
+    sc->origin[i].line = line;
+    if (table[i].setting) sc->cfg.settings_given[slot_of(&table[i])] = 1;
+}
+
+int scene_setting_given(const scene_config *cfg, const scene_var *var)
+{
+    return var->setting && cfg->settings_given[slot_of(var)];
+}
+
+int scene_line_of(const scene *sc, const char *keyword)
+{
+    int i = scene_var_keyword(keyword);
+    return i < 0 ? 0 : sc->origin[i].line;
 }
 
 /* The row a library error is reported against: n_granules resolved from
@@ -728,16 +832,12 @@ int scene_line(const scene *sc, size_t offset)
 int scene_error_row(const scene *sc, scene_lib lib, const char *field)
 {
     int i = scene_var_of_field(lib, field);
-    /* taper_sim_alloc checks the chain with the solver: its fields name
-     * either's settings (damping with n < 2, n_granules beyond the
-     * resolution of time). */
-    if (i < 0 && lib == SCENE_LIB_SOLVER) i = scene_var_of_field(SCENE_LIB_CHAIN, field);
     int from_file = sc->cfg.chain.file_radii.n > 0;
-    if (i >= 0 && sc->n_from_radii && table[i].offset == offsetof(scene_config, chain.n_granules))
-        i = scene_var_find("chain", from_file ? "radii_file" : "radii");
+    if (i >= 0 && sc->n_from_radii && strcmp(table[i].keyword, "n_granules") == 0)
+        i = scene_var_keyword(from_file ? "radii_file" : "radii");
     /* The radii of a file are the file's. */
-    if (i >= 0 && from_file && table[i].offset == offsetof(scene_config, chain.radii))
-        i = scene_var_find("chain", "radii_file");
+    if (i >= 0 && from_file && strcmp(table[i].keyword, "radii") == 0)
+        i = scene_var_keyword("radii_file");
     return i;
 }
 

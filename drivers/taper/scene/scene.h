@@ -93,48 +93,26 @@ const char *scene_fit_model_name(int model);           /* "none", "power", ...  
 const char *scene_chain_param_name(scene_chain_param p); /* "s", "q"              */
 const char *scene_units_name(scene_units u);           /* "rescaled", "si"        */
 
+/* &chain: what the scene itself resolves (the library's settings of the
+ * chain are in scene_config.settings, read by scene_setting). */
 typedef struct scene_chain_config {
-    taper_profile profile;
-    long long n_granules;   /* resolved: the number of radii when a custom
-                               chain leaves it out                            */
-    scene_reals s, q;       /* one value, or the values of a sweep            */
-    double exponent;
-    scene_reals radii;      /* custom profile; empty otherwise                */
-    scene_reals pattern;    /* decorated profile: the radii of one period     */
-    int disorder;           /* taper_disorder                                 */
-    double disorder_amplitude; /* 0: no disorder                              */
-    long long seed;         /* of the disorder (a list: an ensemble)          */
     char *radii_file;       /* "": none; otherwise the path as resolved
                                against the scene file's folder               */
     scene_reals file_radii; /* resolved: the radii read from radii_file (not
                                a table row: not echoed, not limited to
                                SCENE_MAX_LIST)                                */
-    double load;            /* static compressive force F0 (0: none)          */
 } scene_chain_config;
 
-/* &ends: the boundary at each end. */
-typedef struct scene_ends_config {
-    int left, right;                     /* taper_boundary                    */
-    double left_compliance, right_compliance; /* wall's, relative to granule 1 */
-} scene_ends_config;
-
 /* &striker: radius 0 is the paper's impulse; or a piston pushing granule
- * 1 at unit velocity (docs/physics.md, "Piston"). */
+ * 1 at the impulse's velocity (docs/physics.md, "Piston"). */
 typedef enum scene_piston {
     SCENE_PISTON_NONE = 0,
     SCENE_PISTON_PUSH = 1,    /* for piston_duration                         */
     SCENE_PISTON_STEADY = 2   /* for ever                                    */
 } scene_piston;
 typedef struct scene_striker_config {
-    double radius, density, compliance;  /* relative to granule 1            */
     int piston;                          /* scene_piston                      */
-    double piston_duration, piston_compliance;
 } scene_striker_config;
-
-/* &losses. */
-typedef struct scene_losses_config {
-    double damping, drag;
-} scene_losses_config;
 
 /* &material: real units (Hertz, n = 5/2).  NaN: not given. */
 typedef struct scene_material_config {
@@ -158,13 +136,6 @@ typedef struct scene_sensors_config {
 } scene_sensors_config;
 
 typedef struct scene_solver_config {
-    taper_method method;
-    double rtol, atol;
-    int window;
-    long long last_granule;
-    double t_max;
-    long long max_steps;
-    double t_end;           /* go on integrating until t_end (0: no)          */
     int numerics;           /* 0: the binary-collision theory only            */
 } scene_solver_config;
 
@@ -256,11 +227,26 @@ typedef struct scene_runs {
     int fit, table, figure;    /* 1: the optional group is on                  */
 } scene_runs;
 
+/* The value of a variable the scene stores for the library: one slot per
+ * row of the library's table of settings, typed as the scene variable is
+ * (scene_type). */
+typedef union scene_slot {
+    double real;            /* SCENE_REAL                                     */
+    long long integer;      /* SCENE_INTEGER                                  */
+    int flag;               /* SCENE_LOGICAL, SCENE_CHOICE                    */
+    scene_reals list;       /* SCENE_REAL_LIST                                */
+} scene_slot;
+
+/* At most this many library settings (the library's table has about 35). */
+#define SCENE_MAX_SETTINGS 64
+
 typedef struct scene_config {
+    scene_slot settings[SCENE_MAX_SETTINGS]; /* the library's, by its row   */
+    unsigned char settings_given[SCENE_MAX_SETTINGS]; /* 1: the scene gave it
+                                   (a value left out is the library's
+                                   default, in its units: never converted)  */
     scene_chain_config chain;
-    scene_ends_config ends;
     scene_striker_config striker;
-    scene_losses_config losses;
     scene_material_config material;
     scene_solver_config solver;
     scene_sensors_config sensors;
@@ -276,6 +262,19 @@ typedef struct scene_config {
  * characters: SCENE_REAL_TEXT holds any).  scene.c. */
 #define SCENE_REAL_TEXT 32
 void scene_format_real(double x, char buf[SCENE_REAL_TEXT]);
+
+/* ---- the library's settings in a configuration (scene.c) -------------------- */
+
+/* The value of a library setting, by its name in the library's table of
+ * settings (taper_setting.name, the variable's name): a real, an integer, a
+ * logical (0 or 1) or a choice's index, as a double; for a swept variable
+ * its first value (a configuration at one point, scene_config_at, has one).
+ * NaN for an unknown name.  The values are as the scene gives them: in SI
+ * with &material (scene_apply_chain converts them). */
+double scene_setting(const scene_config *cfg, const char *name);
+/* A list setting's values (radii, pattern, densities, compliances); an
+ * empty list for an unknown name. */
+const scene_reals *scene_setting_list(const scene_config *cfg, const char *name);
 
 /* ---- the points of a sweep (scene_sweep.c) ------------------------------------ */
 
@@ -323,6 +322,13 @@ int scene_material_arrays(const scene_config *cfg, size_t n, double **density,
 double scene_unit(const scene_config *cfg, taper_dimension dim);
 /* "s", "m", ... when the scene writes SI, else NULL. */
 const char *scene_unit_suffix(const scene_config *cfg, taper_dimension dim);
+/* The SI value of one rescaled unit of `dim` for the inputs of a
+ * configuration at one point: with &material every dimensional setting is
+ * given in SI (scene_lib.c divides by this); 1 without &material. */
+double scene_input_scale(const scene_config *at, taper_dimension dim);
+/* &sensors interval of a configuration at one point, in the library's
+ * rescaled time (given in seconds with &material). */
+double scene_sample_interval(const scene_config *at);
 
 /* ---- reading a scene ---------------------------------------------------------- */
 
@@ -378,6 +384,8 @@ void scene_print_diags(const scene *sc, FILE *fp);
  * the file), e.g. SCENE_LINE(sc, chain.s). */
 int scene_line(const scene *sc, size_t offset);
 #define SCENE_LINE(sc, field) scene_line((sc), offsetof(scene_config, field))
+/* The same by the variable's name (its keyword: "s", "striker_radius"). */
+int scene_line_of(const scene *sc, const char *keyword);
 
 /* Which library object checks a setting. */
 typedef enum scene_lib {
@@ -440,10 +448,12 @@ typedef enum scene_type {
 
 size_t scene_var_count(void);
 const char *scene_var_group(size_t i);
-const char *scene_var_name(size_t i);
+const char *scene_var_name(size_t i);     /* the key in its group          */
+const char *scene_var_keyword_at(size_t i); /* the variable's one name: the key,
+                                     with the group's name in front where
+                                     another group uses the same key
+                                     (striker_radius, figure_every)           */
 scene_type scene_var_type(size_t i);
-int scene_var_sweeps(size_t i);   /* 1: a real stored as a list (s, q: a list
-                                     sweeps them)                             */
 int scene_var_takes_list(size_t i); /* 1: a list of values sweeps it (s, q,
                                      exponent, n_granules, rtol, ...)         */
 /* The value of variable i: a string or choice's text; an integer or a

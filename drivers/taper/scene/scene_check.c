@@ -52,20 +52,6 @@ static void check_own(scene *sc, size_t i)
     }
 }
 
-/* A number of granules handed to the library as a size_t (each value of a
- * sweep). */
-static void check_count(scene *sc, size_t i)
-{
-    for (size_t j = 0; j < scene_row_count(&sc->cfg, i); j++) {
-        long long x = (long long)scene_row_value(&sc->cfg, i, j);
-        if (x < 0) {
-            scene_var_error(sc, i, "%lld is out of range: a number of granules cannot be negative",
-                            x);
-            return;
-        }
-    }
-}
-
 static int row(const char *group, const char *name) { return scene_var_find(group, name); }
 
 static int is_exponential(taper_profile p)
@@ -80,9 +66,8 @@ static int is_exponential(taper_profile p)
  * by scene_lib.c: one owner per rule.) */
 static void check_unused(scene *sc)
 {
-    const scene_chain_config *c = &sc->cfg.chain;
-    int r = row("chain", "radii");
-    if (c->profile != TAPER_CUSTOM && sc->origin[r].given)
+    int r = scene_var_keyword("radii");
+    if (SCENE_PROFILE(&sc->cfg) != TAPER_CUSTOM && sc->origin[r].given)
         scene_var_error(sc, (size_t)r,
                         "radii are only used with profile = 'custom': remove them or set the "
                         "profile");
@@ -91,11 +76,12 @@ static void check_unused(scene *sc)
 /* A custom chain may leave n_granules out: N is the number of radii. */
 static void resolve_custom(scene *sc)
 {
-    scene_chain_config *c = &sc->cfg.chain;
-    int n = row("chain", "n_granules");
-    size_t radii = c->file_radii.n ? c->file_radii.n : c->radii.n; /* a file, or inline */
-    if (c->profile == TAPER_CUSTOM && radii > 0 && !sc->origin[n].given) {
-        c->n_granules = (long long)radii;
+    scene_config *cfg = &sc->cfg;
+    int n = scene_var_keyword("n_granules");
+    size_t radii = cfg->chain.file_radii.n ? cfg->chain.file_radii.n
+                                           : scene_setting_list(cfg, "radii")->n; /* a file, or inline */
+    if (SCENE_PROFILE(cfg) == TAPER_CUSTOM && radii > 0 && !sc->origin[n].given) {
+        scene_setting_store(cfg, "n_granules", (double)radii);
         sc->n_from_radii = 1;
     }
 }
@@ -107,7 +93,7 @@ static void resolve_runs(scene *sc)
     scene_config *cfg = &sc->cfg;
     scene_runs *runs = &cfg->runs;
     scene_resolve_sweep(sc);
-    runs->param = is_exponential(cfg->chain.profile) ? SCENE_PARAM_Q : SCENE_PARAM_S;
+    runs->param = is_exponential(SCENE_PROFILE(cfg)) ? SCENE_PARAM_Q : SCENE_PARAM_S;
     runs->fit = cfg->fit.model != SCENE_FIT_NONE;
     runs->table = cfg->table.name[0] != '\0';
     runs->figure = cfg->figure.name[0] != '\0';
@@ -140,21 +126,22 @@ static void check_fit_theory(scene *sc)
 {
     const scene_config *cfg = &sc->cfg;
     scene_fit_theory t = cfg->fit.theory;
-    const char *profile = taper_profile_name(cfg->chain.profile);
+    taper_profile p = SCENE_PROFILE(cfg);
+    const char *profile = taper_profile_name(p);
     size_t r = (size_t)row("fit", "theory");
-    if ((t == SCENE_THEORY_RATE || t == SCENE_THEORY_F) && !is_exponential(cfg->chain.profile))
+    if ((t == SCENE_THEORY_RATE || t == SCENE_THEORY_F) && !is_exponential(p))
         scene_var_error(sc, r, "theory = '%s' is a law of the exponential chains, not of '%s': "
                         "use 'fit'", scene_fit_theory_name(t), profile);
-    if (t == SCENE_THEORY_B && cfg->chain.profile != TAPER_FORWARD_LINEAR)
+    if (t == SCENE_THEORY_B && p != TAPER_FORWARD_LINEAR)
         scene_var_error(sc, r, "theory = 'b' (S/(1+S)) is a law of forward_linear chains: use "
                         "'fit'");
 }
 
 static void check_window(scene *sc, const char *group, const char *key, long long k)
 {
-    long long n = sc->cfg.chain.n_granules;
+    long long n = SCENE_N_GRANULES(&sc->cfg);
     /* A sweep of n_granules: the shortest chain. */
-    size_t nr = (size_t)row("chain", "n_granules");
+    size_t nr = (size_t)scene_var_keyword("n_granules");
     for (size_t j = 0; j < scene_row_count(&sc->cfg, nr); j++)
         if ((long long)scene_row_value(&sc->cfg, nr, j) < n)
             n = (long long)scene_row_value(&sc->cfg, nr, j);
@@ -250,7 +237,6 @@ size_t scene_validate(scene *sc)
     for (size_t i = 0; i < scene_var_count(); i++) {
         const scene_var *var = scene_var_at(i);
         if (var->lib == SCENE_OWN) check_own(sc, i);
-        if (var->flags & SCENE_COUNT) check_count(sc, i);
     }
     if (sc->n_errors != before) return sc->n_errors - before;
     scene_read_radii(sc);

@@ -26,43 +26,64 @@
 #define SCENE_SWEEP 0x1u      /* REAL or INTEGER: also accepts a list (a sweep;
                                  scene_sweep.c)                                 */
 #define SCENE_LO_OPEN 0x2u    /* lower bound excluded                           */
-#define SCENE_COUNT 0x4u      /* INTEGER passed to the library as a size_t: a
-                                 negative value is refused here                 */
 #define SCENE_FROM_PATH 0x8u  /* default derived from the scene's file name     */
-#define SCENE_LIST_FIELD 0x10u /* SWEEP REAL whose field is a scene_reals (s, q);
-                                 other sweepable rows keep a list in
-                                 scene_config.sweep.lists                       */
-#define SCENE_EXTRA 0x20u     /* beyond the paper (issue 15): the echo leaves it
-                                 out unless the scene gives it, so that the
-                                 paper's scenes echo as before                  */
+#define SCENE_EXTRA 0x20u     /* beyond the paper: the echo leaves it out unless
+                                 the scene gives it, so that the paper's scenes
+                                 echo as before                                 */
 #define SCENE_HI_OPEN 0x40u   /* upper bound excluded                           */
+#define SCENE_TIME 0x80u      /* own rows: a time (seconds with &material)      */
 
-/* One row of the variable table. */
+/* One row of the variable table: the scene's own variables (scene.c), and
+ * one row per setting of the library's table (taper_setting_at), built
+ * from it. */
 typedef struct scene_var {
     const char *group;          /* "chain", "solver", "output", "fit", ...     */
-    const char *name;           /* lower case                                  */
+    const char *name;           /* the key in its group (lower case): the
+                                   variable's keyword without its group's
+                                   name in front                              */
+    const char *keyword;        /* the variable's one name, unique over all
+                                   groups: the Python keyword, the library's
+                                   name (taper_error.field)                   */
     scene_type type;
     unsigned flags;
     size_t offset;              /* of the typed field in scene_config          */
-    const char *def;            /* default in namelist syntax; NULL: the
-                                   library's (library rows) or none            */
+    const char *def;            /* default in namelist syntax; NULL: none
+                                   (library rows: the library's default)     */
     scene_lib lib;              /* who checks the value                        */
-    const char *lib_field;      /* the library's name of the setting (its
-                                   taper_error.field), when not `name`          */
+    const char *lib_field;      /* the library's name of it (taper_error.field):
+                                   the keyword, or &fit's ("model", "exponent") */
     double lo, hi;              /* range.  SCENE_OWN rows: checked here.
-                                   Library rows: taper.h's constants, shown in
+                                   Library rows: the library's row, shown in
                                    the documentation, checked by the library.
                                    lo == hi == 0: none                          */
-    const char *(*choice)(int); /* CHOICE: the name of value i, NULL past the
-                                   end                                         */
+    const char *const *choices; /* CHOICE: the names, NULL-terminated; value v
+                                   is choices[v - choice_first]                */
     int choice_first;           /* CHOICE: the first value (-1: 'none')        */
+    taper_dimension dim;        /* the unit its value is given in with
+                                   &material (TAPER_DIM_NUMBER: none)          */
+    const char *after;          /* own rows: the keyword of the library row
+                                   it follows in its group; NULL: at the end  */
+    const taper_setting *setting; /* library rows: the library's row         */
     const char *doc;            /* one line                                    */
 } scene_var;
+
+/* The profile and the number of granules of a configuration (its first
+ * values in a sweep): the scene's checks read them often. */
+#define SCENE_PROFILE(cfg) ((taper_profile)scene_setting((cfg), "profile"))
+#define SCENE_N_GRANULES(cfg) ((long long)scene_setting((cfg), "n_granules"))
+/* Writes a scalar library setting (resolving n_granules from the radii). */
+void scene_setting_store(scene_config *cfg, const char *name, double value);
+
+/* The name of choice value v of a CHOICE row; NULL outside its range. */
+const char *scene_choice_name(const scene_var *var, int v);
+/* The row of a variable by its keyword, or -1. */
+int scene_var_keyword(const char *keyword);
 
 const scene_var *scene_var_at(size_t i);
 /* Index of group/name (case-insensitive) or -1. */
 int scene_var_find(const char *group, const char *name);
-/* Index of the row with this library object and field name, or -1. */
+/* Index of the row of the library's setting (or &fit's) named `field`
+ * (taper_error.field), or -1. */
 int scene_var_of_field(scene_lib lib, const char *field);
 
 /* The groups (chain, ends, striker, losses, material, solver, sensors,
@@ -90,6 +111,11 @@ struct scene {
     size_t n_diags;
     size_t n_errors;                /* errors found (may exceed n_diags)   */
 };
+
+/* Row i was given by the file (line > 0), --set or -o (line 0). */
+void scene_mark_given(scene *sc, size_t i, int line);
+/* 1: the library setting of row var was given (scene_config.settings_given). */
+int scene_setting_given(const scene_config *cfg, const scene_var *var);
 
 /* Records one error (line 0 / group or key NULL when unknown).  Bytes that
  * are not printable ASCII are shown as \xNN. */
@@ -145,10 +171,8 @@ int scene_error_row(const scene *sc, scene_lib lib, const char *field);
 void scene_read_radii(scene *sc);
 void scene_check_physics(scene *sc);
 
-/* Library side (scene_lib.c): defaults from fresh library specs, and the
- * validation of the library's settings through its setters.  0 or -1 out
- * of memory / the number of errors recorded. */
-int scene_library_defaults(scene_config *cfg);
+/* Library side (scene_lib.c): the validation of the library's settings
+ * through its setters; the number of errors recorded. */
 size_t scene_check_library(scene *sc);      /* chain and solver settings */
 size_t scene_check_fit_library(scene *sc);  /* &fit as a taper_fit_spec  */
 

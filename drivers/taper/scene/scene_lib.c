@@ -1,11 +1,14 @@
 /*
- * scene_lib.c -- where the scene meets the library's settings: the
- * defaults of the chain and solver variables are read from freshly
- * allocated library specs; the settings go into the specs through the
- * library's setters; and validation is those same setter calls (each value
- * of a sweep too) plus taper_chain_spec_check, each refusal reported
- * against the variable the library names in taper_error.field.  No bound
- * of a library setting is repeated here.
+ * scene_lib.c -- where the scene meets the library's settings.  Every
+ * setting of the library's table of settings is a variable of the scene
+ * (scene.c); its value goes into the spec through the library's by-name
+ * setters, converted from SI when the scene has &material; and validation
+ * is those same calls (each value of a sweep too) plus
+ * taper_chain_spec_check, each refusal reported against the variable the
+ * library names in taper_error.field.  No bound of a library setting is
+ * repeated here.  What the scene adds are its own rules of presentation:
+ * a radii file, the piston's 'push'/'steady', and with &material the
+ * compliances and densities that follow from the materials.
  */
 #include "scene_impl.h"
 
@@ -14,62 +17,25 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- defaults ---------------------------------------------------------------- */
+/* ---- units ------------------------------------------------------------------------ */
 
-static int one_value(scene_reals *r, double x)
+/* The SI value of one rescaled unit of `dim` in a configuration at one
+ * point: with &material a setting of that dimension is given in SI (the
+ * unit of taper_dimension_unit), divided by this to reach the library's
+ * rescaled units; 1 without &material.  (A setting the scene leaves out
+ * is the library's default, in the library's units: its scale is 1.) */
+double scene_input_scale(const scene_config *at, taper_dimension dim)
 {
-    free(r->v);
-    r->n = 0;
-    if (!(r->v = malloc(sizeof *r->v))) return -1;
-    r->v[0] = x;
-    r->n = 1;
-    return 0;
+    if (!at->material.on || dim == TAPER_DIM_NUMBER) return 1.0;
+    scene_material_props p;
+    scene_material_resolve(at, &p);
+    return taper_unit_scale(dim, p.young, p.poisson, p.density, at->material.radius,
+                            at->material.velocity);
 }
 
-int scene_library_defaults(scene_config *cfg)
+double scene_sample_interval(const scene_config *at)
 {
-    taper_chain_spec *chain = taper_chain_spec_alloc(NULL);
-    taper_solver_spec *solver = taper_solver_spec_alloc(NULL);
-    int rc = -1;
-    if (!chain || !solver) goto out;
-    cfg->chain.profile = taper_chain_spec_profile(chain);
-    cfg->chain.n_granules = (long long)taper_chain_spec_n_granules(chain);
-    if (one_value(&cfg->chain.s, taper_chain_spec_s(chain)) != 0) goto out;
-    if (one_value(&cfg->chain.q, taper_chain_spec_q(chain)) != 0) goto out;
-    cfg->chain.exponent = taper_chain_spec_exponent(chain);
-    cfg->chain.disorder = (int)taper_chain_spec_disorder(chain);
-    cfg->chain.disorder_amplitude = taper_chain_spec_disorder_amplitude(chain);
-    cfg->chain.seed = (long long)taper_chain_spec_disorder_seed(chain);
-    cfg->chain.load = taper_chain_spec_load(chain);
-    cfg->ends.left = (int)taper_chain_spec_end(chain, TAPER_LEFT);
-    cfg->ends.right = (int)taper_chain_spec_end(chain, TAPER_RIGHT);
-    cfg->ends.left_compliance = taper_chain_spec_end_compliance(chain, TAPER_LEFT);
-    cfg->ends.right_compliance = taper_chain_spec_end_compliance(chain, TAPER_RIGHT);
-    cfg->striker.radius = taper_chain_spec_striker_radius(chain);
-    cfg->striker.density = taper_chain_spec_striker_density(chain);
-    cfg->striker.compliance = taper_chain_spec_striker_compliance(chain);
-    {
-        const double T = taper_chain_spec_piston_duration(chain);
-        cfg->striker.piston = T > 0.0 ? (isinf(T) ? SCENE_PISTON_STEADY : SCENE_PISTON_PUSH)
-                                      : SCENE_PISTON_NONE;
-        cfg->striker.piston_duration = isinf(T) ? 0.0 : T;
-        cfg->striker.piston_compliance = taper_chain_spec_piston_compliance(chain);
-    }
-    cfg->losses.damping = taper_chain_spec_damping(chain);
-    cfg->losses.drag = taper_chain_spec_drag(chain);
-    cfg->solver.method = taper_solver_spec_method(solver);
-    cfg->solver.rtol = taper_solver_spec_rtol(solver);
-    cfg->solver.atol = taper_solver_spec_atol(solver);
-    cfg->solver.window = taper_solver_spec_window(solver) != 0;
-    cfg->solver.last_granule = (long long)taper_solver_spec_last_granule(solver);
-    cfg->solver.t_max = taper_solver_spec_t_max(solver);
-    cfg->solver.max_steps = taper_solver_spec_max_steps(solver);
-    cfg->solver.t_end = taper_solver_spec_t_end(solver);
-    rc = 0;
-out:
-    taper_chain_spec_free(chain);
-    taper_solver_spec_free(solver);
-    return rc;
+    return at->sensors.interval / scene_input_scale(at, TAPER_DIM_TIME);
 }
 
 /* ---- setter calls ---------------------------------------------------------------- */
@@ -106,68 +72,110 @@ static void note(sink *k, taper_status status, const taper_error *e)
         scene_var_error(k->sc, (size_t)i, "%s", e->message);
 }
 
-static void set_s_or_q(sink *k, const scene_config *cfg, scene_chain_param p, size_t point,
-                       taper_chain_spec *spec)
+static void out_of_memory_note(sink *k)
 {
-    taper_error e;
-    double x = scene_param_value(cfg, p, point);
-    if (p == SCENE_PARAM_S)
-        note(k, taper_chain_spec_set_s(spec, x, &e), &e);
-    else
-        note(k, taper_chain_spec_set_q(spec, x, &e), &e);
+    taper_error e = {.status = TAPER_ENOMEM};
+    snprintf(e.message, sizeof e.message, "out of memory");
+    note(k, TAPER_ENOMEM, &e);
 }
 
-/* The settings of issue 15 (ends, striker, load, losses, disorder,
- * pattern, materials) of a configuration at one point.  With &material, the
- * walls' and the striker's compliances and density follow from their
- * materials (scene_physics.c). */
-static void apply_beyond_paper(sink *k, const scene_config *at, taper_chain_spec *spec)
+/* A refused value that the scene converted from SI: the library speaks of
+ * the rescaled value; say what the scene gave. */
+static void explain_units(taper_error *e, const scene_var *var, double given, double scale)
 {
-    const scene_chain_config *c = &at->chain;
+    if (scale == 1.0 || e->status != TAPER_EINVAL) return;
+    size_t used = strlen(e->message);
+    char g[SCENE_REAL_TEXT];
+    scene_format_real(given, g);
+    snprintf(e->message + used, sizeof e->message - used,
+             " (the scene's %s = %s %s in the rescaled units of eq. (5))", var->name, g,
+             taper_dimension_unit(var->dim));
+}
+
+/* One scalar setting of row var into its spec. */
+static void set_scalar(sink *k, const scene_var *var, double value, double scale, void *spec)
+{
     taper_error e;
-    note(k, taper_chain_spec_set_pattern(spec, c->pattern.v, c->pattern.n, &e), &e);
-    note(k, taper_chain_spec_set_disorder(spec, (taper_disorder)c->disorder,
-                                          c->disorder_amplitude, (uint64_t)c->seed, &e), &e);
-    note(k, taper_chain_spec_set_load(spec, c->load, &e), &e);
+    taper_status st = var->setting->object == TAPER_SETTING_CHAIN
+                          ? taper_chain_spec_set_option(spec, var->keyword, value / scale, &e)
+                          : taper_solver_spec_set_option(spec, var->keyword, value / scale, &e);
+    if (st != TAPER_OK) explain_units(&e, var, value, scale);
+    note(k, st, &e);
+}
 
-    /* With &material: a wall's compliance from its material (a free end
-     * keeps the library's 0), the striker's density and compliance from
-     * its material (none: the library's 1). */
-    scene_material_props mp;
-    scene_material_resolve(at, &mp);
-    int mat = at->material.on;
-    const scene_ends_config *ends = &at->ends;
-    double cl = !mat ? ends->left_compliance : ends->left == TAPER_END_WALL ? mp.wall_compliance : 0;
-    double cr = !mat ? ends->right_compliance : ends->right == TAPER_END_WALL ? mp.wall_compliance : 0;
-    note(k, taper_chain_spec_set_end(spec, TAPER_LEFT, (taper_boundary)ends->left, cl, &e), &e);
-    note(k, taper_chain_spec_set_end(spec, TAPER_RIGHT, (taper_boundary)ends->right, cr, &e), &e);
-    const scene_striker_config *st = &at->striker;
-    int striker_mat = mat && st->radius > 0;
-    note(k, taper_chain_spec_set_striker(spec, st->radius,
-                                         striker_mat ? mp.striker_density : st->density,
-                                         striker_mat ? mp.striker_compliance : st->compliance, &e),
-         &e);
-    /* The piston: 'steady' is an infinite duration (a scene holds finite
-     * numbers); 'none' passes the duration on, so that one given without a
-     * piston is refused by name (scene_check.c) rather than ignored. */
-    const double T = st->piston == SCENE_PISTON_STEADY ? INFINITY
-                     : st->piston == SCENE_PISTON_PUSH ? st->piston_duration : 0.0;
-    note(k, taper_chain_spec_set_piston(spec, T, st->piston_compliance, &e), &e);
-    note(k, taper_chain_spec_set_damping(spec, at->losses.damping, &e), &e);
-    note(k, taper_chain_spec_set_drag(spec, at->losses.drag, &e), &e);
+/* One list setting: values[0..n) divided by scale (a copy when scaled). */
+static void set_list(sink *k, const scene_var *var, const double *values, size_t n, double scale,
+                     taper_chain_spec *spec)
+{
+    double *scaled = NULL;
+    if (scale != 1.0 && n > 0) {
+        if (!(scaled = malloc(n * sizeof *scaled))) {
+            out_of_memory_note(k);
+            return;
+        }
+        for (size_t j = 0; j < n; j++) scaled[j] = values[j] / scale;
+        values = scaled;
+    }
+    taper_error e;
+    note(k, taper_chain_spec_set_option_list(spec, var->keyword, values, n, &e), &e);
+    free(scaled);
+}
 
-    /* Mixed chains: per-granule materials; one material: none (exactly the
-     * library's single-material chain). */
-    double *density = NULL, *compliance = NULL;
-    size_t n = mat && mp.mixed ? (size_t)c->n_granules : 0;
-    if (n && scene_material_arrays(at, n, &density, &compliance) != 0) {
-        e.status = TAPER_ENOMEM;
-        e.field = NULL;
-        snprintf(e.message, sizeof e.message, "out of memory");
-        note(k, TAPER_ENOMEM, &e);
+static int is(const scene_var *var, const char *keyword) { return strcmp(var->keyword, keyword) == 0; }
+
+/* The value of a scalar chain setting, with the scene's own rules: with
+ * &material a wall's and the striker's compliance and density follow from
+ * their materials (already relative to granule 1's: *scale 1); the piston's
+ * 'steady' is an infinite duration ('none' passes the duration on, so that
+ * one given without a piston is refused by name rather than ignored). */
+static double chain_value(const scene_config *at, const scene_var *var,
+                          const scene_material_props *mp, double *scale)
+{
+    double x = scene_row_value(at, scene_var_index(var), 0);
+    if (at->material.on) {
+        int left = is(var, "left_compliance"), right = is(var, "right_compliance");
+        if (left || right) {
+            *scale = 1.0;
+            taper_boundary b = (taper_boundary)scene_setting(at, left ? "left" : "right");
+            return b == TAPER_END_WALL ? mp->wall_compliance : 0.0;
+        }
+        if ((is(var, "striker_density") || is(var, "striker_compliance")) &&
+            scene_setting(at, "striker_radius") > 0) {
+            *scale = 1.0;
+            return is(var, "striker_density") ? mp->striker_density : mp->striker_compliance;
+        }
+    }
+    if (is(var, "piston_duration") && at->striker.piston == SCENE_PISTON_STEADY) return INFINITY;
+    return x;
+}
+
+/* A list chain setting, with the scene's own rules: radii from a file, and
+ * with &material a mixed chain's densities and compliances (*scale 1: the
+ * library divides them by granule 1's). */
+/* The scale of a row's value: SI to rescaled when the scene gave it. */
+static double scale_of(const scene_config *at, const scene_var *var)
+{
+    return scene_setting_given(at, var) ? scene_input_scale(at, var->dim) : 1.0;
+}
+
+static void apply_chain_list(sink *k, const scene_config *at, const scene_var *var,
+                             const scene_material_props *mp, taper_chain_spec *spec)
+{
+    double scale = scale_of(at, var);
+    const scene_reals *r = scene_cfield(at, var);
+    if (is(var, "radii") && at->chain.file_radii.n) r = &at->chain.file_radii;
+    int from_material = at->material.on && (is(var, "densities") || is(var, "compliances"));
+    if (!from_material) {
+        set_list(k, var, r->v, r->n, scale, spec);
         return;
     }
-    note(k, taper_chain_spec_set_materials(spec, density, compliance, n, &e), &e);
+    double *density = NULL, *compliance = NULL;
+    size_t n = mp->mixed ? (size_t)scene_setting(at, "n_granules") : 0;
+    if (n && scene_material_arrays(at, n, &density, &compliance) != 0) {
+        out_of_memory_note(k);
+        return;
+    }
+    set_list(k, var, is(var, "densities") ? density : compliance, n, 1.0, spec);
     free(density);
     free(compliance);
 }
@@ -177,34 +185,30 @@ static void apply_chain(sink *k, const scene_config *cfg, size_t point, taper_ch
 {
     scene_config at; /* every swept variable at this point (scene_sweep.c) */
     scene_config_at(cfg, point, &at);
-    const scene_chain_config *c = &at.chain;
-    taper_error e;
-    note(k, taper_chain_spec_set_profile(spec, c->profile, &e), &e);
-    /* Negative counts never get here (scene_check.c). */
-    note(k, taper_chain_spec_set_n_granules(spec, (size_t)c->n_granules, &e), &e);
-    set_s_or_q(k, &at, SCENE_PARAM_S, 0, spec);
-    set_s_or_q(k, &at, SCENE_PARAM_Q, 0, spec);
-    note(k, taper_chain_spec_set_exponent(spec, c->exponent, &e), &e);
-    /* Radii from a file (scene_physics.c) or inline. */
-    const scene_reals *radii = c->file_radii.n ? &c->file_radii : &c->radii;
-    note(k, taper_chain_spec_set_radii(spec, radii->v, radii->n, &e), &e);
-    apply_beyond_paper(k, &at, spec);
+    scene_material_props mp;
+    scene_material_resolve(&at, &mp);
+    for (size_t i = 0; i < scene_var_count(); i++) {
+        const scene_var *var = scene_var_at(i);
+        if (!var->setting || var->setting->object != TAPER_SETTING_CHAIN) continue;
+        if (var->type == SCENE_REAL_LIST) {
+            apply_chain_list(k, &at, var, &mp, spec);
+            continue;
+        }
+        double scale = scale_of(&at, var);
+        double x = chain_value(&at, var, &mp, &scale);
+        set_scalar(k, var, x, scale, spec);
+    }
 }
 
 static void apply_solver(sink *k, const scene_config *cfg, size_t point, taper_solver_spec *spec)
 {
     scene_config at;
     scene_config_at(cfg, point, &at);
-    const scene_solver_config *s = &at.solver;
-    taper_error e;
-    note(k, taper_solver_spec_set_method(spec, s->method, &e), &e);
-    note(k, taper_solver_spec_set_rtol(spec, s->rtol, &e), &e);
-    note(k, taper_solver_spec_set_atol(spec, s->atol, &e), &e);
-    note(k, taper_solver_spec_set_window(spec, s->window, &e), &e);
-    note(k, taper_solver_spec_set_last_granule(spec, (size_t)s->last_granule, &e), &e);
-    note(k, taper_solver_spec_set_t_max(spec, s->t_max, &e), &e);
-    note(k, taper_solver_spec_set_max_steps(spec, (long)s->max_steps, &e), &e);
-    note(k, taper_solver_spec_set_t_end(spec, s->t_end, &e), &e);
+    for (size_t i = 0; i < scene_var_count(); i++) {
+        const scene_var *var = scene_var_at(i);
+        if (!var->setting || var->setting->object != TAPER_SETTING_SOLVER) continue;
+        set_scalar(k, var, scene_row_value(&at, i, 0), scale_of(&at, var), spec);
+    }
 }
 
 /* &fit as a spec: the model, a fixed exponent when given, granules

@@ -1,7 +1,7 @@
 /*
  * scene_new.c -- the scene object: a new scene holds the defaults (the
- * table's, the library's from scene_lib.c, the output directory derived
- * from the file name); its lifetime; -o DIR.
+ * table's: for the library's settings, the library's table of settings;
+ * the output directory derived from the file name); its lifetime; -o DIR.
  */
 #include "scene_impl.h"
 
@@ -27,12 +27,38 @@ void scene_free(scene *sc)
     free(sc);
 }
 
+/* A library row's default: the library's table says it. */
+static void set_library_default(const scene_var *var, scene_config *cfg)
+{
+    void *f = scene_field(cfg, var);
+    double d = var->setting->default_value;
+    switch (var->type) {
+    case SCENE_REAL: memcpy(f, &d, sizeof d); break;
+    case SCENE_INTEGER: {
+        long long x = (long long)d;
+        memcpy(f, &x, sizeof x);
+        break;
+    }
+    case SCENE_LOGICAL:
+    case SCENE_CHOICE: {
+        int x = (int)d;
+        memcpy(f, &x, sizeof x);
+        break;
+    }
+    default: break; /* a list: empty */
+    }
+}
+
 /* Table default text -> value.  The table's defaults are a fixed, tested
  * subset of the syntax, so this needs no error reporting beyond memory. */
 static int set_table_default(const scene_var *var, scene_config *cfg)
 {
     void *f = scene_field(cfg, var);
-    if (var->type == SCENE_REAL && !(var->flags & SCENE_LIST_FIELD)) {
+    if (var->setting) {
+        set_library_default(var, cfg);
+        return 0;
+    }
+    if (var->type == SCENE_REAL) {
         double x = var->def ? strtod(var->def, NULL) : NAN; /* NaN: none */
         memcpy(f, &x, sizeof x);
         return 0;
@@ -96,7 +122,6 @@ scene *scene_new(const char *path)
     sc->cfg.fit.model = SCENE_FIT_NONE;
     for (size_t i = 0; i < scene_var_count(); i++)
         if (set_table_default(scene_var_at(i), &sc->cfg) != 0) goto fail;
-    if (scene_library_defaults(&sc->cfg) != 0) goto fail;
     for (size_t i = 0; i < scene_var_count(); i++) {
         if (!(scene_var_at(i)->flags & SCENE_FROM_PATH)) continue;
         char **s = scene_field(&sc->cfg, scene_var_at(i));
@@ -119,8 +144,7 @@ int scene_set_output_dir(scene *sc, const char *dir)
     if (!s) return -1;
     free(sc->cfg.output.dir);
     sc->cfg.output.dir = s;
-    int i = scene_var_find("output", "dir");
-    sc->origin[i].given = 1;
-    sc->origin[i].line = 0; /* no longer from the file: messages name no line */
+    int i = scene_var_keyword("dir");
+    scene_mark_given(sc, (size_t)i, 0); /* no longer from the file: messages name no line */
     return 0;
 }

@@ -367,8 +367,7 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
     if (var->type == SCENE_CHOICE && choice_value(p, var, &el[0], line, &choice) != 0) return -1;
     scene_field_clear(cfg, var);
     void *f = scene_field(cfg, var);
-    p->sc->origin[vi].given = 1;
-    p->sc->origin[vi].line = line;
+    scene_mark_given(p->sc, (size_t)vi, line);
     if (scene_var_is_list(var)) {
         scene_reals *r = f;
         if (!(r->v = malloc(n * sizeof *r->v))) goto nomem;
@@ -758,8 +757,7 @@ size_t scene_set(scene *sc, const char *assignment)
         scene_reals list = sc->cfg.sweep.lists[vi]; /* a sweep's list too */
         sc->cfg.sweep.lists[vi] = tmp->cfg.sweep.lists[vi];
         tmp->cfg.sweep.lists[vi] = list;
-        sc->origin[vi].given = 1;
-        sc->origin[vi].line = 0;
+        scene_mark_given(sc, (size_t)vi, 0);
     }
 out:
     scene_free(tmp);

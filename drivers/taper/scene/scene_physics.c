@@ -86,6 +86,9 @@ static void read_radii_file(scene *sc)
         close(fd);
         return;
     }
+    /* Radii are relative to R_1, or with &material in metres (R_1 then
+     * is &material radius). */
+    const double unit = given(sc, "material", "radius") ? sc->cfg.material.radius : 1.0;
     char *line = NULL;
     size_t cap = 0, alloc = 0;
     ssize_t len;
@@ -120,9 +123,14 @@ static void read_radii_file(scene *sc)
                             lineno, x);
             break;
         }
-        if (c->file_radii.n == 0 && x != 1) {
-            scene_var_error(sc, r, "%s:%d: the first radius is %g: it must be 1 (R_1 is the unit "
-                            "of length; divide the file by it)", path, lineno, x);
+        if (c->file_radii.n == 0 && x != unit) {
+            if (unit == 1)
+                scene_var_error(sc, r, "%s:%d: the first radius is %g: it must be 1 (R_1 is the "
+                                "unit of length; divide the file by it)", path, lineno, x);
+            else
+                scene_var_error(sc, r, "%s:%d: the first radius is %g m: with &material it must "
+                                "be &material radius = %g m (granule 1's radius is R_1)", path,
+                                lineno, x, unit);
             break;
         }
         if (c->file_radii.n == alloc) {
@@ -149,7 +157,7 @@ void scene_read_radii(scene *sc)
     scene_chain_config *c = &sc->cfg.chain;
     if (!c->radii_file[0]) return;
     size_t r = (size_t)row("chain", "radii_file");
-    if (c->profile != TAPER_CUSTOM) {
+    if (SCENE_PROFILE(&sc->cfg) != TAPER_CUSTOM) {
         scene_var_error(sc, r, "radii_file is only used with profile = 'custom': remove it or "
                         "set the profile");
         return;
@@ -204,6 +212,8 @@ static void check_material_owns(scene *sc)
         {"ends", "right_compliance", "wall"},
         {"striker", "density", "striker"},
         {"striker", "compliance", "striker"},
+        {"chain", "densities", "sequence"},
+        {"chain", "compliances", "sequence"},
     };
     for (size_t i = 0; i < sizeof owned / sizeof owned[0]; i++)
         if (given(sc, owned[i][0], owned[i][1]))
@@ -225,6 +235,27 @@ static void check_hertz(scene *sc)
             scene_var_error(sc, e, "exponent = %s, but &material gives real units, which are "
                             "those of Hertz contacts (n = 5/2, elastic spheres): set exponent = "
                             "2.5, or remove &material to stay in rescaled units", t);
+            return;
+        }
+    }
+}
+
+/* With &material every size is in metres and granule 1's radius is R_1:
+ * the first radius of a custom chain or a pattern is &material radius. */
+static void check_first_radius(scene *sc, const char *keyword)
+{
+    const scene_reals *r = scene_setting_list(&sc->cfg, keyword);
+    size_t rr = (size_t)row("material", "radius");
+    for (size_t j = 0; r->n && j < scene_row_count(&sc->cfg, rr); j++) {
+        double R1 = scene_row_value(&sc->cfg, rr, j);
+        if (r->v[0] != R1) {
+            char a[SCENE_REAL_TEXT], b[SCENE_REAL_TEXT];
+            scene_format_real(r->v[0], a);
+            scene_format_real(R1, b);
+            scene_var_error(sc, (size_t)scene_var_keyword(keyword),
+                            "%s(1) = %s m: with &material the sizes are in metres and granule "
+                            "1's radius is &material radius = %s m (R_1): make them equal",
+                            keyword, a, b);
             return;
         }
     }
@@ -261,6 +292,8 @@ static void check_material(scene *sc)
     check_material_lists(sc);
     check_material_owns(sc);
     check_hertz(sc);
+    check_first_radius(sc, "radii");
+    check_first_radius(sc, "pattern");
 }
 
 /* ---- &sensors and &output units --------------------------------------------------- */
@@ -269,7 +302,7 @@ static void check_material(scene *sc)
 static long long shortest_chain(const scene *sc)
 {
     size_t nr = (size_t)row("chain", "n_granules");
-    long long n = sc->cfg.chain.n_granules;
+    long long n = SCENE_N_GRANULES(&sc->cfg);
     for (size_t j = 0; j < scene_row_count(&sc->cfg, nr); j++)
         if ((long long)scene_row_value(&sc->cfg, nr, j) < n)
             n = (long long)scene_row_value(&sc->cfg, nr, j);
@@ -287,7 +320,8 @@ static void check_sensors(scene *sc)
     if (sampling && !cfg->solver.numerics)
         scene_var_error(sc, iv, "sensors sample the dynamics, and &solver numerics = .false.: "
                         "turn the numerics on or set interval = 0");
-    int walls = cfg->ends.left == TAPER_END_WALL || cfg->ends.right == TAPER_END_WALL;
+    int walls = scene_setting(cfg, "left") == TAPER_END_WALL ||
+                scene_setting(cfg, "right") == TAPER_END_WALL;
     if (sampling && cfg->solver.numerics && s->granules.n == 0 && !s->spacetime && !walls)
         scene_var_error(sc, iv, "the samples would go nowhere: give &sensors granules, "
                         "spacetime = .true., or a wall (&ends)");
@@ -309,9 +343,12 @@ static void check_sensors(scene *sc)
     }
 }
 
+/* With &material the results are in SI unless the scene asks for
+ * 'rescaled': SI in, SI out. */
 static void check_units(scene *sc)
 {
-    const scene_config *cfg = &sc->cfg;
+    scene_config *cfg = &sc->cfg;
+    if (cfg->material.on && !given(sc, "output", "units")) cfg->output.units = SCENE_UNITS_SI;
     if (cfg->output.units == SCENE_UNITS_SI && !cfg->material.on)
         scene_var_error(sc, (size_t)row("output", "units"),
                         "units = 'si' converts with the materials of &material: give &material "

@@ -78,13 +78,13 @@ size_t scene_point_index(const scene_config *cfg, size_t point, size_t k)
 
 double scene_param_value(const scene_config *cfg, scene_chain_param p, size_t point)
 {
-    const scene_reals *r = p == SCENE_PARAM_Q ? &cfg->chain.q : &cfg->chain.s;
-    if (r->n == 0) return NAN;
-    size_t row = (size_t)scene_var_find("chain", p == SCENE_PARAM_Q ? "q" : "s");
+    size_t row = (size_t)scene_var_keyword(p == SCENE_PARAM_Q ? "q" : "s");
     for (size_t k = 0; k < cfg->runs.n_swept; k++)
-        if (cfg->runs.swept_row[k] == row) return r->v[scene_point_index(cfg, point, k)];
+        if (cfg->runs.swept_row[k] == row)
+            return scene_row_value(cfg, row, scene_point_index(cfg, point, k));
     /* Not resolved yet (before scene_validate): the list by point. */
-    return r->v[r->n > 1 && point < r->n ? point : 0];
+    size_t n = scene_row_count(cfg, row);
+    return scene_row_value(cfg, row, n > 1 && point < n ? point : 0);
 }
 
 double scene_swept_value(const scene_config *cfg, size_t point, size_t k)

@@ -18,8 +18,8 @@ char *scene_range_text(const scene_var *var)
     FILE *fp = open_memstream(&text, &len);
     if (!fp) return NULL;
     if (var->type == SCENE_CHOICE) {
-        for (int v = var->choice_first; var->choice(v); v++)
-            fprintf(fp, "%s'%s'", v == var->choice_first ? "" : ", ", var->choice(v));
+        for (int v = var->choice_first; scene_choice_name(var, v); v++)
+            fprintf(fp, "%s'%s'", v == var->choice_first ? "" : ", ", scene_choice_name(var, v));
     } else if ((var->type == SCENE_REAL || var->type == SCENE_INTEGER ||
                 var->type == SCENE_REAL_LIST) && !(var->lo == 0 && var->hi == 0)) {
         char lo[SCENE_REAL_TEXT], hi[SCENE_REAL_TEXT];
@@ -90,7 +90,8 @@ void scene_write_value(const scene_var *var, const scene_config *cfg, FILE *fp)
     case SCENE_CHOICE: {
         int v;
         memcpy(&v, f, sizeof v);
-        write_quoted(var->choice(v) ? var->choice(v) : "", fp);
+        const char *name = scene_choice_name(var, v);
+        write_quoted(name ? name : "", fp);
         break;
     }
     case SCENE_INTEGER: {
@@ -129,19 +130,39 @@ static char *value_text(const scene_var *var, const scene_config *cfg)
     return text;
 }
 
-/* The values of a list row at one sweep point: a view, nothing owned. */
-static scene_reals row_reals(const scene_var *var, const scene_config *cfg, size_t point)
+/* With &material a dimensional value is given in SI: the echo says in
+ * which unit, and what it is in the library's rescaled units (when the
+ * configuration has one material: a sweep of &material has one per run). */
+static void write_unit(const scene *sc, const scene_config *cfg, size_t i, FILE *fp)
 {
-    scene_reals r = *(const scene_reals *)scene_cfield(cfg, var);
-    if ((var->flags & SCENE_SWEEP) && r.n > 1 && point < r.n) {
-        r.v += point;
-        r.n = 1;
+    const scene_var *var = scene_var_at(i);
+    /* A value the scene left out is echoed too (0: a dimensional setting
+     * the echo writes without being given has the default 0, the same in
+     * every unit; tests/driver/test_scene.c checks it). */
+    (void)sc;
+    fprintf(fp, "  ! %s", taper_dimension_unit(var->dim));
+    for (size_t k = 0; k < cfg->runs.n_swept; k++)
+        if (strcmp(scene_var_at(cfg->runs.swept_row[k])->group, "material") == 0) {
+            fputc('\n', fp);
+            return;
+        }
+    scene_config at;
+    scene_config_at(cfg, 0, &at);
+    double scale = scene_input_scale(&at, var->dim);
+    if (var->type == SCENE_REAL && scene_row_count(cfg, i) == 1) {
+        char num[SCENE_REAL_TEXT];
+        scene_format_real(scene_row_value(cfg, i, 0) / scale, num);
+        fprintf(fp, ", %s in rescaled units", num);
+    } else {
+        char num[SCENE_REAL_TEXT];
+        scene_format_real(scale, num);
+        fprintf(fp, "; one rescaled unit is %s %s", num, taper_dimension_unit(var->dim));
     }
-    return r;
+    fputc('\n', fp);
 }
 
 /* A sweep of a one-value row (exponent, n_granules, rtol, ...): its list. */
-static int write_sweep_list(const scene_config *cfg, size_t i, FILE *fp, int doc)
+static int write_sweep_list(const scene *sc, const scene_config *cfg, size_t i, FILE *fp, int doc)
 {
     const scene_var *var = scene_var_at(i);
     if (!cfg->sweep.lists || cfg->sweep.lists[i].n < 2) return 0;
@@ -156,65 +177,60 @@ static int write_sweep_list(const scene_config *cfg, size_t i, FILE *fp, int doc
     } else {
         write_list(r, fp);
     }
-    fputc('\n', fp);
+    if (!doc && cfg->material.on && var->dim != TAPER_DIM_NUMBER)
+        write_unit(sc, cfg, i, fp);
+    else
+        fputc('\n', fp);
     return 1;
 }
 
 /* cfg: the scene's, or its configuration at one point (scene_config_at). */
-static void write_var(const scene *sc, const scene_config *cfg, size_t i, FILE *fp, int doc,
-                      size_t point)
+static void write_var(const scene *sc, const scene_config *cfg, size_t i, FILE *fp, int doc)
 {
     const scene_var *var = scene_var_at(i);
     /* A variable beyond the paper that the scene leaves out holds its
      * default: the echo leaves it out too, so that every scene written
      * before it existed echoes exactly as it did. */
     if (!doc && (var->flags & SCENE_EXTRA) && !sc->origin[i].given) return;
-    if (write_sweep_list(cfg, i, fp, doc)) return;
+    if (write_sweep_list(sc, cfg, i, fp, doc)) return;
     if (doc && !sc->origin[i].given && (var->flags & SCENE_FROM_PATH)) {
         /* Its default depends on the scene's file name: leave it derived. */
         fprintf(fp, "  ! %-10s = %-18s ! %s\n", var->name, "'out/NAME'", var->doc);
         return;
     }
-    size_t count = 1;
-    scene_reals r = {0};
-    if (scene_var_is_list(var)) {
-        r = row_reals(var, cfg, point);
-        count = r.n;
-    } else if (var->type == SCENE_REAL) {
-        const double *x = scene_cfield(cfg, var);
-        count = isnan(*x) ? 0 : 1; /* NaN: a real without default, left out */
-    }
-    if (var->type == SCENE_REAL_LIST || (var->type == SCENE_REAL && count != 1)) {
-        if (count == 0) {
+    if (var->type == SCENE_REAL_LIST) {
+        const scene_reals *r = scene_cfield(cfg, var);
+        if (r->n == 0) {
             /* Namelists cannot say "empty list": leave it out, documented. */
             fprintf(fp, "  ! %s = (none)%s%s\n", var->name, doc ? "  ! " : "", doc ? var->doc : "");
             return;
         }
         if (doc) fprintf(fp, "  ! %s\n", var->doc);
         fprintf(fp, "  %s = ", var->name);
-        write_list(&r, fp);
-        fputc('\n', fp);
+        write_list(r, fp);
+        if (!doc && cfg->material.on && var->dim != TAPER_DIM_NUMBER)
+            write_unit(sc, cfg, i, fp);
+        else
+            fputc('\n', fp);
         return;
     }
-    if (scene_var_is_list(var)) {
-        /* A sweep at one of its points: one value. */
-        char num[SCENE_REAL_TEXT];
-        scene_format_real(r.v[0], num);
-        if (doc)
-            fprintf(fp, "  %-12s = %-18s ! %s\n", var->name, num, var->doc);
-        else
-            fprintf(fp, "  %s = %s\n", var->name, num);
+    if (var->type == SCENE_REAL && isnan(*(const double *)scene_cfield(cfg, var))) {
+        /* A real without default, left out. */
+        fprintf(fp, "  ! %s = (none)%s%s\n", var->name, doc ? "  ! " : "", doc ? var->doc : "");
         return;
     }
     if (doc) {
         char *text = value_text(var, cfg);
         fprintf(fp, "  %-12s = %-18s ! %s\n", var->name, text ? text : "", var->doc);
         free(text);
-    } else {
-        fprintf(fp, "  %s = ", var->name);
-        scene_write_value(var, cfg, fp);
-        fputc('\n', fp);
+        return;
     }
+    fprintf(fp, "  %s = ", var->name);
+    scene_write_value(var, cfg, fp);
+    if (cfg->material.on && var->dim != TAPER_DIM_NUMBER)
+        write_unit(sc, cfg, i, fp);
+    else
+        fputc('\n', fp);
 }
 
 /* A group of variables beyond the paper only (&ends, &striker, ...) that
@@ -264,7 +280,7 @@ static void write_scene(const scene *sc, FILE *fp, int doc, size_t point)
         if (doc) fprintf(fp, "! &%s: %s\n", group, scene_group_doc(g));
         fprintf(fp, "&%s\n", group);
         for (size_t i = 0; i < scene_var_count(); i++)
-            if (strcmp(scene_var_at(i)->group, group) == 0) write_var(sc, cfg, i, fp, doc, point);
+            if (strcmp(scene_var_at(i)->group, group) == 0) write_var(sc, cfg, i, fp, doc);
         fputs("/\n", fp);
     }
 }
@@ -320,13 +336,36 @@ static const char doc_intro[] =
     "(`3*1.0`).  Every variable is optional; `taper --defaults` prints a complete\n"
     "scene with every default and its documentation.\n"
     "\n"
+    "**Names.** Every variable has one *name*, unique over all groups: the keyword\n"
+    "of the Python package (`taper.simulate(striker_radius=1.0)`), the setting of\n"
+    "libtaper's table of settings (`taper_chain_spec_set_option`) and the field an\n"
+    "error names.  In a scene file the variable is written in its group as its\n"
+    "*key*: the name without the group's name in front, if it has it\n"
+    "(`striker_radius` is `&striker radius`, `figure_every` is `&figure every`,\n"
+    "`load` is `&chain load`).  The chain and solver variables are generated from\n"
+    "the library's table (include/taper.h, \"Settings by name\"): their ranges,\n"
+    "defaults and descriptions are the library's.\n"
+    "\n"
+    "**Units.** Without `&material`, every value is in the rescaled units of eq. (5)\n"
+    "of arXiv:0905.4512 (lengths of granules in R_1, times in the unit of eq. (5),\n"
+    "velocities in the impulse's).  With `&material` (real Hertz spheres) every\n"
+    "value with a unit in the column \"SI unit\" is read in that unit: `t_end` and\n"
+    "`&sensors interval` in s, `damping` (the Kuwabara-Kono constant A of\n"
+    "F = r (z^(3/2) + (3/2) A z^(1/2) dz/dt)) in s, `drag` in kg/s, `load` in N,\n"
+    "radii and the striker's radius in m (the first radius is `&material radius`),\n"
+    "densities in kg/m^3, compliances (1 - nu^2)/E in 1/Pa; the echo writes each\n"
+    "with its unit and its value in rescaled units, and the results are in SI too\n"
+    "(`&output units` is then `'si'` unless the scene says `'rescaled'`).  A value\n"
+    "the scene leaves out is the library's default.  So a sweep of `&material\n"
+    "velocity` keeps every physical input fixed.\n"
+    "\n"
     "Errors (unknown group or key, wrong type, repeated key, syntax, out-of-range\n"
     "values) are reported as `FILE:LINE: &group key: message`, and `taper` exits\n"
     "with status 2.  Each rule has one owner: the chain and solver settings and\n"
-    "the fit's exponent are checked by the library (their ranges below are the\n"
-    "`TAPER_*_MIN`/`_MAX` constants of include/taper.h), everything else by the\n"
-    "scene (column \"checked by\").  A value the file leaves out is reported at\n"
-    "the line where its group opens.\n"
+    "the fit's exponent are checked by the library (each message states the\n"
+    "range and why its bounds are there), everything else by the scene (column\n"
+    "\"checked by\").  A value the file leaves out is reported at the line where\n"
+    "its group opens.\n"
     "\n"
     "On the command line, `GROUP.KEY=VALUE` (or `--set GROUP.KEY=VALUE`) overrides\n"
     "one variable (the value in namelist syntax, e.g. `taper scene.nml\n"
@@ -370,7 +409,7 @@ static const char doc_intro[] =
     "given.  The scenes of the paper's figures and tables are in\n"
     "`share/scenes/paper/` (see docs/paper.md).\n"
     "\n"
-    "**Beyond the paper** (issue 15; models and sources in docs/physics.md, one scene\n"
+    "**Beyond the paper** (models and sources in docs/physics.md, one scene\n"
     "per capability in `share/scenes/physics/`).  `&ends` puts a wall at either end,\n"
     "`&striker` replaces the impulse by a striker or a piston, `&chain load` precompresses,\n"
     "`&losses` adds viscoelastic damping and drag, `&chain disorder` perturbs radii or\n"
@@ -379,8 +418,8 @@ static const char doc_intro[] =
     "echo leaves out what a scene does not give, so the paper's scenes run and echo as\n"
     "before.  `&material` (Hertz contacts, n = 5/2) gives real units: Young's modulus,\n"
     "Poisson ratio, density, R_1 in metres and the impact velocity, mixed chains by a\n"
-    "`sequence` of materials; `&output units = 'si'` then writes every result file in\n"
-    "SI, each column's unit in its header (`t_pass[s]`, `force[N]`), the SI value of\n"
+    "`sequence` of materials; every input is then in SI (above) and every result file\n"
+    "too, each column's unit in its header (`t_pass[s]`, `force[N]`), the SI value of\n"
     "each rescaled unit in granules.tsv's header (`# unit_time = ... s`); fits, tables\n"
     "and figures stay rescaled.  `&sensors` samples the run every `interval` (with\n"
     "`&solver t_end` the run goes on past the pulse, to follow reflections):\n"
@@ -493,22 +532,32 @@ static void write_doc_outro(FILE *fp)
           fp);
 }
 
+/* The unit of a variable's value with &material ("" for a pure number). */
+static const char *doc_unit(const scene_var *var)
+{
+    return var->dim == TAPER_DIM_NUMBER ? "" : taper_dimension_unit(var->dim);
+}
+
 void scene_write_doc(const scene *sc, FILE *fp)
 {
     fputs(doc_intro, fp);
     for (size_t g = 0; g < SCENE_N_GROUPS; g++) {
         const char *group = scene_group_name(g);
         fprintf(fp, "\n## `&%s`: %s\n\n", group, scene_group_doc(g));
-        fputs("| name | type | default | allowed | checked by | description |\n", fp);
-        fputs("|------|------|---------|---------|------------|-------------|\n", fp);
+        fputs("| key | name | type | default | allowed | SI unit | checked by | description |\n", fp);
+        fputs("|-----|------|------|---------|---------|---------|------------|-------------|\n", fp);
         for (size_t i = 0; i < scene_var_count(); i++) {
             const scene_var *var = scene_var_at(i);
             if (strcmp(var->group, group) != 0) continue;
             static const char *const checker[] = {"scene", "library (chain)", "library (solver)",
                                                   "library (fit)"};
             char *def = doc_default(sc, i), *range = scene_range_text(var);
-            fprintf(fp, "| `%s` | %s | %s | %s | %s | %s |\n", var->name, scene_type_name(var),
-                    def ? def : "", range && range[0] ? range : "any", checker[var->lib], var->doc);
+            const char *reason = var->setting && var->setting->bounds_reason[0]
+                                     ? var->setting->bounds_reason : NULL;
+            fprintf(fp, "| `%s` | `%s` | %s | %s | %s | %s | %s | %s%s%s |\n", var->name,
+                    var->keyword, scene_type_name(var), def ? def : "",
+                    range && range[0] ? range : "any", doc_unit(var), checker[var->lib], var->doc,
+                    reason ? ". Bounds: " : "", reason ? reason : "");
             free(def);
             free(range);
         }

@@ -76,9 +76,9 @@ module taper
   integer, parameter, public :: TAPER_N_BOUNDARIES = 2
   integer(c_int), parameter, public :: TAPER_DIM_LENGTH = 0, TAPER_DIM_TIME = 1, &
        TAPER_DIM_VELOCITY = 2, TAPER_DIM_MASS = 3, TAPER_DIM_FORCE = 4, TAPER_DIM_ENERGY = 5, &
-       TAPER_DIM_IMPULSE = 6, TAPER_DIM_DENSITY = 7, TAPER_DIM_COMPLIANCE = 8, TAPER_DIM_DRAG = 9, &
-       TAPER_DIM_NUMBER = 10
-  integer, parameter, public :: TAPER_N_DIMENSIONS = 11
+       TAPER_DIM_IMPULSE = 6, TAPER_DIM_SIZE = 7, TAPER_DIM_DENSITY = 8, TAPER_DIM_COMPLIANCE = 9, &
+       TAPER_DIM_DRAG = 10, TAPER_DIM_NUMBER = 11
+  integer, parameter, public :: TAPER_N_DIMENSIONS = 12
   integer(c_int), parameter, public :: TAPER_ADAMS = 0, TAPER_BDF = 1
   integer, parameter, public :: TAPER_N_METHODS = 2
   integer(c_int), parameter, public :: TAPER_T_PASS = 0, TAPER_T_RES = 1, TAPER_V_PEAK = 2, &
