@@ -89,6 +89,11 @@ TAPER_API const char *taper_version(void);
  * their own). */
 #define TAPER_ENUM_CONSTANT(constant, name) constant,
 #define TAPER_ENUM_COUNT(constant, name) +1
+/* The lists of quantities (statistics, observables, the theory's columns)
+ * have a third column, their dimension: X(constant, "name", TIME) means
+ * TAPER_DIM_TIME (taper_dimension, below). */
+#define TAPER_QUANTITY_CONSTANT(constant, name, dimension) constant,
+#define TAPER_QUANTITY_COUNT(constant, name, dimension) +1
 
 /* ------------------------------------------------------------------ */
 /* Errors                                                             */
@@ -475,16 +480,17 @@ TAPER_API double taper_dynamics_peak_function(const taper_dynamics *dyn, const d
 TAPER_API double taper_theory_collision_time(double mu, double r, double zdot0, double n);
 
 /* The columns of the theory of a chain. */
+/* X(constant, "name", dimension). */
 #define TAPER_THEORY_QUANTITY_LIST(X)                                                  \
-    X(TAPER_THEORY_V, "v")       /* v_k, eq. (9): the velocity granule k leaves its
-                                    collision with                                   */ \
-    X(TAPER_THEORY_MU, "mu")     /* mu_k = m_k m_{k+1} / (m_k + m_{k+1}), k = 1..N-1  */ \
-    X(TAPER_THEORY_T_RES, "T")   /* T_k, eq. (18) with zdot0 = v_k, k = 1..N-1       */ \
-    X(TAPER_THEORY_T, "t")       /* t_k = sum_{j<=k} T_j, eq. (19), k = 1..N-1        */
+    X(TAPER_THEORY_V, "v", VELOCITY) /* v_k, eq. (9): the velocity granule k leaves its
+                                        collision with                               */ \
+    X(TAPER_THEORY_MU, "mu", MASS)   /* mu_k = m_k m_{k+1} / (m_k + m_{k+1}), k = 1..N-1 */ \
+    X(TAPER_THEORY_T_RES, "T", TIME) /* T_k, eq. (18) with zdot0 = v_k, k = 1..N-1   */ \
+    X(TAPER_THEORY_T, "t", TIME)     /* t_k = sum_{j<=k} T_j, eq. (19), k = 1..N-1    */
 typedef enum taper_theory_quantity {
-    TAPER_THEORY_QUANTITY_LIST(TAPER_ENUM_CONSTANT)
+    TAPER_THEORY_QUANTITY_LIST(TAPER_QUANTITY_CONSTANT)
 } taper_theory_quantity;
-#define TAPER_N_THEORY_QUANTITIES (0 TAPER_THEORY_QUANTITY_LIST(TAPER_ENUM_COUNT))
+#define TAPER_N_THEORY_QUANTITIES (0 TAPER_THEORY_QUANTITY_LIST(TAPER_QUANTITY_COUNT))
 
 /* "v", "mu", "T", "t": the names of taper_theory_compute's arrays (the
  * spelling of the paper's symbols).  granules.tsv writes three of them as
@@ -492,6 +498,8 @@ typedef enum taper_theory_quantity {
  * outside the enum, so that `for (i = 0; taper_theory_quantity_name(i); i++)`
  * walks them. */
 TAPER_API const char *taper_theory_quantity_name(taper_theory_quantity which);
+/* Its dimension; TAPER_DIM_NUMBER outside the enum. */
+TAPER_API taper_dimension taper_theory_quantity_dimension(taper_theory_quantity which);
 
 /* Fills caller-owned arrays of length N, each optional (NULL to skip), with
  * the columns above.  Entries that do not exist are NaN.  TAPER_EINVAL for
@@ -708,22 +716,29 @@ TAPER_API const double *taper_chain_spec_option_list(const taper_chain_spec *spe
 TAPER_API double taper_solver_spec_option(const taper_solver_spec *spec, const char *name);
 
 /* Per-granule observables of a run (arrays of length N, NaN where unknown). */
+/* X(constant, "name", dimension).  X_pass is a size X0 (in R_1) plus a
+ * displacement x_k (in the unit of length): in SI, X0 R_1 + x_k L. */
 #define TAPER_OBSERVABLE_LIST(X)                                                       \
-    X(TAPER_T_PASS, "t_pass") /* first time v_{k+1} overtakes v_k (pulse passes k)    */ \
-    X(TAPER_T_RES, "T_res")   /* t_pass(k) - t_pass(k-1), t_pass(0) = 0; NaN where
-                                 k is passed before k-1 (never negative)             */ \
-    X(TAPER_V_PEAK, "v_peak") /* first maximum of v_k (v_peak(1) = 1 at t = 0; with a
-                                 striker a maximum found like the others)            */ \
-    X(TAPER_T_PEAK, "t_peak") /* its time                                             */ \
-    X(TAPER_X_PASS, "X_pass") /* X0(k) + x_k(t_pass(k)): pulse position               */
-typedef enum taper_observable { TAPER_OBSERVABLE_LIST(TAPER_ENUM_CONSTANT) } taper_observable;
-#define TAPER_N_OBSERVABLES (0 TAPER_OBSERVABLE_LIST(TAPER_ENUM_COUNT))
+    X(TAPER_T_PASS, "t_pass", TIME)   /* first time v_{k+1} overtakes v_k (pulse passes
+                                         k)                                           */ \
+    X(TAPER_T_RES, "T_res", TIME)     /* t_pass(k) - t_pass(k-1), t_pass(0) = 0; NaN
+                                         where k is passed before k-1 (never negative) */ \
+    X(TAPER_V_PEAK, "v_peak", VELOCITY) /* first maximum of v_k (v_peak(1) = 1 at t = 0;
+                                         with a striker a maximum found like the others) */ \
+    X(TAPER_T_PEAK, "t_peak", TIME)   /* its time                                     */ \
+    X(TAPER_X_PASS, "X_pass", LENGTH) /* X0(k) + x_k(t_pass(k)): pulse position       */
+typedef enum taper_observable {
+    TAPER_OBSERVABLE_LIST(TAPER_QUANTITY_CONSTANT)
+} taper_observable;
+#define TAPER_N_OBSERVABLES (0 TAPER_OBSERVABLE_LIST(TAPER_QUANTITY_COUNT))
 
 /* The names above are the column names of granules.tsv (the driver and the
  * bindings take them from here).  NULL
  * outside the enum, so that `for (i = 0; taper_observable_name(i); i++)`
  * walks them. */
 TAPER_API const char *taper_observable_name(taper_observable which);
+/* Its dimension; TAPER_DIM_NUMBER outside the enum. */
+TAPER_API taper_dimension taper_observable_dimension(taper_observable which);
 
 /* Statistics of a run, read one at a time with taper_sim_statistic (all
  * values are doubles; counts are exact integers). */
@@ -732,61 +747,64 @@ TAPER_API const char *taper_observable_name(taper_observable which);
  * each closed contact's (a wall's contact: all of it); with a static load,
  * energies are measured from the precompressed equilibrium. */
 #define TAPER_STATISTIC_LIST(X)                                                        \
-    X(TAPER_STAT_STEPS, "steps")                   /* internal CVODE steps          */ \
-    X(TAPER_STAT_RHS_EVALS, "rhs_evals")           /* right-hand side evaluations   */ \
-    X(TAPER_STAT_ROOT_EVALS, "root_evals")         /* root function evaluations     */ \
-    X(TAPER_STAT_JAC_EVALS, "jac_evals")           /* Jacobian evaluations (BDF)    */ \
-    X(TAPER_STAT_NONLIN_ITERS, "nonlin_iters")     /* nonlinear solver iterations   */ \
-    X(TAPER_STAT_ERR_TEST_FAILS, "err_test_fails") /* local error test failures     */ \
-    X(TAPER_STAT_WINDOW_CHANGES, "window_changes") /* times the active window grew
+    X(TAPER_STAT_STEPS, "steps", NUMBER)                   /* internal CVODE steps          */ \
+    X(TAPER_STAT_RHS_EVALS, "rhs_evals", NUMBER)           /* right-hand side evaluations   */ \
+    X(TAPER_STAT_ROOT_EVALS, "root_evals", NUMBER)         /* root function evaluations     */ \
+    X(TAPER_STAT_JAC_EVALS, "jac_evals", NUMBER)           /* Jacobian evaluations (BDF)    */ \
+    X(TAPER_STAT_NONLIN_ITERS, "nonlin_iters", NUMBER)     /* nonlinear solver iterations   */ \
+    X(TAPER_STAT_ERR_TEST_FAILS, "err_test_fails", NUMBER) /* local error test failures     */ \
+    X(TAPER_STAT_WINDOW_CHANGES, "window_changes", NUMBER) /* times the active window grew
                                                       or shrank                     */ \
-    X(TAPER_STAT_RESTARTS, "restarts")             /* solver re-initialisations     */ \
-    X(TAPER_STAT_MAX_WINDOW, "max_window")         /* most granules integrated at
+    X(TAPER_STAT_RESTARTS, "restarts", NUMBER)             /* solver re-initialisations     */ \
+    X(TAPER_STAT_MAX_WINDOW, "max_window", NUMBER)         /* most granules integrated at
                                                       once                          */ \
-    X(TAPER_STAT_GRANULE_REACHED, "granule_reached") /* highest k with t_pass(k)
+    X(TAPER_STAT_GRANULE_REACHED, "granule_reached", NUMBER) /* highest k with t_pass(k)
                                                         known                       */ \
-    X(TAPER_STAT_T_FINAL, "t_final")               /* time the run ended            */ \
-    X(TAPER_STAT_ENERGY_ERROR, "energy_error")     /* |E(t_final) - E(0)| / E(0);
+    X(TAPER_STAT_T_FINAL, "t_final", TIME)               /* time the run ended            */ \
+    X(TAPER_STAT_ENERGY_ERROR, "energy_error", NUMBER)     /* |E(t_final) - E(0)| / E(0);
                                        with losses |E + D - E(0)| / E(0), D
                                        dissipated; under a load E from the
                                        equilibrium                                  */ \
-    X(TAPER_STAT_MOMENTUM_ERROR, "momentum_error") /* |P(t_final) - P(0)| /
+    X(TAPER_STAT_MOMENTUM_ERROR, "momentum_error", NUMBER) /* |P(t_final) - P(0)| /
                                        max(P(0), sum m_k |v_k|): relative to the
                                        momentum in motion; with walls, a load or
                                        drag P(t) - P(0) is compared with the
                                        external impulses J_left - J_right + F0 t
                                        (free first body) - F0 t (free last body)
                                        - drag sum x_k                               */ \
-    X(TAPER_STAT_COMPLETE, "complete")  /* 1 when the run ended by itself: every
+    X(TAPER_STAT_COMPLETE, "complete", NUMBER)  /* 1 when the run ended by itself: every
                                        requested observable known, or NaN because
                                        it does not exist (a peak that never came;
                                        passes beyond a pulse that drag absorbed,
                                        said in the log)                             */ \
-    X(TAPER_STAT_ENERGY_INITIAL, "energy_initial")       /* E(0)                    */ \
-    X(TAPER_STAT_ENERGY_DISSIPATED, "energy_dissipated") /* by damping and drag
+    X(TAPER_STAT_ENERGY_INITIAL, "energy_initial", ENERGY)       /* E(0)                    */ \
+    X(TAPER_STAT_ENERGY_DISSIPATED, "energy_dissipated", ENERGY) /* by damping and drag
                                                             until t_final           */ \
-    X(TAPER_STAT_ENERGY_TRANSMITTED, "energy_transmitted") /* in the far group:
+    X(TAPER_STAT_ENERGY_TRANSMITTED, "energy_transmitted", ENERGY) /* in the far group:
                                        granules from the last open contact to N,
                                        when they move away or press on a right
                                        wall                                         */ \
-    X(TAPER_STAT_ENERGY_REFLECTED, "energy_reflected") /* in the near group
+    X(TAPER_STAT_ENERGY_REFLECTED, "energy_reflected", ENERGY) /* in the near group
                                        (striker, granule 1 up to the first open
                                        contact) when it moves back                  */ \
-    X(TAPER_STAT_ENERGY_IN_CHAIN, "energy_in_chain")   /* the rest                  */ \
-    X(TAPER_STAT_WALL_PEAK_FORCE_LEFT, "wall_peak_force_left") /* largest wall force
+    X(TAPER_STAT_ENERGY_IN_CHAIN, "energy_in_chain", ENERGY)   /* the rest                  */ \
+    X(TAPER_STAT_WALL_PEAK_FORCE_LEFT, "wall_peak_force_left", FORCE) /* largest wall force
                                                                   (NaN: no wall)    */ \
-    X(TAPER_STAT_WALL_PEAK_TIME_LEFT, "wall_peak_time_left") /* its time (a root of
+    X(TAPER_STAT_WALL_PEAK_TIME_LEFT, "wall_peak_time_left", TIME) /* its time (a root of
                                        the wall contact's rate: exact)              */ \
-    X(TAPER_STAT_WALL_IMPULSE_LEFT, "wall_impulse_left") /* integral of the wall
+    X(TAPER_STAT_WALL_IMPULSE_LEFT, "wall_impulse_left", IMPULSE) /* integral of the wall
                                                             force                   */ \
-    X(TAPER_STAT_WALL_PEAK_FORCE_RIGHT, "wall_peak_force_right")                      \
-    X(TAPER_STAT_WALL_PEAK_TIME_RIGHT, "wall_peak_time_right")                        \
-    X(TAPER_STAT_WALL_IMPULSE_RIGHT, "wall_impulse_right")
-typedef enum taper_statistic { TAPER_STATISTIC_LIST(TAPER_ENUM_CONSTANT) } taper_statistic;
-#define TAPER_N_STATISTICS (0 TAPER_STATISTIC_LIST(TAPER_ENUM_COUNT))
+    X(TAPER_STAT_WALL_PEAK_FORCE_RIGHT, "wall_peak_force_right", FORCE)                      \
+    X(TAPER_STAT_WALL_PEAK_TIME_RIGHT, "wall_peak_time_right", TIME)                        \
+    X(TAPER_STAT_WALL_IMPULSE_RIGHT, "wall_impulse_right", IMPULSE)
+typedef enum taper_statistic { TAPER_STATISTIC_LIST(TAPER_QUANTITY_CONSTANT) } taper_statistic;
+#define TAPER_N_STATISTICS (0 TAPER_STATISTIC_LIST(TAPER_QUANTITY_COUNT))
 
 /* The names above (those of granules.tsv's header); NULL outside the enum. */
 TAPER_API const char *taper_statistic_name(taper_statistic which);
+/* Its dimension (TAPER_DIM_NUMBER for counts and relative errors);
+ * TAPER_DIM_NUMBER outside the enum. */
+TAPER_API taper_dimension taper_statistic_dimension(taper_statistic which);
 
 /* Prepares a run of `chain` (which must outlive the sim), and computes its
  * binary collision theory once (taper_sim_theory).  Copies spec (NULL: the

@@ -182,8 +182,16 @@ taper_status taper_theory_compute(const taper_chain *chain, double *v, double *m
     return taper_ok(err);
 }
 
-#define QUANTITY_NAME(constant, name) [constant] = name,
+#define QUANTITY_NAME(constant, name, dimension) [constant] = name,
+#define QUANTITY_DIMENSION(constant, name, dimension) [constant] = TAPER_DIM_##dimension,
 static const char *const quantity_names[] = {TAPER_THEORY_QUANTITY_LIST(QUANTITY_NAME)};
+static const taper_dimension quantity_dimensions[] = {TAPER_THEORY_QUANTITY_LIST(QUANTITY_DIMENSION)};
+
+taper_dimension taper_theory_quantity_dimension(taper_theory_quantity which)
+{
+    return (unsigned)which < TAPER_N_THEORY_QUANTITIES ? quantity_dimensions[which]
+                                                        : TAPER_DIM_NUMBER;
+}
 
 const char *taper_theory_quantity_name(taper_theory_quantity which)
 {

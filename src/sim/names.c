@@ -6,8 +6,15 @@
  */
 #include "taper.h"
 
-#define OBSERVABLE_NAME(constant, name) [constant] = name,
+#define OBSERVABLE_NAME(constant, name, dimension) [constant] = name,
+#define OBSERVABLE_DIMENSION(constant, name, dimension) [constant] = TAPER_DIM_##dimension,
 static const char *const observable_names[] = {TAPER_OBSERVABLE_LIST(OBSERVABLE_NAME)};
+static const taper_dimension observable_dimensions[] = {TAPER_OBSERVABLE_LIST(OBSERVABLE_DIMENSION)};
+
+taper_dimension taper_observable_dimension(taper_observable which)
+{
+    return (unsigned)which < TAPER_N_OBSERVABLES ? observable_dimensions[which] : TAPER_DIM_NUMBER;
+}
 
 const char *taper_observable_name(taper_observable which)
 {

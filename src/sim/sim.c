@@ -450,8 +450,15 @@ const double *taper_sim_theory(const taper_sim *sim, taper_theory_quantity which
     return sim->theory[which];
 }
 
-#define STATISTIC_NAME(constant, name) [constant] = name,
+#define STATISTIC_NAME(constant, name, dimension) [constant] = name,
+#define STATISTIC_DIMENSION(constant, name, dimension) [constant] = TAPER_DIM_##dimension,
 static const char *const statistic_names[] = {TAPER_STATISTIC_LIST(STATISTIC_NAME)};
+static const taper_dimension statistic_dimensions[] = {TAPER_STATISTIC_LIST(STATISTIC_DIMENSION)};
+
+taper_dimension taper_statistic_dimension(taper_statistic which)
+{
+    return (unsigned)which < TAPER_N_STATISTICS ? statistic_dimensions[which] : TAPER_DIM_NUMBER;
+}
 
 const char *taper_statistic_name(taper_statistic which)
 {

@@ -55,7 +55,9 @@ static void test_basic_values(void **state)
                         "&output dir = 'out/demo' /\n");
     const scene_config *c = cfg_of(sc);
     assert_int_equal((taper_profile)scene_setting(c, "profile"), TAPER_BACKWARD_LINEAR);
-    assert_int_equal(scene_row_count(c, (size_t)scene_var_keyword("s")), 1);
+    size_t n_s = 0;
+    scene_var_reals(sc, (size_t)scene_var_keyword("s"), &n_s);
+    assert_int_equal(n_s, 1);
     assert_double_rel(scene_setting(c, "s"), 0.5, 0);
     assert_int_equal((long long)scene_setting(c, "n_granules"), 200);
     assert_double_rel(scene_setting(c, "rtol"), 1e-10, 0);
@@ -364,7 +366,9 @@ static void test_set(void **state)
     assert_int_equal(scene_set(sc, "FIT.K_MIN=3"), 0);
     assert_int_equal(scene_validate(sc), 0);
     const scene_config *c = cfg_of(sc);
-    assert_int_equal(scene_row_count(c, (size_t)scene_var_keyword("s")), 2);
+    size_t n_s = 0;
+    scene_var_reals(sc, (size_t)scene_var_keyword("s"), &n_s);
+    assert_int_equal(n_s, 2);
     assert_int_equal(c->runs.n, 2);
     assert_int_equal((taper_method)scene_setting(c, "method"), TAPER_BDF);
     assert_int_equal(c->fit.k_min, 3);

@@ -62,14 +62,16 @@ static void write_stats_comment(const granules_run *r, FILE *fp)
         case TAPER_STAT_COMPLETE: break; /* the first comment line says it */
         case TAPER_STAT_MAX_WINDOW:
         case TAPER_STAT_GRANULE_REACHED: fprintf(fp, "# %s = %zu\n", name, (size_t)x); break;
-        case TAPER_STAT_T_FINAL: write_dimensioned(r, fp, which, TAPER_DIM_TIME); break;
+        case TAPER_STAT_T_FINAL:
+            write_dimensioned(r, fp, which, taper_statistic_dimension(which));
+            break;
         case TAPER_STAT_ENERGY_ERROR:
         case TAPER_STAT_MOMENTUM_ERROR: fprintf(fp, "# %s = %.3e\n", name, x); break;
         default: fprintf(fp, "# %s = %ld\n", name, (long)x); break;
         }
     }
     for (int i = TAPER_STAT_ENERGY_INITIAL; i <= TAPER_STAT_ENERGY_IN_CHAIN; i++)
-        write_dimensioned(r, fp, (taper_statistic)i, TAPER_DIM_ENERGY);
+        write_dimensioned(r, fp, (taper_statistic)i, taper_statistic_dimension((taper_statistic)i));
     /* A piston: the budget adds up to its work, E(0) = 0 (the energy error
      * above is relative to it); its force is the left wall's. */
     const int piston = taper_chain_piston_duration(r->chain) > 0.0;
@@ -83,12 +85,11 @@ static void write_stats_comment(const granules_run *r, FILE *fp)
          TAPER_STAT_WALL_IMPULSE_LEFT},
         {TAPER_STAT_WALL_PEAK_FORCE_RIGHT, TAPER_STAT_WALL_PEAK_TIME_RIGHT,
          TAPER_STAT_WALL_IMPULSE_RIGHT}};
-    static const taper_dimension wall_dims[3] = {TAPER_DIM_FORCE, TAPER_DIM_TIME,
-                                                 TAPER_DIM_IMPULSE};
     for (int e = 0; e < TAPER_N_ENDS; e++) {
         if (taper_chain_end(r->chain, (taper_end)e) != TAPER_END_WALL && !(piston && e == TAPER_LEFT))
             continue;
-        for (int j = 0; j < 3; j++) write_dimensioned(r, fp, wall_stats[e][j], wall_dims[j]);
+        for (int j = 0; j < 3; j++)
+            write_dimensioned(r, fp, wall_stats[e][j], taper_statistic_dimension(wall_stats[e][j]));
     }
 }
 
@@ -110,17 +111,9 @@ static void write_units_comment(const granules_run *r, FILE *fp)
             "x_k is X0 unit_radius + x_k unit_length\n", cfg->material.radius);
 }
 
-/* The dimension of each column of granules.tsv: k none (-1), R and X0
- * sizes (GEOMETRY, in R_1), X_pass a size plus a displacement (POSITION). */
-enum { NONE = -1, GEOMETRY = -2, POSITION = -3 };
-static const int column_dims[OUT_N_COLUMNS] = {
-    NONE, GEOMETRY, TAPER_DIM_MASS, GEOMETRY,
-    TAPER_DIM_TIME, TAPER_DIM_TIME, TAPER_DIM_VELOCITY, TAPER_DIM_TIME, POSITION,
-    TAPER_DIM_VELOCITY, TAPER_DIM_TIME, TAPER_DIM_TIME};
-
 _Static_assert(OUT_N_COLUMNS == SCENE_N_COLUMNS, "granules.tsv columns");
 
-/* The columns of a run; in SI, scaled copies (owned[c], freed by
+/* The columns of a run; in SI, converted copies (owned[c], freed by
  * free_columns) and each column's unit. */
 static int run_columns(const granules_run *r, out_columns *cols, double *owned[OUT_N_COLUMNS])
 {
@@ -140,17 +133,12 @@ static int run_columns(const granules_run *r, out_columns *cols, double *owned[O
     cols->col[11] = r->theory[TAPER_THEORY_T];
     for (int c = 0; c < OUT_N_COLUMNS; c++) owned[c] = NULL;
     if (!scene_unit_suffix(&r->at, TAPER_DIM_LENGTH)) return 0;
-    const double *rest = cols->col[3];
-    double radius = r->at.material.radius, length = scene_unit(&r->at, TAPER_DIM_LENGTH);
     for (int c = 1; c < OUT_N_COLUMNS; c++) {
-        int dim = column_dims[c];
-        cols->unit[c] = dim < 0 ? "m" : scene_unit_suffix(&r->at, (taper_dimension)dim);
+        cols->unit[c] = scene_unit_suffix(&r->at, scene_column_dimension((scene_column)c));
         if (!cols->col[c]) continue;
         if (!(owned[c] = malloc(cols->n * sizeof(double)))) return -1;
-        double scale = dim == GEOMETRY ? radius : dim < 0 ? 0 : scene_unit(&r->at, (taper_dimension)dim);
-        for (size_t k = 0; k < cols->n; k++)
-            owned[c][k] = dim == POSITION ? rest[k] * radius + (cols->col[c][k] - rest[k]) * length
-                                          : cols->col[c][k] * scale;
+        memcpy(owned[c], cols->col[c], cols->n * sizeof(double));
+        scene_column_convert(&r->at, (scene_column)c, owned[c], cols->col[3], cols->n);
     }
     for (int c = 1; c < OUT_N_COLUMNS; c++)
         if (owned[c]) cols->col[c] = owned[c];

@@ -320,6 +320,15 @@ int scene_material_arrays(const scene_config *cfg, size_t n, double **density,
 /* The SI value of one rescaled unit of `dim` when the scene writes SI
  * (&output units = 'si'), else 1. */
 double scene_unit(const scene_config *cfg, taper_dimension dim);
+/* The dimension of a column of granules.tsv: R and X0 are sizes, X_pass
+ * a size plus a displacement (its TAPER_DIM_LENGTH), k a number. */
+taper_dimension scene_column_dimension(scene_column c);
+/* values[0..n) of column c, in place, into the units of cfg's results
+ * (&output units): unchanged when rescaled; in SI each times the unit of
+ * its dimension, X_pass = X0 + x_k as X0 R_1 + x_k unit_length (rest: X0).
+ * The one conversion of granules.tsv and the Python package. */
+void scene_column_convert(const scene_config *cfg, scene_column c, double *values,
+                          const double *rest, size_t n);
 /* "s", "m", ... when the scene writes SI, else NULL. */
 const char *scene_unit_suffix(const scene_config *cfg, taper_dimension dim);
 /* The SI value of one rescaled unit of `dim` for the inputs of a
@@ -454,6 +463,8 @@ const char *scene_var_keyword_at(size_t i); /* the variable's one name: the key,
                                      another group uses the same key
                                      (striker_radius, figure_every)           */
 scene_type scene_var_type(size_t i);
+/* The row of a variable by its name (keyword, case-insensitive), or -1. */
+int scene_var_keyword(const char *keyword);
 int scene_var_takes_list(size_t i); /* 1: a list of values sweeps it (s, q,
                                      exponent, n_granules, rtol, ...)         */
 /* The value of variable i: a string or choice's text; an integer or a

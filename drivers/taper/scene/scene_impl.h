@@ -76,8 +76,6 @@ void scene_setting_store(scene_config *cfg, const char *name, double value);
 
 /* The name of choice value v of a CHOICE row; NULL outside its range. */
 const char *scene_choice_name(const scene_var *var, int v);
-/* The row of a variable by its keyword, or -1. */
-int scene_var_keyword(const char *keyword);
 
 const scene_var *scene_var_at(size_t i);
 /* Index of group/name (case-insensitive) or -1. */

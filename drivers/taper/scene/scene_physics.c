@@ -483,3 +483,35 @@ const char *scene_unit_suffix(const scene_config *cfg, taper_dimension dim)
     if (cfg->output.units != SCENE_UNITS_SI || !cfg->material.on) return NULL;
     return taper_dimension_unit(dim);
 }
+
+taper_dimension scene_column_dimension(scene_column c)
+{
+    static const taper_dimension dims[SCENE_N_COLUMNS] = {
+        [SCENE_COL_K] = TAPER_DIM_NUMBER,
+        [SCENE_COL_R] = TAPER_DIM_SIZE,
+        [SCENE_COL_M] = TAPER_DIM_MASS,
+        [SCENE_COL_X0] = TAPER_DIM_SIZE,
+        [SCENE_COL_T_PASS] = TAPER_DIM_TIME, /* the observables and the theory: */
+        [SCENE_COL_T_RES] = TAPER_DIM_TIME,  /* the library's dimensions, checked */
+        [SCENE_COL_V_PEAK] = TAPER_DIM_VELOCITY, /* in tests/driver/test_scene.c */
+        [SCENE_COL_T_PEAK] = TAPER_DIM_TIME,
+        [SCENE_COL_X_PASS] = TAPER_DIM_LENGTH,
+        [SCENE_COL_THEORY_V] = TAPER_DIM_VELOCITY,
+        [SCENE_COL_THEORY_T] = TAPER_DIM_TIME,
+        [SCENE_COL_THEORY_CUM_T] = TAPER_DIM_TIME,
+    };
+    return (unsigned)c < SCENE_N_COLUMNS ? dims[c] : TAPER_DIM_NUMBER;
+}
+
+void scene_column_convert(const scene_config *cfg, scene_column c, double *values,
+                          const double *rest, size_t n)
+{
+    if (!scene_unit_suffix(cfg, TAPER_DIM_LENGTH) || c == SCENE_COL_K) return;
+    double scale = scene_unit(cfg, scene_column_dimension(c));
+    if (c == SCENE_COL_X_PASS) {
+        const double radius = cfg->material.radius;
+        for (size_t k = 0; k < n; k++) values[k] = rest[k] * radius + (values[k] - rest[k]) * scale;
+        return;
+    }
+    for (size_t k = 0; k < n; k++) values[k] *= scale;
+}

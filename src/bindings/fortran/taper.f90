@@ -128,7 +128,8 @@ module taper
             c_taper_fit_model_name, c_taper_statistic_name, c_taper_disorder_name, &
             c_taper_boundary_name, c_taper_dimension_name, c_taper_dimension_unit, &
             c_taper_observable_name, c_taper_theory_quantity_name, c_taper_law_name, &
-            c_taper_status_name, c_taper_nearest_name
+            c_taper_status_name, c_taper_nearest_name, taper_statistic_dimension, &
+            taper_observable_dimension, taper_theory_quantity_dimension
   ! The table of settings (taper.h, "Settings by name"): a row is read through
   ! its C pointer (taper_setting_at, taper_setting_find); settings are set and
   ! read by name.
@@ -1191,6 +1192,25 @@ module taper
        type(c_ptr), value :: res
        integer(c_size_t) :: n
      end function taper_fit_result_iterations
+     ! ---- the dimension of each quantity (its SI unit: taper_dimension_unit)
+     function taper_statistic_dimension(which) bind(C, name="taper_statistic_dimension") &
+          result(dim)
+       import :: c_int
+       integer(c_int), value :: which
+       integer(c_int) :: dim
+     end function taper_statistic_dimension
+     function taper_observable_dimension(which) bind(C, name="taper_observable_dimension") &
+          result(dim)
+       import :: c_int
+       integer(c_int), value :: which
+       integer(c_int) :: dim
+     end function taper_observable_dimension
+     function taper_theory_quantity_dimension(which) &
+          bind(C, name="taper_theory_quantity_dimension") result(dim)
+       import :: c_int
+       integer(c_int), value :: which
+       integer(c_int) :: dim
+     end function taper_theory_quantity_dimension
      ! ---- the table of settings and settings by name ---------------------------
      function c_taper_status_name(status) bind(C, name="taper_status_name") result(s)
        import :: c_ptr, c_int

@@ -1,0 +1,245 @@
+#!/usr/bin/env python3
+"""same_results.py TAPER_BINARY [REFERENCE_COMMIT] -- does this taper write
+the same results as a reference commit, for every shipped scene?
+
+    python3 tests/regression/same_results.py build/drivers/taper/taper 043b797
+
+The reference is built from the git history of this checkout (git archive,
+meson setup -Dtests=false, the driver target only), against the same
+optimised SUNDIALS as TAPER_BINARY (the `sundials` folder of its build
+directory, when there is one), and cached in $TAPER_REGRESSION_CACHE/HASH
+(default ${TMPDIR:-/tmp}/taper-regression).  Every scene of
+share/scenes/**/*.nml that both trees have is run by the reference driver
+(its own copy of the scene) and by TAPER_BINARY (this checkout's copy: a
+scene rewritten here, for example to give its inputs in SI, is compared
+with what it was), each in a working directory of its own with `-o out`.
+
+Compared: the exit statuses, the set of result files (granules.tsv,
+granules.partial.tsv, sweep.tsv, runs.tsv, fits.tsv, table.tsv,
+sensors.tsv, walls.tsv, spacetime.tsv), and each file line by line: the
+column header exactly, every data row and every "# name = value"
+statistics line number by number.  Ignored: the version line, the echo of
+the scene (the "# &group ... /" block: a rewritten scene echoes what it
+says) and the lines naming the scene file or the output directory.
+
+Each scene gets one line:
+    same     every compared line identical as text
+    equal    every number equal as a double (the text differs: formatting)
+    agree    every number within 1e-12 relative (the largest difference is
+             given, and where)
+    DIFFER   a difference beyond that, a missing file or another status
+and the last line counts them.  Exit status 0 when no scene differs, 1
+otherwise, 2 for a usage or build error.  Standard library only.
+"""
+
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+RESULT_FILES = ("granules.tsv", "granules.partial.tsv", "sweep.tsv", "runs.tsv", "fits.tsv",
+                "table.tsv", "sensors.tsv", "walls.tsv", "spacetime.tsv")
+RTOL = 1e-12
+NUMBER = re.compile(r"^[-+]?(\d+\.?\d*([eE][-+]?\d+)?|\.\d+([eE][-+]?\d+)?|nan|inf)$",
+                    re.IGNORECASE)
+
+
+def die(message):
+    print(f"same_results.py: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
+def git(top, *args):
+    return subprocess.run(["git", "-C", top, *args], check=True, capture_output=True,
+                          text=True).stdout.strip()
+
+
+def build_reference(top, commit, binary):
+    """The reference driver's path, building it once into the cache."""
+    try:
+        full = git(top, "rev-parse", "--verify", commit + "^{commit}")
+    except subprocess.CalledProcessError:
+        die(f"'{commit}' is not a commit of {top}")
+    cache = os.environ.get("TAPER_REGRESSION_CACHE",
+                           os.path.join(os.environ.get("TMPDIR", "/tmp"), "taper-regression"))
+    ref = os.path.join(cache, full)
+    ok = os.path.join(ref, "ok")
+    if os.path.exists(ok):
+        with open(ok) as f:
+            return full, os.path.join(ref, f.read().strip())
+    os.makedirs(cache, exist_ok=True)
+    work = tempfile.mkdtemp(prefix=full + ".building.", dir=cache)
+    log = os.path.join(cache, full + ".build.log")
+    print(f"building reference {full[:7]} in {ref} (log: {log})", flush=True)
+    with open(log, "w") as out:
+        archive = subprocess.run(["git", "-C", top, "archive", "--format=tar", full],
+                                 check=True, capture_output=True).stdout
+        os.makedirs(os.path.join(work, "src"))
+        subprocess.run(["tar", "-xf", "-", "-C", os.path.join(work, "src")], input=archive,
+                       check=True)
+        setup = ["meson", "setup", "-Dtests=false", os.path.join(work, "build"),
+                 os.path.join(work, "src")]
+        # The same SUNDIALS as the binary under test: another build of it
+        # (Debian's, unoptimised) changes the last digits.
+        sundials = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(binary))),
+                                "sundials")
+        if os.path.exists(os.path.join(sundials, "lib")):
+            setup[2:2] = ["-Dsundials=bundled", "-Dsundials_prefix=" + sundials]
+        for cmd in (setup, ["meson", "compile", "-C", os.path.join(work, "build")]):
+            if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode != 0:
+                die(f"{' '.join(cmd[:2])} of {full[:7]} failed: see {log}")
+    exe = os.path.join("build", "drivers", "taper", "taper")
+    if not os.path.exists(os.path.join(work, exe)):
+        die(f"no driver in the reference build {work}: see {log}")
+    with open(os.path.join(work, "ok"), "w") as f:
+        f.write(exe)
+    if os.path.exists(ref):
+        shutil.rmtree(ref)
+    os.rename(work, ref)
+    return full, os.path.join(ref, exe)
+
+
+def scenes(root):
+    found = []
+    for d, _, files in os.walk(os.path.join(root, "share", "scenes")):
+        found += [os.path.relpath(os.path.join(d, f), root) for f in files if f.endswith(".nml")]
+    return sorted(found)
+
+
+def run(binary, scene, where):
+    os.makedirs(where)
+    p = subprocess.run([binary, scene, "-o", "out"], cwd=where, stdin=subprocess.DEVNULL,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    return p.returncode, p.stderr
+
+
+def results(out):
+    found = {}
+    for d, _, files in os.walk(out):
+        for f in files:
+            if f in RESULT_FILES:
+                found[os.path.relpath(os.path.join(d, f), out)] = os.path.join(d, f)
+    return found
+
+
+def compared_lines(path):
+    """(line number, text) of the lines compared: no version line, no echo,
+    no line naming the scene file or the output directory."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    keep, echo = [], False
+    for i, line in enumerate(lines, 1):
+        body = line[2:] if line.startswith("# ") else None
+        if body is not None and re.match(r"&\w+$", body):
+            echo = True
+        if echo:
+            echo = body != "/"
+            continue
+        if re.match(r"# taper \S+ ", line) or line.startswith("# scene file") or \
+                re.match(r"#\s*dir = ", line):
+            continue
+        keep.append((i, line))
+    return keep
+
+
+def fields(line):
+    if line.startswith("#"):
+        m = re.match(r"#\s*(.*?)\s*=\s*(.*)$", line)
+        return [m.group(1)] + m.group(2).split() if m else [line]
+    return line.split("\t")
+
+
+def number(text):
+    return float(text) if NUMBER.match(text) else None
+
+
+def compare_file(a, b):
+    """('same' | 'equal' | 'agree' | 'differ', largest relative difference,
+    where)."""
+    la, lb = compared_lines(a), compared_lines(b)
+    if len(la) != len(lb):
+        return "differ", math.inf, f"{len(lb)} lines compared, the reference {len(la)}"
+    verdict, worst, where = "same", 0.0, ""
+    for (i, x), (_, y) in zip(la, lb):
+        if x == y:
+            continue
+        fx, fy = fields(x), fields(y)
+        if len(fx) != len(fy):
+            return "differ", math.inf, f"line {i}: {y[:80]!r}, the reference {x[:80]!r}"
+        for u, v in zip(fx, fy):
+            if u == v:
+                continue
+            nu, nv = number(u), number(v)
+            if nu is None or nv is None:
+                return "differ", math.inf, f"line {i}: '{v}', the reference '{u}'"
+            if nu == nv or (math.isnan(nu) and math.isnan(nv)):
+                verdict = "equal" if verdict == "same" else verdict
+                continue
+            rel = abs(nu - nv) / max(abs(nu), abs(nv))
+            if rel > worst:
+                worst, where = rel, f"line {i}: {v}, the reference {u}"
+            verdict = "agree" if rel <= RTOL else "differ"
+            if verdict == "differ":
+                return verdict, rel, where
+    return verdict, worst, where
+
+
+def main():
+    if len(sys.argv) not in (2, 3) or sys.argv[1] in ("-h", "--help"):
+        print(__doc__.strip().splitlines()[3])
+        sys.exit(0 if len(sys.argv) == 2 else 2)
+    binary = os.path.abspath(sys.argv[1])
+    if not os.access(binary, os.X_OK):
+        die(f"TAPER_BINARY '{sys.argv[1]}' is not an executable file")
+    top = git(os.path.dirname(os.path.abspath(__file__)), "rev-parse", "--show-toplevel")
+    full, refbin = build_reference(top, sys.argv[2] if len(sys.argv) == 3 else "043b797", binary)
+    refsrc = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(refbin))))
+    refsrc = os.path.join(refsrc, "src")
+    common = sorted(set(scenes(refsrc)) & set(scenes(top)))
+    for only in sorted(set(scenes(top)) - set(scenes(refsrc))):
+        print(f"note: {only} is not at {full[:7]}: not compared")
+    print(f"reference: {full[:7]} ({refbin})\nbinary:    {binary}\nscenes:    {len(common)}\n")
+    tally = {"same": 0, "equal": 0, "agree": 0, "differ": 0}
+    work = tempfile.mkdtemp(prefix="taper-same-results.")
+    keep = False
+    for n, scene in enumerate(common):
+        d = os.path.join(work, f"{n:02d}")
+        rc_ref, _ = run(refbin, os.path.join(refsrc, scene), os.path.join(d, "ref"))
+        rc_new, err = run(binary, os.path.join(top, scene), os.path.join(d, "new"))
+        ra, rb = results(os.path.join(d, "ref", "out")), results(os.path.join(d, "new", "out"))
+        verdict, worst, where = "same", 0.0, ""
+        if rc_ref != rc_new:
+            verdict, where = "differ", f"exit status {rc_new}, the reference {rc_ref}: {err[-200:]}"
+        elif set(ra) != set(rb):
+            verdict, where = "differ", f"files {sorted(set(ra) ^ set(rb))}"
+        else:
+            order = {"same": 0, "equal": 1, "agree": 2, "differ": 3}
+            for f in sorted(ra):
+                v, w, at = compare_file(ra[f], rb[f])
+                if order[v] > order[verdict] or (v == verdict and w > worst):
+                    verdict, worst, where = v, w, f"{f} {at}" if at else f
+                if verdict == "differ":
+                    break
+        tally[verdict] += 1
+        files = f"{len(ra)} file{'s' if len(ra) != 1 else ''}"
+        if verdict == "same":
+            print(f"same     {scene} ({files})")
+        elif verdict == "equal":
+            print(f"equal    {scene} ({files}; numbers bit for bit, text differs: {where})")
+        elif verdict == "agree":
+            print(f"agree    {scene} ({files}; at most {worst:.1e} relative: {where})")
+        else:
+            keep = True
+            print(f"DIFFER   {scene}: {where} (outputs in {d})")
+    print(f"\n{tally['same']} same, {tally['equal']} equal, {tally['agree']} agree within "
+          f"{RTOL:g}, {tally['differ']} differ")
+    if not keep:
+        shutil.rmtree(work)
+    sys.exit(1 if tally["differ"] else 0)
+
+
+if __name__ == "__main__":
+    main()
