@@ -596,6 +596,41 @@ static void test_library_refusals(void **state)
 }
 
 /* A field the scene does not have, or none: the message alone. */
+/* A program's values (the Python package) go through the same checks. */
+static void test_set_values(void **state)
+{
+    (void)state;
+    scene *sc = new_scene();
+    scene_value profile = {.kind = SCENE_VALUE_STRING, .s = "Backward_Linear"};
+    scene_value n = {.kind = SCENE_VALUE_INTEGER, .i = 40};
+    scene_value s2[2] = {{.kind = SCENE_VALUE_REAL, .x = 0.25}, {.kind = SCENE_VALUE_REAL, .x = 0.5}};
+    scene_value radius = {.kind = SCENE_VALUE_REAL, .x = 1.5};
+    assert_int_equal(scene_set_values(sc, "profile", &profile, 1), 0);
+    assert_int_equal(scene_set_values(sc, "n_granules", &n, 1), 0);
+    assert_int_equal(scene_set_values(sc, "s", s2, 2), 0);
+    assert_int_equal(scene_set_values(sc, "striker_radius", &radius, 1), 0);
+    assert_int_equal(scene_validate(sc), 0);
+    const scene_config *c = cfg_of(sc);
+    assert_int_equal(c->runs.n, 2);
+    assert_int_equal(scene_setting(c, "profile"), TAPER_BACKWARD_LINEAR);
+    assert_int_equal(scene_setting(c, "n_granules"), 40);
+    assert_true(scene_setting(c, "striker_radius") == 1.5);
+    scene_free(sc);
+    /* the scene's checks: a real for an integer, a number for a choice, an
+     * unknown name, a non-finite number */
+    sc = new_scene();
+    scene_value half = {.kind = SCENE_VALUE_REAL, .x = 2.5};
+    scene_value inf = {.kind = SCENE_VALUE_REAL, .x = INFINITY};
+    assert_int_equal(scene_set_values(sc, "n_granules", &half, 1), 1);
+    assert_int_equal(scene_set_values(sc, "profile", &half, 1), 1);
+    assert_int_equal(scene_set_values(sc, "n_granule", &n, 1), 1);
+    assert_int_equal(scene_set_values(sc, "t_end", &inf, 1), 1);
+    assert_non_null(strstr(scene_diag_at(sc, 0)->message, "2.5"));
+    assert_string_equal(scene_diag_at(sc, 1)->key, "profile");
+    assert_non_null(strstr(scene_diag_at(sc, 3)->message, "not a finite number"));
+    scene_free(sc);
+}
+
 static void test_library_error_without_key(void **state)
 {
     (void)state;
@@ -900,6 +935,7 @@ int main(void)
         cmocka_unit_test(test_set),
         cmocka_unit_test(test_bad_scenes),
         cmocka_unit_test(test_library_refusals),
+        cmocka_unit_test(test_set_values),
         cmocka_unit_test(test_library_error_without_key),
         cmocka_unit_test(test_long_line),
         cmocka_unit_test(test_table_columns_every),

@@ -464,6 +464,23 @@ int scene_var_keyword(const char *keyword)
     return -1;
 }
 
+/* The names of the rows that match `group` (NULL: every row's keyword),
+ * for taper_nearest_name: "did you mean", the same for a file, the command
+ * line and the Python package. */
+static const char *nearest(const char *group, const char *name)
+{
+    const char *names[N_OWN + SCENE_MAX_SETTINGS];
+    size_t n = 0;
+    for (size_t i = 0; i < scene_var_count(); i++) {
+        if (!group) names[n++] = table[i].keyword;
+        else if (strcasecmp(table[i].group, group) == 0) names[n++] = table[i].name;
+    }
+    return taper_nearest_name(name, names, n);
+}
+
+const char *scene_nearest_key(const char *group, const char *key) { return nearest(group, key); }
+const char *scene_nearest_keyword(const char *keyword) { return nearest(NULL, keyword); }
+
 /* The library checks its settings by their names (taper_error.field); the
  * chain's and the solver's are one table, so either spec's refusal finds
  * its row (taper_sim_alloc checks the chain with the solver). */

@@ -360,6 +360,21 @@ size_t scene_load(scene *sc);
 /* Overrides one variable from the command line: "group.key=value", the
  * value in namelist syntax (taper --set).  Returns the number of errors. */
 size_t scene_set(scene *sc, const char *assignment);
+/* A value a program gives a variable (scene_set_values). */
+typedef struct scene_value {
+    enum { SCENE_VALUE_REAL, SCENE_VALUE_INTEGER, SCENE_VALUE_LOGICAL,
+           SCENE_VALUE_STRING } kind;
+    double x;               /* REAL                                         */
+    long long i;            /* INTEGER                                      */
+    int b;                  /* LOGICAL                                      */
+    const char *s;          /* STRING (a string or a choice's name)         */
+} scene_value;
+/* Sets the variable named `keyword` (its one name: scene_var_keyword_at)
+ * to n values, checked by type as a file's are (several values: a list, or
+ * a sweep of a sweepable variable), in place of its current value, as
+ * --set does.  A list of reals is not held to the file's SCENE_MAX_LIST.
+ * Returns the number of errors (recorded as diagnostics; line 0). */
+size_t scene_set_values(scene *sc, const char *keyword, const scene_value *values, size_t n);
 /* Checks every value and the relations between them (the library's
  * settings through the library's setters, each value of a sweep too), and
  * resolves scene_config.runs.  Returns the number of errors. */
@@ -465,6 +480,11 @@ const char *scene_var_keyword_at(size_t i); /* the variable's one name: the key,
 scene_type scene_var_type(size_t i);
 /* The row of a variable by its name (keyword, case-insensitive), or -1. */
 int scene_var_keyword(const char *keyword);
+/* The key of `group`, or the variable's name, nearest to an unknown one
+ * (at most two edits: taper_nearest_name), for "did you mean"; NULL if
+ * none is that near. */
+const char *scene_nearest_key(const char *group, const char *key);
+const char *scene_nearest_keyword(const char *keyword);
 int scene_var_takes_list(size_t i); /* 1: a list of values sweeps it (s, q,
                                      exponent, n_granules, rtol, ...)         */
 /* The value of variable i: a string or choice's text; an integer or a

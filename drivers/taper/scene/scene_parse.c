@@ -36,6 +36,8 @@ typedef struct parser {
     token next;             /* one token of look-ahead                       */
     int failed;
     size_t list_values;     /* values in lists of more than one value so far */
+    int typed;              /* scene_set_values: values from a program, not a
+                               file (a list is not held to the file's limit) */
 } parser;
 
 /* ---- screening ----------------------------------------------------------- */
@@ -343,9 +345,10 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
                     "&solver: s, q, exponent, n_granules, rtol, ...)", n);
         return -1;
     }
-    if (n > 1) {
+    if (n > 1 && !(p->typed && var->type == SCENE_REAL_LIST)) {
         /* The echo repeats every value: all lists together are bounded so
-         * that it fits the file limit (scene.c). */
+         * that it fits the file limit (scene.c).  A program's list of radii
+         * is held to the library's limit only. */
         if (n > SCENE_MAX_LIST - p->list_values) {
             scene_error(p->sc, line, var->group, var->name,
                         "%zu values here and %zu in other lists: a scene's lists hold at most "
@@ -523,38 +526,18 @@ out:
     return rc;
 }
 
-static size_t edit_distance(const char *a, const char *b)
-{
-    size_t la = strlen(a), lb = strlen(b), row[64];
-    if (la >= 63 || lb >= 63) return 99;
-    for (size_t j = 0; j <= lb; j++) row[j] = j;
-    for (size_t i = 1; i <= la; i++) {
-        size_t diag = row[0];
-        row[0] = i;
-        for (size_t j = 1; j <= lb; j++) {
-            size_t up = row[j];
-            size_t sub = diag + (tolower((unsigned char)a[i - 1]) != tolower((unsigned char)b[j - 1]));
-            size_t best = up + 1 < row[j - 1] + 1 ? up + 1 : row[j - 1] + 1;
-            row[j] = sub < best ? sub : best;
-            diag = up;
-        }
-    }
-    return row[lb];
-}
-
 /* "did you mean" plus the list of keys of the group. */
 static void unknown_key(parser *p, const char *group, const char *key, int line)
 {
     char *keys = NULL;
     size_t len = 0;
     FILE *fp = open_memstream(&keys, &len);
-    const char *close = NULL;
+    const char *close = scene_nearest_key(group, key);
     for (size_t i = 0; fp && i < scene_var_count(); i++) {
         const scene_var *v = scene_var_at(i);
         if (strcmp(v->group, group) != 0) continue;
         fprintf(fp, "%s%s", len ? ", " : "", v->name);
         fflush(fp);
-        if (!close && edit_distance(key, v->name) <= 2) close = v->name;
     }
     if (fp) fclose(fp);
     const char *list = keys ? keys : "?";
@@ -735,8 +718,13 @@ size_t scene_set(scene *sc, const char *assignment)
     if (!group || !key || !text || !tmp) {
         scene_error(sc, 0, NULL, NULL, "out of memory");
     } else if (vi < 0) {
-        scene_error(sc, 0, group, key, "--set %s: no such variable (taper --defaults lists them)",
-                    assignment);
+        const char *close = scene_group_index(group) >= 0 ? scene_nearest_key(group, key) : NULL;
+        if (close)
+            scene_error(sc, 0, group, key, "--set %s: unknown key: did you mean %s.%s? (taper "
+                        "--defaults lists them)", assignment, group, close);
+        else
+            scene_error(sc, 0, group, key, "--set %s: no such variable (taper --defaults lists "
+                        "them)", assignment);
     } else if (scene_parse(tmp, text, strlen(text)) != 0) {
         for (size_t i = 0; i < tmp->n_diags; i++)
             scene_error(sc, 0, tmp->diags[i].group, tmp->diags[i].key, "--set %s: %s", assignment,
@@ -764,5 +752,75 @@ out:
     free(text);
     free(key);
     free(group);
+    return sc->n_errors - before;
+}
+
+/* The values of a program (the Python package) for the variable named
+ * `keyword`: checked by type as a file's are, and put in place of the
+ * current value as --set does (line 0). */
+size_t scene_set_values(scene *sc, const char *keyword, const scene_value *values, size_t n)
+{
+    size_t before = sc->n_errors;
+    int vi = scene_var_keyword(keyword);
+    if (vi < 0) {
+        const char *close = scene_nearest_keyword(keyword);
+        if (close)
+            scene_error(sc, 0, NULL, keyword, "unknown variable: did you mean %s?", close);
+        else
+            scene_error(sc, 0, NULL, keyword, "unknown variable (taper --defaults lists them)");
+        return sc->n_errors - before;
+    }
+    if (n == 0) {
+        scene_error(sc, 0, scene_var_at((size_t)vi)->group, scene_var_at((size_t)vi)->name,
+                    "no value");
+        return sc->n_errors - before;
+    }
+    element *el = malloc(n * sizeof *el);
+    if (!el) {
+        scene_error(sc, 0, NULL, NULL, "out of memory");
+        return sc->n_errors - before;
+    }
+    /* Only the first value's text is shown in a message: a type error names
+     * it. */
+    char first[SCENE_REAL_TEXT];
+    first[0] = '\0';
+    for (size_t i = 0; i < n; i++) {
+        const scene_value *v = &values[i];
+        element e = {0};
+        switch (v->kind) {
+        case SCENE_VALUE_REAL: e.kind = E_NUMBER; e.x = v->x; break;
+        case SCENE_VALUE_INTEGER: e.kind = E_INTEGER; e.i = v->i; e.x = (double)v->i; break;
+        case SCENE_VALUE_LOGICAL: e.kind = E_LOGICAL; e.b = v->b != 0; break;
+        case SCENE_VALUE_STRING:
+            e.kind = E_STRING;
+            e.tok.kind = T_STRING;
+            e.tok.text = v->s ? v->s : "";
+            e.tok.len = strlen(e.tok.text);
+            break;
+        }
+        if (i == 0 && e.kind != E_STRING) {
+            if (e.kind == E_LOGICAL) snprintf(first, sizeof first, "%s", e.b ? ".true." : ".false.");
+            else if (e.kind == E_INTEGER) snprintf(first, sizeof first, "%lld", e.i);
+            else scene_format_real(e.x, first);
+            e.tok.kind = T_WORD;
+            e.tok.text = first;
+            e.tok.len = strlen(first);
+        }
+        el[i] = e;
+    }
+    /* Reals given to a program are finite numbers or the error of a file's
+     * "nan": the same message. */
+    for (size_t i = 0; i < n; i++)
+        if (el[i].kind == E_NUMBER && !isfinite(el[i].x)) {
+            char num[SCENE_REAL_TEXT];
+            scene_format_real(el[i].x, num);
+            scene_error(sc, 0, scene_var_at((size_t)vi)->group, scene_var_at((size_t)vi)->name,
+                        "'%s' is not a finite number", num);
+            free(el);
+            return sc->n_errors - before;
+        }
+    parser p = {.sc = sc, .typed = 1};
+    assign(&p, vi, el, n, 0);
+    free(el);
     return sc->n_errors - before;
 }
