@@ -3,6 +3,8 @@
  */
 #include "results/plot.h"
 
+#include "util/number.h"
+
 #include "results/output.h"
 #include "util/text.h"
 
@@ -29,7 +31,9 @@ static void data_block(const report *r, const report_point *p, double *buf[4], F
     /* Log-log axes: about 40 points per decade of k instead of every n-th
      * (which would leave the first decade nearly empty). */
     int geometric = fig->log_x && fig->log_y;
-    fprintf(fp, "# %s = %.17g\n", r->param_name, p->param);
+    char param[NUMBER_SIZE];
+    number_shortest(param, p->param);
+    fprintf(fp, "# %s = %s\n", r->param_name, param);
     for (size_t i = 0, kept = 0; i < last; i += geometric ? 1 : every) {
         if (geometric && i > 0 && (double)(i + 1) < 1.06 * (double)kept) continue;
         kept = i + 1;

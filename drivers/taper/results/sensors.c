@@ -4,6 +4,8 @@
  */
 #include "results/sensors.h"
 
+#include "util/number.h"
+
 #include "results/output.h"
 #include "results/plot.h"
 #include "util/text.h"
@@ -220,7 +222,11 @@ static void interval_comment(const sensors *s, FILE *fp, double every)
     char text[SCENE_REAL_TEXT];
     scene_format_real(every, text);
     fprintf(fp, "# sampled every %s (rescaled time)", text);
-    if (u) fprintf(fp, " = %.17g %s", every * unit(s, TAPER_DIM_TIME), u);
+    if (u) {
+        char num[NUMBER_SIZE];
+        number_shortest(num, every * unit(s, TAPER_DIM_TIME));
+        fprintf(fp, " = %s %s", num, u);
+    }
     fprintf(fp, "; %zu samples\n", s->n_samples);
 }
 
