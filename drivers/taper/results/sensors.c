@@ -230,6 +230,20 @@ static void interval_comment(const sensors *s, FILE *fp, double every)
     fprintf(fp, "; %zu samples\n", s->n_samples);
 }
 
+/* About 22 bytes a number: a shortest double (17 digits at most, a sign,
+ * a point, an exponent) and its tab. */
+#define BYTES_PER_NUMBER 22.0
+
+double sensors_bytes_per_sample(const sensors *s)
+{
+    double numbers = (s->series ? 7.0 * (double)s->n_granule : 0.0) +
+                     (s->wall[TAPER_LEFT] || s->wall[TAPER_RIGHT]
+                          ? 1.0 + s->wall[TAPER_LEFT] + s->wall[TAPER_RIGHT] : 0.0);
+    /* and what is kept in memory until the files are written */
+    double kept = 8.0 * (4.0 * (double)s->n_granule + 3.0);
+    return numbers * BYTES_PER_NUMBER + kept;
+}
+
 static int write_sensors(const sensors *s, const char *dir, FILE *out, char **msg)
 {
     out_file *f = out_open(dir, "sensors.tsv", msg);

@@ -259,6 +259,53 @@ static int attach_sensors(run *r, taper_solver_spec *spec)
 }
 
 /* The sim, and with it the theory, computed once by the library. */
+/* How long the run will last, before it starts: until t_end, and until
+ * the pulse has passed the chain, when the binary-collision theory says
+ * (eq. (19)); a chain it does not describe (losses, a load) by the
+ * monodisperse pulse's 1.19 time units a granule (docs/physics.md,
+ * Nesterenko's wave), with room. */
+static double duration_estimate(const run *r)
+{
+    const double *t = taper_sim_theory(r->sim, TAPER_THEORY_T);
+    size_t n = taper_chain_size(r->chain);
+    double pulse = 1.5 * (double)n;
+    for (size_t k = n; k-- > 0;)
+        if (t && isfinite(t[k])) {
+            pulse = t[k];
+            break;
+        }
+    double t_end = taper_solver_spec_t_end(NULL); /* the default, replaced below */
+    taper_solver_spec *spec = scene_solver_spec(r->cfg, NULL);
+    if (spec) t_end = taper_solver_spec_t_end(spec);
+    taper_solver_spec_free(spec);
+    return fmax(pulse, t_end);
+}
+
+/* &output max_output: a run whose samples would fill the disk is refused
+ * before it starts, with the estimate and what to change. */
+static int check_output_size(run *r)
+{
+    const double limit = r->cfg->output.max_output;
+    const double interval = scene_sample_interval(r->cfg);
+    const double duration = duration_estimate(r);
+    const double samples = floor(duration / interval) + 1.0;
+    const double bytes = samples * sensors_bytes_per_sample(r->sensors);
+    if (limit == 0.0 || bytes <= limit) return RUN_COMPLETE;
+    const int si = scene_unit_suffix(r->cfg, TAPER_DIM_TIME) != NULL;
+    const int line = scene_line_of(r->sc, "interval");
+    char where[32] = "";
+    if (line > 0) snprintf(where, sizeof where, "%d:", line);
+    char *text = text_printf(
+        "%s:%s &sensors interval: the samples would take about %.2g bytes (%.3g samples to t = "
+        "%.4g%s, the pulse's crossing by the binary-collision theory or t_end), more than "
+        "&output max_output = %g: give a longer interval or fewer sensor granules, or raise "
+        "max_output", scene_path(r->sc), where, bytes, samples,
+        si ? duration * scene_unit(r->cfg, TAPER_DIM_TIME) : duration, si ? " s" : "", limit);
+    print_scene_message(r, text);
+    free(text);
+    return RUN_INPUT;
+}
+
 static int build_sim(run *r)
 {
     taper_solver_spec *spec = scene_solver_spec(r->cfg, &r->err);
@@ -284,7 +331,7 @@ static int build_sim(run *r)
         fprintf(r->log, "%s: out of memory\n", r->label);
         return RUN_FAILED;
     }
-    return RUN_COMPLETE;
+    return r->sensors ? check_output_size(r) : RUN_COMPLETE;
 }
 
 static int prepare_dir(const run *r)
