@@ -753,26 +753,29 @@ static residence_report residence_times(taper_sim *sim)
 /* What the caller's log should know about values left NaN on purpose. */
 static void report_untimed(const taper_sim *sim, residence_report residences)
 {
-    if (sim->pulse.untimed_passes || sim->pulse.untimed_peaks)
+    const size_t passes = sim->pulse.untimed_passes, peaks = sim->pulse.untimed_peaks;
+    if (passes || peaks)
         taper_sim_log(sim, 1,
-                      "%zu pass times and %zu peaks happened before their root functions were "
-                      "armed (light granules overtaking in the precursor of a steeply tapered "
-                      "chain): written as nan, not guessed",
-                      sim->pulse.untimed_passes, sim->pulse.untimed_peaks);
+                      "%zu pass time%s and %zu peak%s happened before their root functions "
+                      "were armed (light granules overtaking in the precursor of a steeply "
+                      "tapered chain): written as nan, not guessed",
+                      passes, passes == 1 ? "" : "s", peaks, peaks == 1 ? "" : "s");
     if (residences.unresolved)
         taper_sim_log(sim, 1,
-                      "%zu residence times are below the resolution of the pass times "
+                      "%zu residence time%s below the resolution of the pass times "
                       "(%.1e t, set by CVODE's root finder): written as nan",
-                      residences.unresolved, PASS_TIME_RESOLUTION);
+                      residences.unresolved, residences.unresolved == 1 ? " is" : "s are",
+                      PASS_TIME_RESOLUTION);
     if (residences.out_of_order)
         taper_sim_log(sim, 1,
-                      "%zu granules were passed before the granule ahead of them (first: "
+                      "%zu granule%s passed before the granule ahead of %s (first: "
                       "granule %zu): the pulse is no longer a sequence of passes there "
                       "(light granules overtaken within the pulse: small granules of a "
                       "decorated or mixed chain, the precursor below n = 2, the light end of "
                       "a steep forward taper); their residence times are written as nan, "
                       "their pass times kept",
-                      residences.out_of_order, residences.first_out_of_order);
+                      residences.out_of_order, residences.out_of_order == 1 ? " was" : "s were",
+                      residences.out_of_order == 1 ? "it" : "them", residences.first_out_of_order);
 }
 
 /* Energy error beyond which the caller is told that the far end of the
