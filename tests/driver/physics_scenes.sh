@@ -159,6 +159,13 @@ grep -q 'the samples would take about .* bytes (1.27e+08 samples' huge.err ||
 grep -q 'max_output' huge.err || fail "1e8 samples: the message does not name max_output"
 [ -e run/si_huge/walls.tsv ] && fail "1e8 samples: walls.tsv written"
 
+# the space-time picture has a title and says the unit of each axis
+for d in run/damped run/mixed_si; do
+    grep -q '^set title "velocity v(k, t)' $d/spacetime.gp || fail "$d/spacetime.gp: no title"
+done
+grep -q "^set ylabel 't \[rescaled time, eq. (5)\]'" run/damped/spacetime.gp || fail "damped/spacetime.gp: time axis unit"
+grep -q "^set cblabel 'v \[m/s\]'" run/mixed_si/spacetime.gp || fail "mixed_si/spacetime.gp: velocity unit"
+
 # a mixed chain: each granule's mass from its material (PTFE 2200 kg/m^3
 # between steel 8000), sizes in metres (R = R_1 = 4.76 mm)
 awk -F '\t' 'NR == 1 || /^#/ { next }

@@ -382,9 +382,13 @@ static int write_spacetime_script(const sensors *s, const char *dir, double vmax
             "this directory) -> spacetime.png\n", taper_version());
     fputs("set terminal pngcairo size 900,700 enhanced font ',11'\n"
           "set output 'spacetime.png'\n", fp);
-    fprintf(fp, "set xlabel 'granule k'\nset ylabel 't%s%s%s'\nset cblabel 'v%s%s%s'\n",
-            ut ? " [" : "", ut ? ut : "", ut ? "]" : "", uv ? " [" : "", uv ? uv : "",
-            uv ? "]" : "");
+    /* Every axis says its unit: SI, or the rescaled units of eq. (5). */
+    fputs("set title ", fp);
+    char *title = text_printf("velocity v(k, t) of every granule: %s", dir);
+    plot_gp_string(fp, title ? title : "velocity v(k, t) of every granule");
+    free(title);
+    fprintf(fp, "\nset xlabel 'granule k'\nset ylabel 't [%s]'\nset cblabel 'v [%s]'\n",
+            ut ? ut : "rescaled time, eq. (5)", uv ? uv : "impulse velocity");
     fputs("set palette defined (-1 '#2c4f9e', 0 '#ffffff', 1 '#b2182b')\n", fp);
     fprintf(fp, "set cbrange [%.6g:%.6g]\n", -vmax, vmax);
     fputs("set autoscale xfix\nset autoscale yfix\n"
