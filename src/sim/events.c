@@ -246,7 +246,7 @@ static void record_wall(taper_sim *sim, const double *y, int end)
     size_t k, g;
     if (!wall_contact(sim, end, &k, &g)) return;
     const double force = taper_dyn_window_force(&sim->dyn, y, k);
-    if (force > sim->walls.peak_force[end]) {
+    if (isnan(sim->walls.peak_force[end]) || force > sim->walls.peak_force[end]) {
         sim->walls.peak_force[end] = force;
         sim->walls.peak_time[end] = sim->t;
     }
@@ -431,6 +431,21 @@ void taper_events_piston_stopped(taper_sim *sim)
 }
 
 int taper_events_passes_complete(const taper_sim *sim) { return sim->pulse.next_pass > sim->pass_limit; }
+
+/* The pulse always reaches a right wall (it is the end of the chain): its
+ * force has peaked and fallen once a maximum is recorded and the force is
+ * back below half its rise over the static load. */
+int taper_events_walls_settled(const taper_sim *sim)
+{
+    if (!sim->model.wall_right) return 1;
+    const double peak = sim->walls.peak_force[TAPER_RIGHT];
+    if (isnan(peak)) return 0;
+    size_t k, g;
+    if (!wall_contact(sim, TAPER_RIGHT, &k, &g)) return 1;
+    const double force = taper_dyn_window_force(&sim->dyn, taper_sim_data(sim, sim->cv.y), k);
+    const double rest = sim->model.load;
+    return force <= rest + 0.5 * (peak - rest);
+}
 
 int taper_events_complete(const taper_sim *sim)
 {

@@ -664,7 +664,7 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
 {
     double tout = sim->spec.t_max > 0.0 ? sim->spec.t_max : NO_TIME_LIMIT;
     int grace = 0, absorbed = 0;
-    while (!taper_events_complete(sim)) {
+    while (!taper_events_complete(sim) || !taper_events_walls_settled(sim)) {
         if (sim->spec.max_steps > 0 && total_counters(sim).steps >= sim->spec.max_steps)
             return stop(sim, err, STOP_MAX_STEPS, 0);
         if (!grace && taper_events_passes_complete(sim)) {
@@ -700,7 +700,19 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
                       missing, granule_of(sim, next_peak), granule_of(sim, sim->target),
                       PEAK_GRACE, sim->t);
     }
-    return continue_to_end(sim, err);
+    taper_status status = continue_to_end(sim, err);
+    /* A wall the pulse never reached has no peak: said, never 0. */
+    static const char *const sides[TAPER_N_ENDS] = {"left", "right"};
+    for (int e = 0; status == TAPER_OK && e < TAPER_N_ENDS; e++) {
+        const int wall = e == TAPER_LEFT ? sim->model.wall_left && !sim->model.piston
+                                         : sim->model.wall_right;
+        if (wall && isnan(sim->walls.peak_force[e]))
+            taper_sim_log(sim, 1,
+                          "the %s wall felt no force before the run ended at t = %.6g: its peak "
+                          "force and time are nan (give t_end to follow the pulse there)",
+                          sides[e], sim->t);
+    }
+    return status;
 }
 
 /* Smallest residence time, relative to t_pass, that the pass times resolve.

@@ -159,6 +159,21 @@ grep -q 'the samples would take about .* bytes (1.27e+08 samples' huge.err ||
 grep -q 'max_output' huge.err || fail "1e8 samples: the message does not name max_output"
 [ -e run/si_huge/walls.tsv ] && fail "1e8 samples: walls.tsv written"
 
+# a wall's peak is found without t_end: the run goes on until the wall's
+# force has peaked and fallen (the same peak as the run to t_end)
+"$TAPER" "$PHYS/steel_wall_si.nml" solver.t_end=0 -o run/wall_no_t_end > /dev/null 2>&1 ||
+    fail "steel_wall_si without t_end does not run"
+p0=$(header_value run/wall_no_t_end/granules.tsv 'wall_peak_force_right\[N\]')
+p1=$(header_value run/steel_wall_si/granules.tsv 'wall_peak_force_right\[N\]')
+[ -n "$p0" ] && [ "$p0" = "$p1" ] || fail "wall peak force without t_end '$p0', with t_end '$p1'"
+# a wall the pulse never reached has no peak: nan and a warning, never 0
+# (forward taper: granule 1 follows the lighter ones, never back to the wall)
+printf '&chain profile = %s, q = 0.2, n_granules = 20 /\n&ends left = %s /\n' "'forward_exponential'" "'wall'" > left_wall.nml
+"$TAPER" left_wall.nml -o run/left_wall > /dev/null 2> left_wall.err || fail "a left wall without t_end does not run"
+[ "$(header_value run/left_wall/granules.tsv wall_peak_force_left)" = nan ] ||
+    fail "left wall not reached: peak force $(header_value run/left_wall/granules.tsv wall_peak_force_left)"
+grep -q 'the left wall felt no force' left_wall.err || fail "left wall not reached: no warning ($(cat left_wall.err))"
+
 # the space-time picture has a title and says the unit of each axis
 for d in run/damped run/mixed_si; do
     grep -q '^set title "velocity v(k, t)' $d/spacetime.gp || fail "$d/spacetime.gp: no title"
