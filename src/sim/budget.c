@@ -31,8 +31,9 @@
  *                most as fast as the next (V_{i-1} <= V_i), without a right
  *                wall;
  *   in chain     the rest: clusters still to collide, bodies at rest,
- *                energy pressing on a wall; under a static load all of it
- *                (the load pushes the end granules back).
+ *                energy pressing on a wall; all of it while the chain is
+ *                one cluster, or under a static load (which pushes the end
+ *                granules back).
  * So two spheres that separate, the second faster, have both transmitted
  * their energy forward; a pulse reflected from a wall whose granules all
  * move back, none faster than the one before, is all reflected.  The
@@ -126,14 +127,16 @@ void taper_budget_compute(taper_sim *sim, const double *q)
         p_abs += fabs(pk);
     }
     /* V = P / M.  A static load pushes the end granules back into the
-     * chain: under it nothing leaves. */
+     * chain: under it nothing leaves; nor from one cluster, the whole chain
+     * moving together (granule 1 driving the rest before it). */
     double reflected = 0.0, transmitted = 0.0;
     size_t i = 0, j = nc;
-    if (!m->wall_left && m->load == 0.0)
+    const int apart = nc > 1 && m->load == 0.0;
+    if (!m->wall_left && apart)
         for (; i < nc && cm[i] > 0.0 && cp[i] < 0.0 &&
                (i + 1 == nc || cp[i] / cm[i] <= cp[i + 1] / cm[i + 1]); i++)
             reflected += ce[i];
-    if (!m->wall_right && m->load == 0.0)
+    if (!m->wall_right && apart)
         for (; j > i && cm[j - 1] > 0.0 && cp[j - 1] > 0.0 &&
                (j - 1 == 0 || cp[j - 2] / cm[j - 2] <= cp[j - 1] / cm[j - 1]); j--)
             transmitted += ce[j - 1];

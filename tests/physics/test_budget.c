@@ -13,13 +13,16 @@
  *  - a pulse reflected from a rigid wall: nothing transmitted through the
  *    wall, and once the granules have all separated moving back, none
  *    faster than the one before, nothing left in the chain;
- *  - under a static load the ends are pushed back: all in the chain.
+ *  - under a static load the ends are pushed back: all in the chain;
+ *  - a pulse that leaves the chain early ends the run (the stop rule of
+ *    solve.c that reads this budget).
  */
 #include "test_util.h"
 
 #include "taper.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 #define RTOL 1e-12
 
@@ -121,6 +124,45 @@ static void under_load(void **state)
     taper_chain_spec_free(cs);
 }
 
+/* A pulse that leaves the chain before it has passed every granule: the
+ * heavy granule 3 sends it back and the light granule 4 rattles between
+ * heavy ones for ever.  The run ends by itself, complete, once the energy
+ * that can still be exchanged is below rtol E(0), the passes it never saw
+ * nan, and says so. */
+static void log_message(int level, const char *message, void *user)
+{
+    if (level >= 1 && strstr(message, "the pulse has left the chain")) *(int *)user = 1;
+}
+
+static void pulse_leaves(void **state)
+{
+    (void)state;
+    taper_chain_spec *cs = taper_chain_spec_alloc(NULL);
+    const double radii[6] = {1.0, 1e-3, 1e3, 1e-3, 1e3, 1.0};
+    assert_int_equal(taper_chain_spec_set_profile(cs, TAPER_CUSTOM, NULL), TAPER_OK);
+    assert_int_equal(taper_chain_spec_set_n_granules(cs, 6, NULL), TAPER_OK);
+    assert_int_equal(taper_chain_spec_set_radii(cs, radii, 6, NULL), TAPER_OK);
+    taper_chain *chain = taper_chain_alloc(cs, NULL);
+    taper_solver_spec *ss = taper_solver_spec_alloc(NULL);
+    int said = 0;
+    taper_solver_spec_set_log(ss, log_message, &said);
+    /* a bound the run must not need (it stopped by itself at t = 72) */
+    assert_int_equal(taper_solver_spec_set_t_max(ss, 1e5, NULL), TAPER_OK);
+    taper_sim *sim = taper_sim_alloc(chain, ss, NULL);
+    taper_error err;
+    assert_int_equal(taper_sim_run(sim, &err), TAPER_OK);
+    assert_true(stat(sim, TAPER_STAT_COMPLETE) == 1.0);
+    assert_true(said);
+    const double e0 = stat(sim, TAPER_STAT_ENERGY_INITIAL);
+    assert_true(stat(sim, TAPER_STAT_ENERGY_IN_CHAIN) <= 1e-10 * e0);
+    assert_double_rel(stat(sim, TAPER_STAT_ENERGY_REFLECTED), e0, 1e-6);
+    assert_true(isnan(taper_sim_observable(sim, TAPER_T_PASS)[2]));
+    taper_sim_free(sim);
+    taper_solver_spec_free(ss);
+    taper_chain_free(chain);
+    taper_chain_spec_free(cs);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -128,6 +170,7 @@ int main(void)
         cmocka_unit_test(two_spheres_heavier),
         cmocka_unit_test(wall_reflection),
         cmocka_unit_test(under_load),
+        cmocka_unit_test(pulse_leaves),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
