@@ -891,7 +891,7 @@ static void finish(taper_sim *sim, taper_status status)
     taper_run_statistics *s = &sim->stats;
     s->cvode = total_counters(sim);
     s->granule_reached = granule_of(sim, sim->pulse.next_pass - 1); /* a granule, not a body */
-    s->t_final = taper_sim_true_time(sim, sim->t);
+    s->t_final = sim->t;
     s->complete = status == TAPER_OK;
     const taper_dyn *d = &sim->dyn;
     const double *y = sim->cv.y ? taper_sim_data(sim, sim->cv.y) : NULL;
