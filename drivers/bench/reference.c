@@ -129,7 +129,7 @@ typedef struct run {
     real *t_pass;
     unsigned char *passed;
     size_t next_pass;
-    real v_ref;
+    real v_ref, z_ref; /* v_{k+1} and z_k at the last pass */
     work s;
 } run;
 
@@ -239,13 +239,28 @@ static void grow(run *r)
     }
 }
 
+/* Granule lo leaves, BEHIND granules behind the front, when it separates
+ * from lo+1 (and is no faster than the one that left before it), or when
+ * both are at rest to REST of the pulse (the residue behind a monodisperse
+ * pulse: velocities of 1e-15, compressions of 1e-13, forces of 1e-20; a
+ * disturbance that small travels far slower than the pulse, whose speed
+ * grows with its amplitude, and never reaches it).  The gap to the last
+ * one that left is watched: closing by more than REST z_ref fails. */
+#define REST 1e-12L
+
+static int at_rest(const run *r, real v, real z, real v_next)
+{
+    return fabsl(v) <= REST * r->v_ref && fabsl(v_next) <= REST * r->v_ref && fabsl(z) <= REST * r->z_ref;
+}
+
 static int shrink(run *r)
 {
     window *w = &r->w;
     while (w->lo + BEHIND < r->next_pass && w->lo + 2 < w->hi) {
         real v = r->y[0], z = r->y[1], v_next = r->y[2];
-        if (!(z < 0.0L && v < v_next)) break;
-        if (w->has_left && w->v_left > v) break; /* the last one to leave would catch up */
+        int resting = at_rest(r, v, z, v_next);
+        if (!(z < 0.0L && v < v_next) && !resting) break;
+        if (w->has_left && w->v_left > v && !resting) break; /* the last one to leave would catch up */
         size_t d = dim(w);
         w->v_left = v;
         w->has_left = 1;
@@ -253,7 +268,7 @@ static int shrink(run *r)
         r->y[d - 3] = z; /* the new gap: x_lo - x_{lo+1} */
         w->lo++;
     }
-    if (w->has_left && r->y[dim(w) - 1] > 0.0L) {
+    if (w->has_left && r->y[dim(w) - 1] > REST * r->z_ref) {
         fprintf(stderr, "taper-reference: the gap behind granule %zu closed at t = %.6Lg\n", w->lo, r->t);
         return -1;
     }
@@ -293,6 +308,7 @@ static int integrate(run *r, real tol)
             r->t_pass[k - 1] = r->t + r->t_comp;
             real vn = vel(r, r->y, k + 1);
             if (vn > 0.0L) r->v_ref = vn;
+            if (k < r->w.hi && r->y[2 * (k - r->w.lo) + 1] > 0.0L) r->z_ref = r->y[2 * (k - r->w.lo) + 1];
             while (r->next_pass < r->c.n && r->passed[r->next_pass - 1]) r->next_pass++;
         }
         grow(r);
@@ -324,6 +340,7 @@ int taper_reference_pass_times(const taper_chain *chain, long double tol, long d
         r.y[0] = 1.0L;
         r.next_pass = 1;
         r.v_ref = 1.0L;
+        r.z_ref = 1.0L;
         status = integrate(&r, tol);
     } else {
         fprintf(stderr, "taper-reference: out of memory\n");
