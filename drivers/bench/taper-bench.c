@@ -13,7 +13,7 @@
  *   references.tsv       agreement of the two references per chain
  *   orders.tsv           observed order: slope of -log err against log steps
  *   pareto.tsv           the non-dominated (seconds, err_t_pass) points
- *   speed-ratios.tsv     time of each method to reach 1e-6 and 1e-9
+ *   speed-ratios.tsv     time of each method to reach 1e-6, 1e-8, 1e-9, 1e-10, 1e-12
  *   scaling.tsv          default settings, N = 10^2 .. --scaling-max (10^4; 10^6 for issue 5)
  *   work-precision.gp    gnuplot script -> work-precision.png
  * Methods: adams (window, the default order; "default" is the shipped
@@ -499,7 +499,7 @@ static int write_results(const study *s, const char *dir)
     fprintf(f, "chain\tmethod\torder_per_step\tpoints\n");
     for (size_t c = 0; c < s->n_chains; c++)
         for (int m = 0; m < N_METHODS; m++) {
-            if (m == M_DEFAULT) continue;
+            if (m == M_DEFAULT || !(s->methods >> m & 1u)) continue;
             int np;
             double floor_err = 1e-14; /* the long-double reference is good to ~1e-16 */
             double p = observed_order(s, (int)c, m, floor_err, &np);
@@ -536,13 +536,13 @@ static int write_results(const study *s, const char *dir)
     f = open_out(dir, "speed-ratios.tsv");
     if (!f) return -1;
     fprintf(f, "chain\ttarget\tadams_seconds\tmethod\tseconds\tratio\tnote\n");
-    static const double targets[] = {1e-6, 1e-8, 1e-9};
+    static const double targets[] = {1e-6, 1e-8, 1e-9, 1e-10, 1e-12};
     for (size_t c = 0; c < s->n_chains; c++)
-        for (size_t ti = 0; ti < 3; ti++) {
+        for (size_t ti = 0; ti < sizeof targets / sizeof *targets; ti++) {
             double be, bt;
             double ta = time_to_reach(s, (int)c, M_ADAMS, targets[ti], &be, &bt);
             for (int m = 0; m < N_METHODS; m++) {
-                if (m == M_ADAMS || m == M_DEFAULT) continue;
+                if (m == M_ADAMS || m == M_DEFAULT || !(s->methods >> m & 1u)) continue;
                 double tm = time_to_reach(s, (int)c, m, targets[ti], &be, &bt);
                 if (isnan(tm))
                     fprintf(f, "%s\t%.0e\t%.6f\t%s\t>%.6f\t>%.3g\tnot reached (best err %.2e)\n",
@@ -574,11 +574,14 @@ static int write_results(const study *s, const char *dir)
                                             "lc rgb '#7f7f7f' pt 12"};
     for (size_t c = 0; c < s->n_chains; c++) {
         fprintf(f, "set title '%s N=%zu' noenhanced\nplot ", chain_name(&s->chains[c]), s->chains[c].n);
-        for (int m = 0; m < N_METHODS; m++)
+        for (int m = 0, first = 1; m < N_METHODS; m++) {
+            if (!(s->methods >> m & 1u)) continue; /* not run (--methods) */
             fprintf(f, "%s'work-precision.tsv' using (strcol(1) eq '%s' && strcol(2) eq '%s' && $16 == 1 ? "
                        "$7 : NaN):4 with linespoints %s title '%s'",
-                    m ? ", \\\n     " : "", chain_name(&s->chains[c]), method_names[m], styles[m],
+                    first ? "" : ", \\\n     ", chain_name(&s->chains[c]), method_names[m], styles[m],
                     method_names[m]);
+            first = 0;
+        }
         fprintf(f, "\n");
     }
     fprintf(f, "unset multiplot\n");
