@@ -21,7 +21,9 @@
  * adams-q12, bdf-band (banded analytic Jacobian, whole chain), rk8pd, verlet,
  * and ARKODE ERKStep on the whole chain with ARKODE's root finder:
  * erk-verner6 (ARKODE_VERNER_8_5_6, order 6(5)), erk-fehlberg8
- * (ARKODE_FEHLBERG_13_7_8, order 8(7)), erk-dp5 (ARKODE_DORMAND_PRINCE_7_4_5).
+ * (ARKODE_FEHLBERG_13_7_8, order 8(7)), erk-dp5 (ARKODE_DORMAND_PRINCE_7_4_5);
+ * rk8-window: rk8pd inside an active window, max-norm control with taper's
+ * scaled tolerances (peers/peer_rk8_window.c).
  * Wall times are medians of R repetitions (default 3).
  */
 #include "peers/peers.h"
@@ -63,10 +65,10 @@ static const chain_def quick_chains[] = {
 static const char *chain_name(const chain_def *c) { return taper_profile_name(c->profile); }
 
 enum { M_ADAMS, M_DEFAULT, M_ADAMS_NOWIN, M_ADAMS_Q4, M_ADAMS_Q12, M_BDF, M_RK8PD, M_VERLET,
-       M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, N_METHODS };
+       M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, M_RK8_WINDOW, N_METHODS };
 static const char *method_names[N_METHODS] = {"adams", "default", "adams-nowin", "adams-q4",
                                               "adams-q12", "bdf-band", "rk8pd", "verlet",
-                                              "erk-verner6", "erk-fehlberg8", "erk-dp5"};
+                                              "erk-verner6", "erk-fehlberg8", "erk-dp5", "rk8-window"};
 
 static int is_erk(int m) { return m == M_ERK_VERNER6 || m == M_ERK_FEHLBERG8 || m == M_ERK_DP5; }
 
@@ -147,10 +149,11 @@ static taper_status run_once(const taper_chain *chain, int m, double tol, long m
     if (!out->t_pass || !out->v_peak) return TAPER_ENOMEM;
     taper_error err;
     double t0 = wall_seconds();
-    if (m == M_RK8PD || m == M_VERLET || is_erk(m)) {
+    if (m == M_RK8PD || m == M_VERLET || is_erk(m) || m == M_RK8_WINDOW) {
         taper_peer_result r;
         taper_status status;
         if (m == M_RK8PD) status = taper_peer_rk8pd(chain, tol, tol * 1e-3, max_steps, &r, &err);
+        else if (m == M_RK8_WINDOW) status = taper_peer_rk8_window(chain, tol, tol * 1e-3, max_steps, &r, &err);
         else if (m == M_VERLET) status = taper_peer_verlet(chain, tol, max_steps, &r, &err);
         else {
             taper_peer_erk_table table = m == M_ERK_VERNER6   ? TAPER_PEER_ERK_VERNER6
@@ -307,7 +310,7 @@ static size_t sweep(int m, int quick, const taper_chain *chain, double *tol)
      * ARKODE ERK (whole chain, orders 5-8): 1e-11 and below take 10^5-10^6
      * whole-chain steps on N = 1000, so its sweep ends at 1e-11, as the
      * whole-chain CVODE runs do. */
-    int tight = m == M_ADAMS || m == M_ADAMS_Q4 || m == M_ADAMS_Q12 || m == M_RK8PD;
+    int tight = m == M_ADAMS || m == M_ADAMS_Q4 || m == M_ADAMS_Q12 || m == M_RK8PD || m == M_RK8_WINDOW;
     double lo = m == M_BDF ? 1e-11 : tight ? 1e-14 : 1e-11;
     double hi = m == M_BDF ? 1e-4 : 1e-5;
     if (m == M_BDF && !quick) lo = 1e-10;
@@ -571,7 +574,7 @@ static int write_results(const study *s, const char *dir)
                                             "lc rgb '#8c564b' pt 11", "lc rgb '#2ca02c' pt 13",
                                             "lc rgb '#ff7f0e' pt 4", "lc rgb '#d62728' pt 6",
                                             "lc rgb '#e377c2' pt 8", "lc rgb '#bcbd22' pt 10",
-                                            "lc rgb '#7f7f7f' pt 12"};
+                                            "lc rgb '#7f7f7f' pt 12", "lc rgb '#ff7f0e' pt 5 dt 2"};
     for (size_t c = 0; c < s->n_chains; c++) {
         fprintf(f, "set title '%s N=%zu' noenhanced\nplot ", chain_name(&s->chains[c]), s->chains[c].n);
         for (int m = 0, first = 1; m < N_METHODS; m++) {
