@@ -367,6 +367,7 @@ void taper_sim_free(taper_sim *sim)
     if (cv->linear) SUNLinSolFree(cv->linear);
     if (cv->band) SUNMatDestroy(cv->band);
     if (cv->y) N_VDestroy(cv->y);
+    if (cv->at_root) N_VDestroy(cv->at_root);
     taper_window_free(cv->window);
     taper_sundials_context_free(&cv->ctx);
     free(cv->message);
