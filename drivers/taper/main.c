@@ -141,7 +141,10 @@ static int one_scene(const options *o, scene *sc)
         scene_free(sc);
         return RUN_INPUT;
     }
-    sweep_set_part(o->part, o->parts);
+    sweep_options sweep_opts = {.part = o->part, .parts = o->parts};
+#ifdef TAPER_MPI
+    sweep_opts.remote = mpi_remote(); /* NULL but on rank 0 of several */
+#endif
     int rc;
     if (o->get) {
         rc = scene_print_value(sc, o->get, stdout) == 0 ? RUN_COMPLETE : RUN_INPUT;
@@ -154,8 +157,10 @@ static int one_scene(const options *o, scene *sc)
         /* The echo is the record of what ran: without it, nothing runs. */
         if (check_stdout() != 0)
             rc = RUN_FAILED;
+        else if (scene_cfg(sc)->runs.swept)
+            rc = sweep_run(sc, &sweep_opts);
         else
-            rc = scene_cfg(sc)->runs.swept ? sweep_run(sc) : run_scene(sc);
+            rc = run_scene(sc);
     }
     scene_free(sc);
     return rc;

@@ -9,20 +9,26 @@
  *   worker -> 0  TAG_BYE      all its threads have stopped: done with this
  *                             scene (every rank reads the scenes of the
  *                             command line in turn, one goodbye each)
- * Rank 0 serves these from its main thread without blocking (sweep.c polls
- * it every millisecond) while its own threads compute runs; it hands runs
- * out in the order of sweep_next, the dearest first, so a slow run starts
- * early wherever a thread is free.  A worker's threads share its MPI calls
- * under a mutex (MPI_THREAD_SERIALIZED): a request and its answer are one
- * locked exchange.  Results reach rank 0 as files in the shared output
- * directory (granules.tsv, scene.hash) and as the text the run printed; a
- * rank that dies loses its runs in progress, which the same command
- * redoes (resume).
+ *
+ * Rank 0 serves these on a thread of its own (sweep_remote.serve), the
+ * only one of rank 0 to call MPI while a sweep runs, while its other
+ * threads compute runs; it hands runs out in the order of sweep_next, the
+ * dearest first, so a slow run starts early wherever a thread is free.  A
+ * worker's threads share its MPI calls under a mutex
+ * (MPI_THREAD_SERIALIZED): a request and its answer are one locked
+ * exchange.
+ *
+ * Waiting: the server looks for messages every millisecond.
+ *
+ * Results reach rank 0 as files in the shared output directory
+ * (granules.tsv, scene.hash) and as the text the run printed; a rank that
+ * dies loses its runs in progress, which the same command redoes (resume).
  */
 #include "run/mpi.h"
 
 #include "run/run.h"
 #include "run/sweep.h"
+#include "run/sweep_resume.h"
 
 #include <mpi.h>
 #include <pthread.h>
@@ -30,13 +36,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 enum { TAG_REQUEST = 1, TAG_RUN = 2, TAG_RESULT = 3, TAG_BYE = 4 };
+enum { MAX_THREADS = 256 };
 
-static int rank, size = 1, active, finished;
+static int rank, size = 1, active, served;
+static int serialized;   /* MPI_THREAD_SERIALIZED or better: threads may call MPI */
 static unsigned threads_per_rank = 1;
-static int byes; /* rank 0: workers that said goodbye to this scene */
+static int byes;         /* rank 0: workers that said goodbye to this scene */
 
 /* Launched by an MPI launcher: Open MPI, MPICH/Hydra, PMIx, Slurm's PMI. */
 static int launched(void)
@@ -58,26 +67,28 @@ static void send_run(int dest, long long i)
     MPI_Send(&v, 1, MPI_INT64_T, dest, TAG_RUN, MPI_COMM_WORLD);
 }
 
+enum { RESULT_HEAD = 8 + 3 * 4 };
+
 /* Unpacks a result message into an outcome (texts malloc'd). */
 static long long unpack(const unsigned char *buf, int len, run_outcome *o)
 {
     int64_t i;
     int32_t rc, n_out, n_log;
-    const size_t head = sizeof i + 3 * sizeof rc;
     memset(o, 0, sizeof *o);
-    if (len < (int)head) return -1;
+    if (len < RESULT_HEAD) return -1;
     memcpy(&i, buf, sizeof i);
     memcpy(&rc, buf + 8, sizeof rc);
     memcpy(&n_out, buf + 12, sizeof n_out);
     memcpy(&n_log, buf + 16, sizeof n_log);
-    if (n_out < 0 || n_log < 0 || (size_t)len != head + (size_t)n_out + (size_t)n_log) return -1;
+    if (n_out < 0 || n_log < 0 || (size_t)len != RESULT_HEAD + (size_t)n_out + (size_t)n_log)
+        return -1;
     o->rc = rc;
     if (n_out && (o->out = malloc((size_t)n_out + 1))) {
-        memcpy(o->out, buf + head, (size_t)n_out);
+        memcpy(o->out, buf + RESULT_HEAD, (size_t)n_out);
         o->out[n_out] = '\0';
     }
     if (n_log && (o->log = malloc((size_t)n_log + 1))) {
-        memcpy(o->log, buf + head + n_out, (size_t)n_log);
+        memcpy(o->log, buf + RESULT_HEAD + n_out, (size_t)n_log);
         o->log[n_log] = '\0';
     }
     return i;
@@ -107,32 +118,36 @@ static void handle(sweep *sw, const MPI_Status *st)
     free(buf);
 }
 
+/* Hands out runs and takes results until every worker has said goodbye
+ * to this scene (sw NULL: every request is answered "stop"). */
 static void serve(sweep *sw, void *ctx)
 {
     (void)ctx;
-    for (;;) {
+    served = 1;
+    while (byes < size - 1) {
         int flag = 0;
         MPI_Status st;
         MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
-        if (!flag) return;
-        handle(sw, &st);
+        if (flag) {
+            handle(sw, &st);
+        } else {
+            struct timespec ms = {0, 1000000L};
+            nanosleep(&ms, NULL);
+        }
     }
 }
 
-/* Nothing more to hand out: every request is answered "stop" until every
- * worker has said goodbye. */
-static void finish(sweep *sw, void *ctx)
+static sweep_remote remote = {.serve = serve};
+
+const sweep_remote *mpi_remote(void) { return active && size > 1 && rank == 0 ? &remote : NULL; }
+
+void mpi_scene_end(void)
 {
-    (void)ctx;
-    finished = 1;
-    while (byes < size - 1) {
-        MPI_Status st;
-        MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
-        handle(sw, &st);
-    }
+    if (!active || rank != 0 || size < 2) return;
+    if (!served) serve(NULL, NULL); /* not a sweep: the workers' goodbyes */
+    served = 0;
+    byes = 0;
 }
-
-static sweep_remote remote = {.serve = serve, .finish = finish};
 
 /* ---- the other ranks ------------------------------------------------------------ */
 
@@ -146,15 +161,15 @@ static void send_result(worker_ctx *w, size_t i, const run_outcome *o)
     int32_t rc = o->rc, n_out = o->out ? (int32_t)strlen(o->out) : 0,
             n_log = o->log ? (int32_t)strlen(o->log) : 0;
     int64_t idx = (int64_t)i;
-    size_t len = sizeof idx + 3 * sizeof rc + (size_t)n_out + (size_t)n_log;
+    size_t len = RESULT_HEAD + (size_t)n_out + (size_t)n_log;
     unsigned char *buf = malloc(len);
     if (!buf) MPI_Abort(MPI_COMM_WORLD, RUN_FAILED);
     memcpy(buf, &idx, sizeof idx);
     memcpy(buf + 8, &rc, sizeof rc);
     memcpy(buf + 12, &n_out, sizeof n_out);
     memcpy(buf + 16, &n_log, sizeof n_log);
-    if (n_out) memcpy(buf + 20, o->out, (size_t)n_out);
-    if (n_log) memcpy(buf + 20 + n_out, o->log, (size_t)n_log);
+    if (n_out) memcpy(buf + RESULT_HEAD, o->out, (size_t)n_out);
+    if (n_log) memcpy(buf + RESULT_HEAD + n_out, o->log, (size_t)n_log);
     pthread_mutex_lock(&w->lock);
     MPI_Send(buf, (int)len, MPI_BYTE, 0, TAG_RESULT, MPI_COMM_WORLD);
     pthread_mutex_unlock(&w->lock);
@@ -166,17 +181,17 @@ static void *worker_thread(void *arg)
     worker_ctx *w = arg;
     for (;;) {
         int64_t i = -1;
-        char none = 0;
         pthread_mutex_lock(&w->lock);
-        MPI_Send(&none, 0, MPI_BYTE, 0, TAG_REQUEST, MPI_COMM_WORLD);
+        MPI_Send(NULL, 0, MPI_BYTE, 0, TAG_REQUEST, MPI_COMM_WORLD);
         MPI_Recv(&i, 1, MPI_INT64_T, 0, TAG_RUN, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         pthread_mutex_unlock(&w->lock);
-        if (i < 0) return NULL;
+        if (i < 0) break;
         run_outcome o;
         sweep_compute(w->sw, (size_t)i, &o);
         send_result(w, (size_t)i, &o);
         run_outcome_free(&o);
     }
+    return NULL;
 }
 
 int mpi_worker(const scene *sc)
@@ -187,10 +202,11 @@ int mpi_worker(const scene *sc)
         if (!w.sw) MPI_Abort(MPI_COMM_WORLD, RUN_FAILED);
         pthread_mutex_init(&w.lock, NULL);
         long long t = scene_cfg(sc)->output.threads;
-        unsigned n = t > 0 ? (unsigned)(t < 256 ? t : 256) : threads_per_rank;
-        pthread_t tid[256];
+        unsigned n = t > 0 ? (unsigned)(t < MAX_THREADS ? t : MAX_THREADS) : threads_per_rank;
+        if (!serialized) n = 1; /* only the main thread may call MPI */
+        pthread_t tid[MAX_THREADS];
         unsigned started = 0;
-        for (; started < n; started++)
+        for (; n > 1 && started < n; started++)
             if (pthread_create(&tid[started], NULL, worker_thread, &w) != 0) break;
         if (started == 0) worker_thread(&w);
         for (unsigned k = 0; k < started; k++) pthread_join(tid[k], NULL);
@@ -199,8 +215,7 @@ int mpi_worker(const scene *sc)
     } else if (!sc) {
         rc = RUN_INPUT;
     }
-    char none = 0;
-    MPI_Send(&none, 0, MPI_BYTE, 0, TAG_BYE, MPI_COMM_WORLD);
+    MPI_Send(NULL, 0, MPI_BYTE, 0, TAG_BYE, MPI_COMM_WORLD);
     return rc;
 }
 
@@ -214,11 +229,10 @@ int mpi_start(int *argc, char ***argv)
     active = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
-    if (provided < MPI_THREAD_SERIALIZED && size > 1) {
-        if (rank == 0)
-            fprintf(stderr, "taper: this MPI cannot serve threads (MPI_THREAD_SERIALIZED): "
-                    "one thread per rank\n");
-    }
+    serialized = provided >= MPI_THREAD_SERIALIZED;
+    if (!serialized && size > 1 && rank == 0)
+        fprintf(stderr, "taper: this MPI cannot serve threads (MPI_THREAD_SERIALIZED): "
+                "one thread per rank\n");
     /* &output threads = 0: the cores of the node shared by its ranks. */
     MPI_Comm node;
     int local = 1;
@@ -229,12 +243,10 @@ int mpi_start(int *argc, char ***argv)
     }
     long cpus = sysconf(_SC_NPROCESSORS_ONLN);
     threads_per_rank = cpus > local ? (unsigned)(cpus / local) : 1u;
-    if (provided < MPI_THREAD_SERIALIZED) threads_per_rank = 1;
-    if (size > 1 && rank == 0) {
-        remote.ranks = (unsigned)size;
-        remote.threads = threads_per_rank;
-        sweep_set_remote(&remote);
-    }
+    if (!serialized) threads_per_rank = 1;
+    remote.ranks = (unsigned)size;
+    remote.threads = threads_per_rank;
+    remote.main_thread = !serialized;
     if (rank > 0) {
         /* Rank 0 speaks for the sweep. */
         if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)) {
@@ -244,18 +256,9 @@ int mpi_start(int *argc, char ***argv)
     return rank;
 }
 
-void mpi_scene_end(void)
-{
-    if (!active || rank != 0 || size < 2) return;
-    if (!finished) finish(NULL, NULL); /* not a sweep: the workers' goodbyes */
-    finished = 0;
-    byes = 0;
-}
-
 int mpi_stop(int rc)
 {
     if (!active) return rc;
-    sweep_set_remote(NULL);
     MPI_Finalize();
     return rc;
 }

@@ -21,6 +21,10 @@
 int mpi_start(int *argc, char ***argv);
 /* This rank (0 without MPI). */
 int mpi_rank(void);
+/* Rank 0 of several: how a sweep serves the other ranks (sweep_run's
+ * options).  NULL on the other ranks and without MPI. */
+struct sweep_remote;
+const struct sweep_remote *mpi_remote(void);
 /* The work of a rank other than 0 on one scene: computes the runs rank 0
  * hands out, until it says stop, then says goodbye.  sc NULL (the scene
  * did not load) or a scene that is not a sweep: nothing to do but that.
