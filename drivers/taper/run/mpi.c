@@ -18,7 +18,16 @@
  * (MPI_THREAD_SERIALIZED): a request and its answer are one locked
  * exchange.
  *
- * Waiting: the server looks for messages every millisecond.
+ * Waiting: MPI has no call that sleeps until a message comes (Open MPI's
+ * blocking calls spin), so each worker rings rank 0's bell (run/bell.h)
+ * before each message it sends, and rank 0's server sleeps in poll() until
+ * one rings.  Rank 0 counts the rings and the messages of each rank: a
+ * message rung for but not yet arrived is waited for in short naps.
+ * Workers without a bell (no TCP route to rank 0) are polled every
+ * millisecond instead; all of them with a bell, rank 0 still looks once a
+ * second, a safety net that costs nothing.  The other way, rank 0 rings
+ * after each answer, and a worker waits for its answer, and at the end for
+ * rank 0 to be done, asleep too. 
  *
  * Results reach rank 0 as files in the shared output directory
  * (granules.tsv, scene.hash) and as the text the run printed; a rank that
@@ -26,6 +35,7 @@
  */
 #include "run/mpi.h"
 
+#include "run/bell.h"
 #include "run/run.h"
 #include "run/sweep.h"
 #include "run/sweep_resume.h"
@@ -46,6 +56,12 @@ static int rank, size = 1, active, served;
 static int serialized;   /* MPI_THREAD_SERIALIZED or better: threads may call MPI */
 static unsigned threads_per_rank = 1;
 static int byes;         /* rank 0: workers that said goodbye to this scene */
+
+/* The bells: rank 0 holds bell[r] for each worker r (-1: none), rung[r]
+ * its rings, got[r] the messages it sent; a worker holds bell[0]. */
+static int *bell;
+static unsigned long *rung, *got;
+static int bells;        /* rank 0: workers with a bell */
 
 /* Launched by an MPI launcher: Open MPI, MPICH/Hydra, PMIx, Slurm's PMI. */
 static int launched(void)
@@ -102,9 +118,11 @@ static void handle(sweep *sw, const MPI_Status *st)
     unsigned char *buf = malloc(len > 0 ? (size_t)len : 1);
     if (!buf) MPI_Abort(MPI_COMM_WORLD, RUN_FAILED);
     MPI_Recv(buf, len, MPI_BYTE, st->MPI_SOURCE, st->MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    got[st->MPI_SOURCE]++;
     if (st->MPI_TAG == TAG_REQUEST) {
         size_t i = sw ? sweep_next(sw) : SIZE_MAX;
         send_run(st->MPI_SOURCE, i == SIZE_MAX ? -1 : (long long)i);
+        bell_ring(bell[st->MPI_SOURCE], BELL_MESSAGE);
     } else if (st->MPI_TAG == TAG_RESULT) {
         run_outcome o;
         long long i = unpack(buf, len, &o);
@@ -118,6 +136,34 @@ static void handle(sweep *sw, const MPI_Status *st)
     free(buf);
 }
 
+/* Every message that has come, handled.  1 if one was. */
+static int drain(sweep *sw)
+{
+    int any = 0;
+    for (;;) {
+        int flag = 0;
+        MPI_Status st;
+        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+        if (!flag) return any;
+        handle(sw, &st);
+        any = 1;
+    }
+}
+
+/* A worker has rung for a message that has not come yet. */
+static int owed(void)
+{
+    for (int r = 1; r < size; r++)
+        if (bell[r] >= 0 && rung[r] > got[r]) return 1;
+    return 0;
+}
+
+static void nap(long ns)
+{
+    struct timespec t = {0, ns};
+    nanosleep(&t, NULL);
+}
+
 /* Hands out runs and takes results until every worker has said goodbye
  * to this scene (sw NULL: every request is answered "stop"). */
 static void serve(sweep *sw, void *ctx)
@@ -125,14 +171,14 @@ static void serve(sweep *sw, void *ctx)
     (void)ctx;
     served = 1;
     while (byes < size - 1) {
-        int flag = 0;
-        MPI_Status st;
-        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
-        if (flag) {
-            handle(sw, &st);
+        if (drain(sw)) continue;
+        if (owed()) {
+            nap(20000); /* on its way: a message follows its ring at once */
         } else {
-            struct timespec ms = {0, 1000000L};
-            nanosleep(&ms, NULL);
+            /* Some workers without a bell: polled every millisecond. */
+            bell_wait(bell, size, bells == size - 1 ? 1000 : 1, rung);
+            bells = 0;
+            for (int r = 1; r < size; r++) bells += bell[r] >= 0;
         }
     }
 }
@@ -156,6 +202,42 @@ typedef struct worker_ctx {
     pthread_mutex_t lock; /* one MPI exchange at a time */
 } worker_ctx;
 
+/* Rings rank 0's bell, then sends (under the worker's lock). */
+static void send_to_0(const void *buf, int len, int tag)
+{
+    bell_ring(bell[0], BELL_MESSAGE);
+    MPI_Send(buf, len, MPI_BYTE, 0, tag, MPI_COMM_WORLD);
+}
+
+static void drop_bell(void)
+{
+    close(bell[0]);
+    bell[0] = -1;
+}
+
+/* Rank 0's answer to this worker's request: asleep until rank 0 rings for
+ * it (once per answer, after sending it), then the answer, which follows
+ * at once.  Rank 0 may be busy for long (preparing the output directory,
+ * writing sweep.tsv before the next scene); a blocking MPI_Recv would spin
+ * all that time. */
+static int64_t answer(void)
+{
+    while (bell[0] >= 0) {
+        int ring = bell_await(bell[0], 1000);
+        if (ring == BELL_MESSAGE) break;
+        if (ring < 0) {
+            drop_bell();
+            break;
+        }
+        int flag = 0; /* a second without a ring: look all the same */
+        MPI_Iprobe(0, TAG_RUN, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+        if (flag) break;
+    }
+    int64_t i = -1;
+    MPI_Recv(&i, 1, MPI_INT64_T, 0, TAG_RUN, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    return i;
+}
+
 static void send_result(worker_ctx *w, size_t i, const run_outcome *o)
 {
     int32_t rc = o->rc, n_out = o->out ? (int32_t)strlen(o->out) : 0,
@@ -171,7 +253,7 @@ static void send_result(worker_ctx *w, size_t i, const run_outcome *o)
     if (n_out) memcpy(buf + RESULT_HEAD, o->out, (size_t)n_out);
     if (n_log) memcpy(buf + RESULT_HEAD + n_out, o->log, (size_t)n_log);
     pthread_mutex_lock(&w->lock);
-    MPI_Send(buf, (int)len, MPI_BYTE, 0, TAG_RESULT, MPI_COMM_WORLD);
+    send_to_0(buf, (int)len, TAG_RESULT);
     pthread_mutex_unlock(&w->lock);
     free(buf);
 }
@@ -180,10 +262,9 @@ static void *worker_thread(void *arg)
 {
     worker_ctx *w = arg;
     for (;;) {
-        int64_t i = -1;
         pthread_mutex_lock(&w->lock);
-        MPI_Send(NULL, 0, MPI_BYTE, 0, TAG_REQUEST, MPI_COMM_WORLD);
-        MPI_Recv(&i, 1, MPI_INT64_T, 0, TAG_RUN, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        send_to_0(NULL, 0, TAG_REQUEST);
+        int64_t i = answer();
         pthread_mutex_unlock(&w->lock);
         if (i < 0) break;
         run_outcome o;
@@ -215,11 +296,35 @@ int mpi_worker(const scene *sc)
     } else if (!sc) {
         rc = RUN_INPUT;
     }
-    MPI_Send(NULL, 0, MPI_BYTE, 0, TAG_BYE, MPI_COMM_WORLD);
+    send_to_0(NULL, 0, TAG_BYE);
     return rc;
 }
 
 /* ---- start and stop --------------------------------------------------------------- */
+
+/* The bells, set up once for the whole command line: rank 0 listens and
+ * broadcasts where, the workers connect; those that cannot are polled. */
+static void set_up_bells(void)
+{
+    bell = malloc((size_t)size * sizeof *bell);
+    rung = calloc((size_t)size, sizeof *rung);
+    got = calloc((size_t)size, sizeof *got);
+    if (!bell || !rung || !got) MPI_Abort(MPI_COMM_WORLD, RUN_FAILED);
+    for (int r = 0; r < size; r++) bell[r] = -1;
+    bell_address a;
+    int listener = -1;
+    if (rank == 0) listener = bell_listen(&a);
+    int ok = listener >= 0;
+    MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!ok) return;
+    MPI_Bcast(&a, (int)sizeof a, MPI_BYTE, 0, MPI_COMM_WORLD);
+    /* The workers wait for rank 0's answer longer than rank 0 accepts: a
+     * worker answered is one that rings. */
+    if (rank == 0)
+        bells = bell_accept(listener, &a, size, 5.0, bell);
+    else
+        bell[0] = bell_connect(&a, rank, 6.0);
+}
 
 int mpi_start(int *argc, char ***argv)
 {
@@ -247,6 +352,7 @@ int mpi_start(int *argc, char ***argv)
     remote.ranks = (unsigned)size;
     remote.threads = threads_per_rank;
     remote.main_thread = !serialized;
+    if (size > 1) set_up_bells();
     if (rank > 0) {
         /* Rank 0 speaks for the sweep. */
         if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)) {
@@ -259,6 +365,15 @@ int mpi_start(int *argc, char ***argv)
 int mpi_stop(int rc)
 {
     if (!active) return rc;
+    /* MPI_Finalize waits for every rank, polling (Open MPI: 10 000 times a
+     * second): the workers wait asleep for rank 0 to be done instead. */
+    if (rank == 0)
+        for (int r = 1; bell && r < size; r++) bell_ring(bell[r], BELL_FAREWELL);
+    else
+        while (bell && bell[0] >= 0) {
+            int ring = bell_await(bell[0], -1);
+            if (ring == BELL_FAREWELL || ring < 0) break;
+        }
     MPI_Finalize();
     return rc;
 }
