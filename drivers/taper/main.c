@@ -122,7 +122,7 @@ static int run_one(const options *o, const char *path)
     if (mpi_rank() > 0) { /* the runs rank 0 hands out, nothing printed */
         int worker_rc = mpi_worker(o->get ? NULL : sc);
         scene_free(sc);
-        return sc ? RUN_COMPLETE : worker_rc;
+        return sc ? worker_rc : RUN_INPUT;
     }
 #endif
     int rc = one_scene(o, sc);
@@ -170,7 +170,15 @@ static int run(const options *o)
 {
     run_install_signals();
     int rc = RUN_COMPLETE;
-    for (size_t i = 0; i < o->n_paths && !run_interrupted(); i++) {
+    for (size_t i = 0; i < o->n_paths; i++) {
+        if (run_interrupted()) { /* the scenes after it are not started */
+#ifdef TAPER_MPI
+            mpi_scene_skip(); /* but walked in step with the other ranks */
+            continue;
+#else
+            break;
+#endif
+        }
         rc = run_worst(rc, run_one(o, o->paths[i]));
         if (check_stdout() != 0) rc = run_worst(rc, RUN_FAILED);
     }

@@ -4,11 +4,15 @@
  * Protocol (MPI_COMM_WORLD, rank 0 the master):
  *   worker -> 0  TAG_REQUEST  a thread of the worker is idle
  *   0 -> worker  TAG_RUN      int64: the run to compute, or -1: stop
- *   worker -> 0  TAG_RESULT   int64 run, int32 status, int32 + int32 text
- *                             lengths, then the run's stdout and stderr text
- *   worker -> 0  TAG_BYE      all its threads have stopped: done with this
- *                             scene (every rank reads the scenes of the
- *                             command line in turn, one goodbye each)
+ *   worker -> 0  TAG_RESULT   int64 run, int32 status, int32 signal, int32
+ *                             + int32 text lengths, then the run's stdout
+ *                             and stderr text
+ *   worker -> 0  TAG_BYE      int32 signal: all its threads have stopped,
+ *                             done with this scene (every rank walks the
+ *                             scenes of the command line in step, one
+ *                             goodbye each, interrupted or not)
+ * `signal` is the stop signal the worker received (run_interrupted), or 0:
+ * a signal to any rank stops the whole sweep, as it stops a serial one.
  *
  * Rank 0 serves these on a thread of its own (sweep_remote.serve), the
  * only one of rank 0 to call MPI while a sweep runs, while its other
@@ -83,19 +87,22 @@ static void send_run(int dest, long long i)
     MPI_Send(&v, 1, MPI_INT64_T, dest, TAG_RUN, MPI_COMM_WORLD);
 }
 
-enum { RESULT_HEAD = 8 + 3 * 4 };
+enum { RESULT_HEAD = 8 + 4 * 4 };
 
-/* Unpacks a result message into an outcome (texts malloc'd). */
-static long long unpack(const unsigned char *buf, int len, run_outcome *o)
+/* Unpacks a result message into an outcome (texts malloc'd) and the
+ * worker's signal. */
+static long long unpack(const unsigned char *buf, int len, run_outcome *o, int32_t *sig)
 {
     int64_t i;
     int32_t rc, n_out, n_log;
     memset(o, 0, sizeof *o);
+    *sig = 0;
     if (len < RESULT_HEAD) return -1;
     memcpy(&i, buf, sizeof i);
     memcpy(&rc, buf + 8, sizeof rc);
-    memcpy(&n_out, buf + 12, sizeof n_out);
-    memcpy(&n_log, buf + 16, sizeof n_log);
+    memcpy(sig, buf + 12, sizeof *sig);
+    memcpy(&n_out, buf + 16, sizeof n_out);
+    memcpy(&n_log, buf + 20, sizeof n_log);
     if (n_out < 0 || n_log < 0 || (size_t)len != RESULT_HEAD + (size_t)n_out + (size_t)n_log)
         return -1;
     o->rc = rc;
@@ -119,20 +126,23 @@ static void handle(sweep *sw, const MPI_Status *st)
     if (!buf) MPI_Abort(MPI_COMM_WORLD, RUN_FAILED);
     MPI_Recv(buf, len, MPI_BYTE, st->MPI_SOURCE, st->MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     got[st->MPI_SOURCE]++;
+    int32_t sig = 0;
     if (st->MPI_TAG == TAG_REQUEST) {
         size_t i = sw ? sweep_next(sw) : SIZE_MAX;
         send_run(st->MPI_SOURCE, i == SIZE_MAX ? -1 : (long long)i);
         bell_ring(bell[st->MPI_SOURCE], BELL_MESSAGE);
     } else if (st->MPI_TAG == TAG_RESULT) {
         run_outcome o;
-        long long i = unpack(buf, len, &o);
+        long long i = unpack(buf, len, &o, &sig);
         if (sw && i >= 0 && (size_t)i < sweep_size(sw))
             sweep_done(sw, (size_t)i, &o);
         else
             run_outcome_free(&o);
     } else if (st->MPI_TAG == TAG_BYE) {
+        if (len == (int)sizeof sig) memcpy(&sig, buf, sizeof sig);
         byes++;
     }
+    if (sig > 0) run_interrupt(sig, st->MPI_SOURCE);
     free(buf);
 }
 
@@ -190,7 +200,7 @@ const sweep_remote *mpi_remote(void) { return active && size > 1 && rank == 0 ? 
 void mpi_scene_end(void)
 {
     if (!active || rank != 0 || size < 2) return;
-    if (!served) serve(NULL, NULL); /* not a sweep: the workers' goodbyes */
+    if (!served) serve(NULL, NULL); /* not a sweep, or skipped: the workers' goodbyes */
     served = 0;
     byes = 0;
 }
@@ -240,7 +250,7 @@ static int64_t answer(void)
 
 static void send_result(worker_ctx *w, size_t i, const run_outcome *o)
 {
-    int32_t rc = o->rc, n_out = o->out ? (int32_t)strlen(o->out) : 0,
+    int32_t rc = o->rc, sig = run_interrupted(), n_out = o->out ? (int32_t)strlen(o->out) : 0,
             n_log = o->log ? (int32_t)strlen(o->log) : 0;
     int64_t idx = (int64_t)i;
     size_t len = RESULT_HEAD + (size_t)n_out + (size_t)n_log;
@@ -248,8 +258,9 @@ static void send_result(worker_ctx *w, size_t i, const run_outcome *o)
     if (!buf) MPI_Abort(MPI_COMM_WORLD, RUN_FAILED);
     memcpy(buf, &idx, sizeof idx);
     memcpy(buf + 8, &rc, sizeof rc);
-    memcpy(buf + 12, &n_out, sizeof n_out);
-    memcpy(buf + 16, &n_log, sizeof n_log);
+    memcpy(buf + 12, &sig, sizeof sig);
+    memcpy(buf + 16, &n_out, sizeof n_out);
+    memcpy(buf + 20, &n_log, sizeof n_log);
     if (n_out) memcpy(buf + RESULT_HEAD, o->out, (size_t)n_out);
     if (n_log) memcpy(buf + RESULT_HEAD + n_out, o->log, (size_t)n_log);
     pthread_mutex_lock(&w->lock);
@@ -261,7 +272,9 @@ static void send_result(worker_ctx *w, size_t i, const run_outcome *o)
 static void *worker_thread(void *arg)
 {
     worker_ctx *w = arg;
-    for (;;) {
+    /* Interrupted: no more runs asked for (rank 0 hears of the signal
+     * with this thread's last result, or with the goodbye). */
+    while (!run_interrupted()) {
         pthread_mutex_lock(&w->lock);
         send_to_0(NULL, 0, TAG_REQUEST);
         int64_t i = answer();
@@ -275,10 +288,15 @@ static void *worker_thread(void *arg)
     return NULL;
 }
 
+static void say_goodbye(void)
+{
+    int32_t sig = run_interrupted();
+    send_to_0(&sig, (int)sizeof sig, TAG_BYE);
+}
+
 int mpi_worker(const scene *sc)
 {
-    int rc = RUN_COMPLETE;
-    if (sc && scene_cfg(sc)->runs.swept) {
+    if (sc && scene_cfg(sc)->runs.swept && !run_interrupted()) {
         worker_ctx w = {.sw = sweep_open(sc)};
         if (!w.sw) MPI_Abort(MPI_COMM_WORLD, RUN_FAILED);
         pthread_mutex_init(&w.lock, NULL);
@@ -293,14 +311,32 @@ int mpi_worker(const scene *sc)
         for (unsigned k = 0; k < started; k++) pthread_join(tid[k], NULL);
         pthread_mutex_destroy(&w.lock);
         sweep_close(w.sw);
-    } else if (!sc) {
-        rc = RUN_INPUT;
     }
-    send_to_0(NULL, 0, TAG_BYE);
-    return rc;
+    say_goodbye();
+    return run_interrupted() ? RUN_PARTIAL : RUN_COMPLETE;
+}
+
+void mpi_scene_skip(void)
+{
+    if (!active || size < 2) return;
+    if (rank == 0)
+        mpi_scene_end();
+    else
+        say_goodbye();
 }
 
 /* ---- start and stop --------------------------------------------------------------- */
+
+/* The name of process pid ("mpirun", "orted", "slurmstepd"), or "". */
+static void process_name(long pid, char *name, size_t size_of_name)
+{
+    char path[64];
+    snprintf(path, sizeof path, "/proc/%ld/comm", pid);
+    FILE *fp = fopen(path, "r");
+    name[0] = '\0';
+    if (fp && fgets(name, (int)size_of_name, fp)) name[strcspn(name, "\n")] = '\0';
+    if (fp) fclose(fp);
+}
 
 /* The bells, set up once for the whole command line: rank 0 listens and
  * broadcasts where, the workers connect; those that cannot are polled. */
@@ -352,6 +388,12 @@ int mpi_start(int *argc, char ***argv)
     remote.ranks = (unsigned)size;
     remote.threads = threads_per_rank;
     remote.main_thread = !serialized;
+    /* mpirun (or orted, srun's slurmstepd) stops the ranks with SIGTERM
+     * whatever it was sent itself: say so when it comes from there. */
+    char name[32];
+    long parent = (long)getppid();
+    process_name(parent, name, sizeof name);
+    run_signal_source(parent, name[0] ? name : "the MPI launcher");
     if (size > 1) set_up_bells();
     if (rank > 0) {
         /* Rank 0 speaks for the sweep. */
