@@ -51,7 +51,7 @@ void run_signal_source(long pid, const char *name);
 
 /* Runs a scene without a sweep (runs.swept 0) into &output dir; a sweep is
  * run by sweep_run (run/sweep.c), which calls run_point for each of its
- * runs.  Returns a run_status. */
+ * runs (run/sweep_resume.c).  Returns a run_status. */
 int run_scene(const scene *sc);
 
 /* &output dir created and locked for this process (flock on
