@@ -30,6 +30,7 @@
 #include <fcntl.h>
 #include <math.h>
 #include <signal.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,7 +40,15 @@
 
 /* ---- interruption and progress ------------------------------------------ */
 
-static volatile sig_atomic_t interrupted; /* the first signal's number */
+/* The signal that stopped the runs: this process's first (the handler),
+ * or one another MPI rank received (run_interrupt), whichever came first.
+ * Lock-free, so both may set it. */
+static atomic_int interrupted;
+static volatile sig_atomic_t received;     /* this process's first signal    */
+static volatile sig_atomic_t sender;       /* the process that sent it (0: unknown) */
+static volatile sig_atomic_t on_rank = -1; /* interrupted by that rank's signal */
+static long launcher;                      /* run_signal_source's process, and its name */
+static char launcher_name[32];
 
 /* The signals that end a run with its partial result: Ctrl-C (SIGINT), and
  * what `timeout`, batch queues and a closed terminal send (SIGTERM, SIGHUP,
@@ -50,10 +59,14 @@ static volatile sig_atomic_t interrupted; /* the first signal's number */
 static const int stop_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGXCPU};
 #define N_STOP_SIGNALS (sizeof stop_signals / sizeof stop_signals[0])
 
-static void on_signal(int sig)
+static void on_signal(int sig, siginfo_t *info, void *context)
 {
-    if (!interrupted) {
-        interrupted = sig;
+    (void)context;
+    if (!received) { /* the first: stop the runs (unless another rank's did) */
+        received = sig;
+        sender = info && info->si_code == SI_USER ? (sig_atomic_t)info->si_pid : 0;
+        int none = 0;
+        atomic_compare_exchange_strong(&interrupted, &none, sig);
         return;
     }
     out_signal_cleanup();
@@ -65,7 +78,8 @@ void run_install_signals(void)
 {
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
+    sa.sa_sigaction = on_signal;
+    sa.sa_flags = SA_SIGINFO;
     sigemptyset(&sa.sa_mask);
     for (size_t i = 0; i < N_STOP_SIGNALS; i++) sigaddset(&sa.sa_mask, stop_signals[i]);
     for (size_t i = 0; i < N_STOP_SIGNALS; i++) {
@@ -82,6 +96,19 @@ void run_install_signals(void)
 
 int run_interrupted(void) { return interrupted; }
 
+void run_interrupt(int sig, int rank)
+{
+    int none = 0;
+    on_rank = rank;
+    if (!atomic_compare_exchange_strong(&interrupted, &none, sig)) on_rank = -1;
+}
+
+void run_signal_source(long pid, const char *name)
+{
+    launcher = pid;
+    snprintf(launcher_name, sizeof launcher_name, "%s", name);
+}
+
 static const char *signal_name(int sig)
 {
     switch (sig) {
@@ -91,6 +118,18 @@ static const char *signal_name(int sig)
     case SIGXCPU: return "SIGXCPU";
     default: return "a signal";
     }
+}
+
+/* "SIGTERM", "SIGTERM from mpirun" (the launcher stopping the ranks),
+ * "SIGINT to rank 2" (another rank's signal stopping the sweep). */
+static void interruption(char *buf, size_t size)
+{
+    int n = snprintf(buf, size, "%s", signal_name(interrupted));
+    if (n < 0 || (size_t)n >= size) return;
+    if (on_rank >= 0)
+        snprintf(buf + n, size - (size_t)n, " to rank %d", (int)on_rank);
+    else if (launcher && sender == launcher)
+        snprintf(buf + n, size - (size_t)n, " from %s", launcher_name);
 }
 
 typedef struct progress_state {
@@ -435,8 +474,10 @@ static int simulate(run *r)
         const char *m = r->err.message;
         int lead = strncmp(m, word, sizeof word - 1) == 0;
         snprintf(rest, sizeof rest, "%s", lead ? m + sizeof word - 1 : m);
-        snprintf(r->err.message, sizeof r->err.message, "interrupted by %s%s%.400s",
-                 signal_name(interrupted), lead ? "" : ": ", rest);
+        char by[64];
+        interruption(by, sizeof by);
+        snprintf(r->err.message, sizeof r->err.message, "interrupted by %s%s%.400s", by,
+                 lead ? "" : ": ", rest);
     }
     if (r->status == TAPER_OK) return RUN_COMPLETE;
     set_message(r, r->err.message);
