@@ -1,26 +1,23 @@
 /*
- * gen_namelists.c DECLS PROCS -- writes the Fortran that taper_nml.f90
- * INCLUDEs for the variables of a scene, from the scene's table
- * (drivers/taper/scene/scene.c: scene_var_count, scene_var_*) and the
- * library's table of settings (taper_setting_find), so that taper_nml
- * follows every variable the scene has without a hand edit:
- *
- *   DECLS (taper_nml_scene.inc, the program's specification part): the
- *     derived type scene_values, one component per variable under its
- *     keyword (fit_x, striker_radius), the groups and the sweepable
- *     variables;
- *   PROCS (taper_nml_groups.inc, after CONTAINS): one subroutine per group
- *     that declares the group's keys, its NAMELIST and their defaults and
- *     READs it; read_group; the keys of each group for messages; the checks
- *     of what READ gave (lengths, choices, finite reals); --dump; and
- *     apply_chain, apply_solver, which hand each library setting to a spec
- *     by name (taper_chain_spec_set_option, taper_solver_spec_set_option).
+ * gen_namelists.c OUT -- writes the Fortran module taper_nml_scene
+ * (taper_nml_scene.f90) for the variables of a scene, from the scene's
+ * table (drivers/taper/scene/scene.c: scene_var_count, scene_var_*) and the
+ * library's table of settings (taper_setting_find), so that the Fortran
+ * scene driver taper_nml follows every variable the scene has without a
+ * hand edit: the derived type scene_values, one component per variable
+ * under its keyword (fit_x, striker_radius), and `sv`, the scene's values;
+ * the groups; one subroutine per group that declares the group's keys, its
+ * NAMELIST and their defaults and READs it; read_group; the keys of each
+ * group for messages; the checks of what READ gave (lengths, choices, finite
+ * reals); --dump; and apply_chain, apply_solver, which hand each library
+ * setting to a spec by name (taper_chain_spec_set_option,
+ * taper_solver_spec_set_option).
  *
  * The defaults of the library's settings are left to the library at run
- * time (library_default, library_choice in taper_nml.f90); those of the
- * scene's own variables are the scene's, written here.  A variable whose
- * default follows the scene's path (&output dir) is recognised by comparing
- * two scenes, and must follow it as default_dir does (out/NAME).
+ * time (library_default, library_choice in taper_nml_base.f90); those of
+ * the scene's own variables are the scene's, written here.  A variable
+ * whose default follows the scene's path (&output dir) is recognised by
+ * comparing two scenes, and must follow it as default_dir does (out/NAME).
  *
  * A build-time tool of taper_nml (run by drivers/fortran/meson.build),
  * never installed.  It fails, naming the variable, when a key cannot be a
@@ -76,11 +73,11 @@ static void die(const char *fmt, ...)
 /* The names the generated group subroutines use besides their keys: a key
  * spelt like one of them would hide it (Fortran ignores case). */
 static const char *const reserved[] = {
-    "sv", "given", "nan", "path", "probing", "check_read", "take_text", "take_int",
-    "take_ints", "take_real", "take_reals", "fresh_ints", "fresh_reals", "library_default",
-    "library_choice", "default_dir", "len_str", "max_sweep", "max_list", "not_given_text",
-    "not_given_int", "int64", "c_double", "nml_file", "nml_unit", "nml_ios", "nml_msg",
-    "transfer", "int", "real", NULL};
+    "sv", "given", "path", "probing", "check_read", "read_group", "group_keys", "take_text",
+    "take_int", "take_ints", "take_real", "take_reals", "fresh_ints", "fresh_reals",
+    "library_default", "library_choice", "default_dir", "len_str", "max_sweep", "max_list",
+    "not_given_text", "not_given_int", "not_given_real", "int64", "c_double", "nml_file",
+    "nml_unit", "nml_ios", "nml_msg", "transfer", "int", "real", NULL};
 
 static void check_name(const var *v)
 {
@@ -233,7 +230,7 @@ static void put_own_default(FILE *out, const var *v)
     case ST_REAL:
         x = scene_var_reals(scene_a, v->row, &n);
         if (n == 0)
-            fputs("nan", out); /* no default: left out */
+            fputs("NOT_GIVEN_REAL", out); /* no default: left out */
         else
             put_real(out, x[0]);
         return;
@@ -289,11 +286,8 @@ static const char *fortran_type(storage st)
     return "";
 }
 
-static void write_decls(FILE *out, const char *name)
+static void write_decls(FILE *out)
 {
-    fprintf(out, "  ! %s -- written at build time by drivers/fortran/gen_namelists.c from\n"
-                 "  ! the scene's table and the library's table of settings: do not edit.\n\n",
-            name);
     size_t width = 1;
     for (size_t g = 0; g < n_groups; g++)
         if (strlen(groups[g]) > width) width = strlen(groups[g]);
@@ -322,7 +316,10 @@ static void write_decls(FILE *out, const char *name)
     for (size_t i = 0; i < n_vars; i++)
         fprintf(out, "     %s :: %s  ! &%s %s%s\n", fortran_type(vars[i].st), vars[i].keyword,
                 vars[i].group, vars[i].key, vars[i].lib ? " (library)" : "");
-    fprintf(out, "  end type scene_values\n");
+    fprintf(out, "  end type scene_values\n\n");
+    fprintf(out, "  type(scene_values), allocatable :: sv   ! the scene (allocatable: released whole)\n");
+    fprintf(out, "  logical :: given(N_VARS) = .false.      ! the file gave variable i (a logical: "
+                 "never known)\n");
 }
 
 /* ---- PROCS ----------------------------------------------------------------------- */
@@ -368,13 +365,14 @@ static void write_read_group(FILE *out, const char *group)
             break;
         case ST_INT: fprintf(out, "    %s = NOT_GIVEN_INT\n", v->key); break;
         case ST_INTS: fprintf(out, "    call fresh_ints(%s, MAX_SWEEP)\n", v->key); break;
-        case ST_REAL: fprintf(out, "    %s = nan\n", v->key); break;
+        case ST_REAL: fprintf(out, "    %s = NOT_GIVEN_REAL\n", v->key); break;
         case ST_REALS: fprintf(out, "    call fresh_reals(%s, MAX_SWEEP)\n", v->key); break;
         case ST_LIST: fprintf(out, "    call fresh_reals(%s, MAX_LIST)\n", v->key); break;
         }
     }
     fprintf(out, "    read (nml_unit, nml=%s, iostat=nml_ios, iomsg=nml_msg)\n", group);
-    fprintf(out, "    call check_read(nml_file, nml_unit, \"%s\", nml_ios, nml_msg)\n", group);
+    fprintf(out, "    call check_read(nml_file, nml_unit, \"%s\", nml_ios, nml_msg, read_group, &\n"
+                 "         group_keys)\n", group);
     fprintf(out, "    if (probing) return\n");
     for (size_t i = 0; i < n_vars; i++) {
         const var *v = &vars[i];
@@ -578,11 +576,8 @@ static void write_sweep(FILE *out)
     fprintf(out, "  end subroutine write_swept\n\n");
 }
 
-static void write_procs(FILE *out, const char *name)
+static void write_procs(FILE *out)
 {
-    fprintf(out, "  ! %s -- written at build time by drivers/fortran/gen_namelists.c from\n"
-                 "  ! the scene's table and the library's table of settings: do not edit.\n\n",
-            name);
     for (size_t g = 0; g < n_groups; g++) write_read_group(out, groups[g]);
     write_dispatch(out);
     write_checks(out);
@@ -596,6 +591,25 @@ static const char *base_name(const char *path)
 {
     const char *slash = strrchr(path, '/');
     return slash ? slash + 1 : path;
+}
+
+/* The module: the declarations, then the procedures. */
+static void write_module(FILE *out, const char *name)
+{
+    fprintf(out, "! %s -- written at build time by drivers/fortran/gen_namelists.c from\n"
+                 "! the scene's table and the library's table of settings: do not edit.\n"
+                 "! The variables of a scene for taper_nml (drivers/fortran/taper_nml.f90).\n"
+                 "module taper_nml_scene\n"
+                 "  use, intrinsic :: iso_c_binding\n"
+                 "  use, intrinsic :: iso_fortran_env, only: output_unit, int64\n"
+                 "  use taper\n"
+                 "  use taper_nml_base\n"
+                 "  implicit none\n\n",
+            name);
+    write_decls(out);
+    fprintf(out, "\ncontains\n\n");
+    write_procs(out);
+    fprintf(out, "end module taper_nml_scene\n");
 }
 
 /* Fortran's free form holds 132 characters a line: a name too long for the
@@ -619,11 +633,11 @@ static void check_lines(const char *path)
     fclose(in);
 }
 
-static void write_file(const char *path, void (*write)(FILE *, const char *))
+static void write_file(const char *path)
 {
     FILE *out = fopen(path, "w");
     if (!out) die("%s: cannot write", path);
-    write(out, base_name(path));
+    write_module(out, base_name(path));
     if (fclose(out) != 0) {
         remove(path);
         die("%s: write error", path);
@@ -633,16 +647,15 @@ static void write_file(const char *path, void (*write)(FILE *, const char *))
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: gen_namelists DECLS.inc PROCS.inc\n");
+    if (argc != 2) {
+        fprintf(stderr, "usage: gen_namelists OUT.f90\n");
         return 2;
     }
     load_table();
     scene_a = scene_new("a.nml");
     scene_b = scene_new("b/c.nml");
     if (!scene_a || !scene_b) die("out of memory");
-    write_file(argv[1], write_decls);
-    write_file(argv[2], write_procs);
+    write_file(argv[1]);
     scene_free(scene_a);
     scene_free(scene_b);
     free(vars);

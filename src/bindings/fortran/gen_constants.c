@@ -1,11 +1,13 @@
 /*
- * gen_constants.c OUT -- writes the constants of include/taper.h as Fortran
- * parameters into OUT (taper_constants.inc), which taper.f90 INCLUDEs: the
- * version, the status codes, every enum of the header from its X-macro list
- * (TAPER_*_LIST) with its count, the two enums of the table of settings,
- * and the ranges of the settings.  The values are the C compiler's, so the
- * module cannot drift from the header: a value added to a list is a new
- * parameter at the next build.
+ * gen_constants.c OUT -- writes the constants of include/taper.h as the
+ * Fortran module taper_constants into OUT (taper_constants.f90), which the
+ * module taper (taper.f90) uses and re-exports: the version, the status
+ * codes, every enum of the header from its X-macro list (TAPER_*_LIST) with
+ * its count, the two enums of the table of settings, and the ranges of the
+ * settings.  The values are the C compiler's, so the module cannot drift
+ * from the header: a value added to a list is a new parameter at the next
+ * build.  (A module, not an INCLUDE file: the build recompiles what uses a
+ * module when it changes, and tracks no INCLUDE.)
  *
  * A build-time tool of the Fortran binding (compiled for the build machine
  * by meson.build and run there), never installed: it includes taper.h and
@@ -21,13 +23,13 @@
  * a constant, its value and its name as a comment. */
 static void enum_value(FILE *out, const char *constant, long value, const char *name)
 {
-    fprintf(out, "  integer(c_int), parameter, public :: %s = %ld  ! \"%s\"\n", constant, value,
+    fprintf(out, "  integer(c_int), parameter :: %s = %ld  ! \"%s\"\n", constant, value,
             name);
 }
 
 static void count(FILE *out, const char *constant, long value)
 {
-    fprintf(out, "  integer, parameter, public :: %s = %ld\n", constant, value);
+    fprintf(out, "  integer, parameter :: %s = %ld\n", constant, value);
 }
 
 /* A double as a Fortran real(c_double) literal that reads back to it. */
@@ -39,7 +41,7 @@ static void real_value(FILE *out, const char *kind, const char *constant, double
         if (strtod(text, NULL) == x) break;
     }
     const char *point = strpbrk(text, ".e") ? "" : ".0";
-    fprintf(out, "  real(%s), parameter, public :: %s = %s%s_%s\n", kind, constant, text, point,
+    fprintf(out, "  real(%s), parameter :: %s = %s%s_%s\n", kind, constant, text, point,
             kind);
 }
 
@@ -65,18 +67,22 @@ int main(int argc, char **argv)
         perror(argv[1]);
         return 1;
     }
-    fprintf(out, "  ! %s -- the constants of taper.h, written at build time by\n"
-                 "  ! src/bindings/fortran/gen_constants.c from the header's own lists: do not\n"
-                 "  ! edit.  INCLUDEd by taper.f90 (module taper).\n",
+    fprintf(out, "! %s -- the constants of taper.h, written at build time by\n"
+                 "! src/bindings/fortran/gen_constants.c from the header's own lists: do not\n"
+                 "! edit.  The module taper (taper.f90) re-exports them: `use taper`.\n"
+                 "module taper_constants\n"
+                 "  use, intrinsic :: iso_c_binding, only: c_int, c_size_t, c_double\n"
+                 "  implicit none\n"
+                 "  private :: c_int, c_size_t, c_double\n",
             strrchr(argv[1], '/') ? strrchr(argv[1], '/') + 1 : argv[1]);
 
     fprintf(out, "\n  ! version\n");
-    fprintf(out, "  integer, parameter, public :: TAPER_VERSION_MAJOR = %d, TAPER_VERSION_MINOR = %d, "
+    fprintf(out, "  integer, parameter :: TAPER_VERSION_MAJOR = %d, TAPER_VERSION_MINOR = %d, "
                  "&\n       TAPER_VERSION_PATCH = %d\n",
             TAPER_VERSION_MAJOR, TAPER_VERSION_MINOR, TAPER_VERSION_PATCH);
-    fprintf(out, "  character(len=*), parameter, public :: TAPER_VERSION_STRING = \"%s\"\n",
+    fprintf(out, "  character(len=*), parameter :: TAPER_VERSION_STRING = \"%s\"\n",
             TAPER_VERSION_STRING);
-    fprintf(out, "  integer, parameter, public :: TAPER_MESSAGE_SIZE = %d\n", TAPER_MESSAGE_SIZE);
+    fprintf(out, "  integer, parameter :: TAPER_MESSAGE_SIZE = %d\n", TAPER_MESSAGE_SIZE);
 
     LIST(TAPER_STATUS_LIST, VALUE3);
     LIST(TAPER_PROFILE_LIST, VALUE);
@@ -113,7 +119,7 @@ int main(int argc, char **argv)
     enum_value(out, "TAPER_SETTING_SOLVER", TAPER_SETTING_SOLVER, "solver");
 
     fprintf(out, "\n  ! ranges of the settings (the table of settings states them too)\n");
-    fprintf(out, "  integer(c_size_t), parameter, public :: TAPER_N_GRANULES_MIN = %d, "
+    fprintf(out, "  integer(c_size_t), parameter :: TAPER_N_GRANULES_MIN = %d, "
                  "TAPER_N_GRANULES_MAX = %d\n",
             TAPER_N_GRANULES_MIN, TAPER_N_GRANULES_MAX);
     real_value(out, "c_double", "TAPER_S_MAX", TAPER_S_MAX);
@@ -123,10 +129,11 @@ int main(int argc, char **argv)
     real_value(out, "c_double", "TAPER_RTOL_MIN", TAPER_RTOL_MIN);
     real_value(out, "c_double", "TAPER_RTOL_MAX", TAPER_RTOL_MAX);
     real_value(out, "c_double", "TAPER_ATOL_MAX", TAPER_ATOL_MAX);
-    fprintf(out, "  integer(c_int), parameter, public :: TAPER_MAX_ORDER_ADAMS = %d, "
+    fprintf(out, "  integer(c_int), parameter :: TAPER_MAX_ORDER_ADAMS = %d, "
                  "TAPER_MAX_ORDER_BDF = %d\n",
             TAPER_MAX_ORDER_ADAMS, TAPER_MAX_ORDER_BDF);
 
+    fprintf(out, "end module taper_constants\n");
     if (fclose(out) != 0) {
         perror(argv[1]);
         remove(argv[1]);

@@ -18,8 +18,10 @@
 ! are those the library fills or owns and never reorders: taper_error,
 ! taper_progress and a row of the table, taper_setting.  Enums are
 ! integer(c_int) constants written at build time from the header's own
-! lists (taper_constants.inc, INCLUDEd below and installed beside this
-! file); names come from the library (taper_profile_name, ...).
+! lists into the module taper_constants (taper_constants.f90, installed
+! beside this file: compile it first); names come from the library
+! (taper_profile_name, ...).  `use taper` gives both: the module taper at
+! the end of this file re-exports the constants and the binding.
 !
 !   use taper
 !   type(taper_error) :: err
@@ -49,17 +51,14 @@
 ! are passed as c_null_ptr where the interface takes type(c_ptr); the
 ! taper_error argument is always required here.  integer(c_size_t) is
 ! signed in Fortran: a negative count reaches the library as a huge one.
-module taper
+module taper_binding
   use, intrinsic :: iso_c_binding
+  ! The version, status codes, every enum of taper.h with its count
+  ! (TAPER_N_PROFILES, ...), the ranges of the settings: written at build
+  ! time from the header's own lists (gen_constants.c).
+  use taper_constants
   implicit none
   private
-
-  ! ---- constants: the version, status codes, every enum of taper.h with its
-  ! count (TAPER_N_PROFILES, ...), the ranges of the settings.  Written at
-  ! build time from the header's own lists (gen_constants.c): integer(c_int)
-  ! parameters, counts and sizes default integers, ranges real(c_double) and
-  ! integer(c_size_t) as in C.
-  include 'taper_constants.inc'
 
   ! ---- the structs the library fills or owns (fields only ever appended) ------
   type, bind(C), public :: taper_error
@@ -1777,4 +1776,13 @@ contains
     real(c_double) :: x
     x = c_taper_solver_spec_option(spec, trim(name)//c_null_char)
   end function taper_solver_spec_option
+end module taper_binding
+
+! The module programs use: every public name of the binding and every
+! constant of taper.h.
+module taper
+  use taper_constants
+  use taper_binding
+  implicit none
+  public
 end module taper
