@@ -1,15 +1,17 @@
 /*
  * fortran_abi.c -- the C side of test_fortran_abi.f90: sizes and field
- * offsets of the two structs of taper.h that the Fortran module declares
+ * offsets of the three structs of taper.h that the Fortran module declares
  * as bind(C) derived types, taper_error and taper_progress (the library
- * fills them and only ever appends fields).  Every other object is opaque
- * and reached through functions, so it has no layout to agree on.
+ * fills them) and taper_setting (a row of the table of settings, read
+ * through a pointer); the library only ever appends fields to them.  Every
+ * other object is opaque and reached through functions, so it has no
+ * layout to agree on.
  */
 #include "taper.h"
 
 #include <stddef.h>
 
-#define N_FIELDS 8
+#define N_FIELDS 16
 
 /* layout[type][0] = sizeof, layout[type][1 + i] = offset of field i. */
 static const size_t layout[][N_FIELDS] = {
@@ -18,6 +20,13 @@ static const size_t layout[][N_FIELDS] = {
     {sizeof(taper_progress), offsetof(taper_progress, granule), offsetof(taper_progress, target),
      offsetof(taper_progress, t), offsetof(taper_progress, steps),
      offsetof(taper_progress, window_lo), offsetof(taper_progress, window_hi)},
+    {sizeof(taper_setting), offsetof(taper_setting, name), offsetof(taper_setting, group),
+     offsetof(taper_setting, object), offsetof(taper_setting, type),
+     offsetof(taper_setting, dimension), offsetof(taper_setting, min),
+     offsetof(taper_setting, max), offsetof(taper_setting, min_open),
+     offsetof(taper_setting, max_open), offsetof(taper_setting, default_value),
+     offsetof(taper_setting, choices), offsetof(taper_setting, beyond_paper),
+     offsetof(taper_setting, description), offsetof(taper_setting, bounds_reason)},
 };
 
 /* field 0: sizeof; field i >= 1: offset of the i-th member. */
@@ -57,7 +66,9 @@ static const long enums[] = {
     TAPER_FIT_DIVERGENCE_M, TAPER_N_FIT_MODELS,
     TAPER_OK, TAPER_EINVAL, TAPER_ENOMEM, TAPER_ERANGE, TAPER_ESOLVER, TAPER_EINTERRUPTED,
     TAPER_ELIMIT, TAPER_MESSAGE_SIZE, TAPER_N_GRANULES_MIN, TAPER_N_GRANULES_MAX,
-    TAPER_MAX_ORDER_ADAMS, TAPER_MAX_ORDER_BDF,
+    TAPER_MAX_ORDER_ADAMS, TAPER_MAX_ORDER_BDF, TAPER_N_LAWS,
+    TAPER_SETTING_REAL, TAPER_SETTING_INTEGER, TAPER_SETTING_BOOLEAN, TAPER_SETTING_CHOICE,
+    TAPER_SETTING_LIST, TAPER_SETTING_CHAIN, TAPER_SETTING_SOLVER,
 };
 
 /* Entry i (0-based) of the list above; -1 past its end. */

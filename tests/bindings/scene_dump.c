@@ -1,21 +1,23 @@
 /*
  * scene_dump.c SCENE.nml -- the resolved values of a scene as read by our C
  * parser (scene.c), one variable per line in table order, in the canonical
- * form that src/bindings/fortran/taper_nml.f90 --dump prints from gfortran's own
+ * form that drivers/fortran/taper_nml.f90 --dump prints from gfortran's own
  * namelist READ, so that tests/bindings/scene_agree.sh can compare the two readers:
  *
  *     group.name = VALUE
  *
- * strings without trailing blanks (a Fortran character variable cannot tell
- * them apart), integers in decimal, logicals T/F, reals (and each element of
- * a list) as the 16 hex digits of their IEEE bits, preceded by the number of
- * elements for lists and sweeps; a real without a default that the file
- * leaves out prints nothing after " =".  Bits, not decimal text: the two
- * readers must agree on the double, not on a way of printing it.
+ * strings and choices without trailing blanks (a Fortran character variable
+ * cannot tell them apart), integers in decimal, logicals T/F, reals as the
+ * 16 hex digits of their IEEE bits.  A variable that takes a list (a list,
+ * or a real or an integer that a list sweeps) prints the number of its
+ * values, then each; a real without a default that the file leaves out
+ * prints nothing after " =" (a sweepable one: 0 values).  Bits, not decimal
+ * text: the two readers must agree on the double, not on a way of printing
+ * it.
  *
- * Every variable of the table is printed, in every group (&chain, &solver,
- * &output, &fit, &table, &figure), so that a variable -- or a group -- added
- * to the table without taper_nml.f90 learning it fails the comparison.
+ * Every variable of the table is printed, in every group, so that the two
+ * readers are compared on all of them (taper_nml's namelists are generated
+ * from the same table: a variable it did not learn would be missing here).
  */
 #include "scene/scene.h"
 
@@ -54,7 +56,18 @@ int main(int argc, char **argv)
             printf(" %.*s", (int)n, str);
             break;
         }
-        case SCENE_INTEGER: printf(" %lld", scene_var_integer(sc, i)); break;
+        case SCENE_INTEGER: {
+            size_t n = 0;
+            const double *x = scene_var_reals(sc, i, &n); /* a sweep's values */
+            if (!scene_var_takes_list(i))
+                printf(" %lld", scene_var_integer(sc, i));
+            else if (n == 0)
+                printf(" 1 %lld", scene_var_integer(sc, i));
+            else
+                printf(" %zu", n);
+            for (size_t k = 0; k < n; k++) printf(" %lld", (long long)x[k]);
+            break;
+        }
         case SCENE_LOGICAL: printf(" %c", scene_var_integer(sc, i) ? 'T' : 'F'); break;
         case SCENE_REAL:
         case SCENE_REAL_LIST: {

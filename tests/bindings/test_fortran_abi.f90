@@ -1,14 +1,18 @@
 ! test_fortran_abi -- the Fortran module src/bindings/fortran/taper.f90
-! against the library: the two bind(C) derived types it declares
-! (taper_error, taper_progress) have the size and field offsets of the C
-! structs (asked of the C compiler in fortran_abi.c); every other object is
-! opaque, set and read through the interfaces, which are exercised here: the
-! name lists, setters (a refusal names its setting and leaves the spec as
-! it was), a run with a monitor written in Fortran, statistics by name, the
-! sim's theory, taper_dynamics and a fit; every enum constant against the
-! header's (fortran_abi.c); and issue 15's options: a right wall with t_end
-! and a sampler written in Fortran (31 samples at t = 0..30), the wall's
-! statistics, taper_sim_forces, taper_unit_scale and the new names.
+! against the library: the three bind(C) derived types it declares
+! (taper_error, taper_progress, taper_setting) have the size and field
+! offsets of the C structs (asked of the C compiler in fortran_abi.c); every
+! other object is opaque, set and read through the interfaces, which are
+! exercised here: the name lists, setters (a refusal names its setting and
+! leaves the spec as it was), a run with a monitor written in Fortran,
+! statistics by name, the sim's theory, taper_dynamics and a fit; every
+! constant the build wrote from the header against the C compiler's values
+! (fortran_abi.c); the options beyond the paper: a right wall with t_end and
+! a sampler written in Fortran (31 samples at t = 0..30), the wall's
+! statistics, taper_sim_forces, taper_unit_scale and the new names; and the
+! table of settings: every setting set and read by name with each kind of
+! Fortran value, refusals naming the setting with its range, and a walk over
+! every row of the table against fresh specs.
 module test_fortran_abi_monitor
   use, intrinsic :: iso_c_binding
   use taper, only: taper_progress
@@ -86,9 +90,12 @@ program test_fortran_abi
        TAPER_FIT_DIVERGENCE_M, TAPER_N_FIT_MODELS, &
        TAPER_OK, TAPER_EINVAL, TAPER_ENOMEM, TAPER_ERANGE, TAPER_ESOLVER, TAPER_EINTERRUPTED, &
        TAPER_ELIMIT, int(TAPER_MESSAGE_SIZE, c_long), TAPER_N_GRANULES_MIN, TAPER_N_GRANULES_MAX, &
-       TAPER_MAX_ORDER_ADAMS, TAPER_MAX_ORDER_BDF]
+       TAPER_MAX_ORDER_ADAMS, TAPER_MAX_ORDER_BDF, TAPER_N_LAWS, &
+       TAPER_SETTING_REAL, TAPER_SETTING_INTEGER, TAPER_SETTING_BOOLEAN, TAPER_SETTING_CHOICE, &
+       TAPER_SETTING_LIST, TAPER_SETTING_CHAIN, TAPER_SETTING_SOLVER]
   type(taper_error), target :: e
   type(taper_progress), target :: pr
+  type(taper_setting), target :: row_layout   ! only its layout is read
   type(c_ptr) :: cs, ss, chain, sim, dyn, fs, fr, wchain, wsim
   real(c_double), allocatable :: force(:)
   real(c_double) :: x1, x2
@@ -105,6 +112,17 @@ program test_fortran_abi
   call same(1, "taper_progress", c_sizeof(pr), [off(c_loc(pr%granule), c_loc(pr)), &
        off(c_loc(pr%target), c_loc(pr)), off(c_loc(pr%t), c_loc(pr)), off(c_loc(pr%steps), c_loc(pr)), &
        off(c_loc(pr%window_lo), c_loc(pr)), off(c_loc(pr%window_hi), c_loc(pr))])
+  call same(2, "taper_setting", c_sizeof(row_layout), [off(c_loc(row_layout%name), c_loc(row_layout)), &
+       off(c_loc(row_layout%group), c_loc(row_layout)), off(c_loc(row_layout%object), c_loc(row_layout)), &
+       off(c_loc(row_layout%type), c_loc(row_layout)), off(c_loc(row_layout%dimension), c_loc(row_layout)), &
+       off(c_loc(row_layout%min), c_loc(row_layout)), off(c_loc(row_layout%max), c_loc(row_layout)), &
+       off(c_loc(row_layout%min_open), c_loc(row_layout)), &
+       off(c_loc(row_layout%max_open), c_loc(row_layout)), &
+       off(c_loc(row_layout%default_value), c_loc(row_layout)), &
+       off(c_loc(row_layout%choices), c_loc(row_layout)), &
+       off(c_loc(row_layout%beyond_paper), c_loc(row_layout)), &
+       off(c_loc(row_layout%description), c_loc(row_layout)), &
+       off(c_loc(row_layout%bounds_reason), c_loc(row_layout))])
 
   ! Every enum value and count of the module is the header's.
   if (c_n_enums() /= size(ENUMS)) call fail("fortran_abi.c and ENUMS list different constants")
@@ -267,9 +285,13 @@ program test_fortran_abi
   ! Main-program variables are implicitly SAVE'd: never deallocated for us.
   deallocate (y, ydot)
 
+  call settings_by_name()
+  call table_of_settings()
+
   if (fails > 0) error stop 1
-  print '(a)', "Fortran module: taper_error and taper_progress laid out as in C; setters, "// &
-       "fields, names, statistics, monitor, dynamics and fits work"
+  print '(a)', "Fortran module: taper_error, taper_progress and taper_setting laid out as "// &
+       "in C; setters, settings by name, the table of settings, fields, names, statistics, "// &
+       "monitor, dynamics and fits work"
 
 contains
 
@@ -329,6 +351,180 @@ contains
          len(message) == 0) &
          call fail(field//": status "//char(48 + got)//", field '"//named//"': "//message)
   end subroutine refused
+
+  ! Every kind of Fortran value through taper_chain_spec_set_option and
+  ! taper_solver_spec_set_option, read back by name and through the typed
+  ! getters; refusals name the setting and state its range; the chain built
+  ! from the settings by name is the one they describe.
+  subroutine settings_by_name()
+    type(c_ptr) :: cs, ss, chain
+    type(taper_setting), pointer :: row
+    real(c_double), pointer :: radii(:), radius(:)
+    integer(c_int) :: status
+    cs = taper_chain_spec_alloc(e)
+    ss = taper_solver_spec_alloc(e)
+    ! a choice by its name in any case, integers of both kinds, a list, a real
+    if (taper_chain_spec_set_option(cs, "profile", "Custom", e) /= TAPER_OK) &
+         call fail("profile by name: "//taper_message(e))
+    if (taper_chain_spec_profile(cs) /= TAPER_CUSTOM) call fail("profile by name: not custom")
+    if (taper_chain_spec_set_option(cs, "n_granules", 3_c_int, e) /= TAPER_OK) &
+         call fail("n_granules by name: "//taper_message(e))
+    if (taper_chain_spec_n_granules(cs) /= 3) call fail("n_granules by name: not 3")
+    if (taper_chain_spec_set_option(cs, "radii", [1d0, 2d0, 4d0], e) /= TAPER_OK) &
+         call fail("radii by name: "//taper_message(e))
+    radii => taper_chain_spec_option_list(cs, "radii")
+    if (size(radii) /= 3) then
+       call fail("radii read by name")
+    else if (any(abs(radii - [1d0, 2d0, 4d0]) > 0)) then
+       call fail("radii read by name")
+    end if
+    if (size(taper_chain_spec_option_list(cs, "pattern")) /= 0) call fail("pattern: not empty")
+    if (taper_chain_spec_set_option(cs, "seed", 12345678901_c_int64_t, e) /= TAPER_OK) &
+         call fail("seed by name: "//taper_message(e))
+    if (taper_chain_spec_disorder_seed(cs) /= 12345678901_c_int64_t) call fail("seed by name")
+    if (taper_chain_spec_set_option(cs, "load", 0.25_c_double, e) /= TAPER_OK) &
+         call fail("load by name: "//taper_message(e))
+    if (abs(taper_chain_spec_load(cs) - 0.25_c_double) > 0) call fail("load read back")
+    if (abs(taper_chain_spec_option(cs, "load") - 0.25_c_double) > 0) call fail("load by name")
+    if (taper_solver_spec_set_option(ss, "window", .false., e) /= TAPER_OK) &
+         call fail("window by name: "//taper_message(e))
+    if (taper_solver_spec_window(ss) /= 0) call fail("window by name: still on")
+    if (taper_solver_spec_set_option(ss, "method", "BDF", e) /= TAPER_OK) &
+         call fail("method by name: "//taper_message(e))
+    if (taper_solver_spec_method(ss) /= TAPER_BDF) call fail("method read back")
+    if (abs(taper_solver_spec_option(ss, "method") - TAPER_BDF) > 0) call fail("method by name")
+    if (taper_solver_spec_set_option(ss, "rtol", " 1e-9 ", e) /= TAPER_OK) &
+         call fail("rtol as text: "//taper_message(e))
+    if (abs(taper_solver_spec_rtol(ss) - 1d-9) > 0) call fail("rtol as text: not 1e-9")
+    if (taper_solver_spec_set_option(ss, "max_steps", 5000000000_c_int64_t, e) /= TAPER_OK) &
+         call fail("max_steps by name: "//taper_message(e))
+    if (taper_solver_spec_max_steps(ss) /= 5000000000_c_long) call fail("max_steps read back")
+
+    ! Refusals name the setting, say why, and change nothing.
+    status = taper_chain_spec_set_option(cs, "exponent", 1.2_c_double, e)
+    call refused(status, "exponent")
+    if (index(taper_message(e), "out of range [1.5, 20]") == 0) &
+         call fail("exponent's refusal states no range: "//taper_message(e))
+    if (abs(taper_chain_spec_exponent(cs) - 2.5_c_double) > 0) call fail("a refusal changed exponent")
+    status = taper_chain_spec_set_option(cs, "radii", [1d0, -2d0], e)
+    call refused(status, "radii")
+    if (index(taper_message(e), "radii(2) = -2") == 0) call fail("radii(2): "//taper_message(e))
+    if (size(taper_chain_spec_option_list(cs, "radii")) /= 3) call fail("a refusal changed radii")
+    status = taper_chain_spec_set_option(cs, "seed", 9007199254740993_c_int64_t, e)
+    call refused(status, "seed")
+    if (index(taper_message(e), "9007199254740993") == 0) call fail("seed 2^53 + 1: "//taper_message(e))
+    if (taper_chain_spec_disorder_seed(cs) /= 12345678901_c_int64_t) call fail("a refusal changed seed")
+    status = taper_chain_spec_set_option(cs, "rtol", 1d-8, e)     ! the solver's
+    call refused(status, "rtol")
+    status = taper_solver_spec_set_option(ss, "window", "maybe", e)
+    call refused(status, "window")
+    status = taper_chain_spec_set_option(cs, "profile", "linear", e)
+    call refused(status, "profile")
+    status = taper_chain_spec_set_option(cs, "n_granule", 10_c_int, e)
+    if (status /= TAPER_EINVAL .or. index(taper_message(e), "did you mean 'n_granules'") == 0) &
+         call fail("unknown name: "//taper_message(e))
+    row => taper_setting_find("windw", e)
+    if (associated(row) .or. index(taper_message(e), "'window'") == 0) &
+         call fail("taper_setting_find('windw'): "//taper_message(e))
+
+    ! The chain the names describe: R = 1, 2, 4.
+    chain = taper_chain_alloc(cs, e)
+    if (.not. c_associated(chain)) then
+       call fail("chain by name: "//taper_message(e))
+    else
+       radius => taper_chain_array(chain, taper_chain_radius(chain))
+       if (size(radius) /= 3 .or. abs(radius(3) - 4) > 0) call fail("chain by name: radii")
+       call taper_chain_free(chain)
+    end if
+    call taper_chain_spec_free(cs)
+    call taper_solver_spec_free(ss)
+  end subroutine settings_by_name
+
+  ! Every row of the table: its strings, found again by its name, its
+  ! default a fresh spec's value, its unit its dimension's, a choice's names
+  ! the enum's; the rows end at taper_setting_count().
+  subroutine table_of_settings()
+    type(taper_setting), pointer :: row, found
+    type(c_ptr) :: cs, ss
+    character(len=:), allocatable :: name, text
+    real(c_double), pointer :: values(:)
+    real(c_double) :: fresh
+    integer :: k, n, n_chain, n_solver
+    cs = taper_chain_spec_alloc(e)
+    ss = taper_solver_spec_alloc(e)
+    n = int(taper_setting_count())
+    if (n < 30) call fail("the table has fewer than 30 rows")
+    n_chain = 0
+    n_solver = 0
+    do k = 1, n
+       row => taper_setting_row(k)
+       if (.not. associated(row)) then
+          call fail("taper_setting_row: a row is missing")
+          cycle
+       end if
+       name = taper_setting_name(row)
+       found => taper_setting_find(name, e)
+       if (.not. associated(found)) then
+          call fail(name//": not found by its name")
+       else if (.not. c_associated(c_loc(found), c_loc(row))) then
+          call fail(name//": found another row")
+       end if
+       if (len(taper_setting_description(row)) == 0) call fail(name//": no description")
+       text = taper_setting_unit(row)
+       if (text /= taper_dimension_unit(row%dimension) .or. len(text) == 0) &
+            call fail(name//": unit")
+       text = taper_setting_group(row)
+       select case (text)
+       case ("chain", "ends", "striker", "losses", "solver")
+       case default
+          call fail(name//": group "//text)
+       end select
+       if (row%object == TAPER_SETTING_CHAIN) then
+          n_chain = n_chain + 1
+          fresh = taper_chain_spec_option(cs, name)
+       else
+          n_solver = n_solver + 1
+          fresh = taper_solver_spec_option(ss, name)
+       end if
+       if (row%type == TAPER_SETTING_LIST) then
+          values => taper_chain_spec_option_list(cs, name)
+          if (.not. ieee_is_nan(fresh) .or. size(values) /= 0) &
+               call fail(name//": a list, read as a value or not empty")
+       else if (abs(fresh - row%default_value) > 0) then
+          call fail(name//": a fresh spec does not hold the default")
+       end if
+       if (row%type == TAPER_SETTING_CHOICE) then
+          text = taper_setting_choice_name(row, nint(row%default_value) + 1)
+          if (taper_setting_n_choices(row) < 2 .or. len(text) == 0) call fail(name//": choices")
+       else if (taper_setting_n_choices(row) /= 0) then
+          call fail(name//": choices of a setting that is not a choice")
+       end if
+       if (.not. row%min <= row%max) call fail(name//": min > max")
+    end do
+    if (n_chain + n_solver /= n .or. n_solver < 5) call fail("objects of the rows")
+    if (associated(taper_setting_row(n + 1))) call fail("taper_setting_row past the end")
+    if (associated(taper_setting_row(0))) call fail("taper_setting_row(0)")
+    ! Two known rows: the tolerance's range is taper.h's, t_end is a time.
+    row => taper_setting_find("rtol", e)
+    if (abs(row%min - TAPER_RTOL_MIN) > 0 .or. abs(row%max - TAPER_RTOL_MAX) > 0 .or. &
+         row%type /= TAPER_SETTING_REAL) call fail("the row of rtol")
+    if (taper_setting_unit(row) /= "1") call fail("rtol is not a pure number")
+    text = taper_setting_bounds_reason(row)
+    if (len(text) == 0) call fail("rtol's bounds have no reason")
+    row => taper_setting_find("T_END", e)         ! any case
+    if (row%dimension /= TAPER_DIM_TIME) call fail("t_end is not a time")
+    if (taper_setting_unit(row) /= "s") call fail("t_end's unit")
+    if (taper_setting_group(row) /= "solver") call fail("t_end's group")
+    row => taper_setting_find("profile", e)
+    do k = 1, TAPER_N_PROFILES
+       if (taper_setting_choice_name(row, k) /= taper_profile_name(int(k - 1, c_int))) &
+            call fail("profile's choices are not taper_profile_name's")
+    end do
+    if (len(taper_setting_choice_name(row, TAPER_N_PROFILES + 1)) /= 0) &
+         call fail("a choice past the last")
+    call taper_chain_spec_free(cs)
+    call taper_solver_spec_free(ss)
+  end subroutine table_of_settings
 
   subroutine fail(what)
     character(len=*), intent(in) :: what

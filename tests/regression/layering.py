@@ -13,6 +13,11 @@ instead of waiting for a reviewer:
    included only by files of its own folder and by unit tests.
 4. No two files include each other, directly or through others (no circle
    in the include graph).
+5. Nothing under src/ includes a file outside src/: the library and its
+   bindings never reach up into the programs (drivers/) or the tests.
+6. No program under src/: the only C files there that define main are the
+   bindings' build-time generators (gen_*.c, compiled for the build machine,
+   never installed), and no Fortran file there is a PROGRAM.
 
 Quoted includes are resolved as the build does: the including file's folder,
 then src/, drivers/taper, drivers/bench, tests/ (the include roots of the
@@ -30,11 +35,15 @@ SHARED = {"src/settings/specs.h"}
 PRIVATE = re.compile(r"(_impl\.h$|^src/sim/sim\.h$)")
 
 
-def sources():
-    for top in ("src", "drivers", "tests"):
+MAIN = re.compile(r"^\s*int\s+main\s*\(", re.M)
+FORTRAN_PROGRAM = re.compile(r"^\s*program\s+\w+", re.M | re.I)
+
+
+def sources(suffixes=(".c", ".h"), tops=("src", "drivers", "tests")):
+    for top in tops:
         for d, _, files in os.walk(os.path.join(root, top)):
             for f in files:
-                if f.endswith((".c", ".h")):
+                if f.endswith(suffixes):
                     yield os.path.relpath(os.path.join(d, f), root)
 
 
@@ -65,6 +74,18 @@ for path in sorted(sources()):
             problems.append(f"{path}: includes the library's internal {target} (use taper.h)")
         if PRIVATE.search(target) and there != here and not unit_test:
             problems.append(f"{path}: includes {target}, private to {there}")
+        if path.startswith("src/") and not target.startswith("src/"):
+            problems.append(f"{path}: includes {target}, outside the library's tree")
+
+# Programs: none in the library's tree but the bindings' build-time generators.
+for path in sorted(sources((".c", ".f90", ".F90"), ("src",))):
+    with open(os.path.join(root, path), encoding="utf-8", errors="replace") as f:
+        text = f.read()
+    generator = os.path.basename(path).startswith("gen_") and path.endswith(".c")
+    if path.endswith(".c") and MAIN.search(text) and not generator:
+        problems.append(f"{path}: a program's main in the library's tree (programs go to drivers/)")
+    if not path.endswith(".c") and FORTRAN_PROGRAM.search(text):
+        problems.append(f"{path}: a Fortran PROGRAM in the library's tree (programs go to drivers/)")
 
 # Circles: depth-first search over the include graph.
 state = {}

@@ -451,6 +451,10 @@ int scene_var_takes_list(size_t i)
 {
     return i < scene_var_count() && (table[i].flags & SCENE_SWEEP) != 0;
 }
+const char *const *scene_var_choices(size_t i)
+{
+    return i < scene_var_count() && table[i].type == SCENE_CHOICE ? table[i].choices : NULL;
+}
 size_t scene_var_index(const scene_var *var) { return (size_t)(var - table); }
 
 int scene_var_find(const char *group, const char *name)
@@ -643,11 +647,12 @@ const double *scene_var_reals(const scene *sc, size_t i, size_t *n)
         *n = r->n;
         return r->v;
     }
-    if (var->type == SCENE_REAL) {
+    if (var->type == SCENE_REAL || var->type == SCENE_INTEGER) {
         if (sc->cfg.sweep.lists && sc->cfg.sweep.lists[i].n > 1) {
             *n = sc->cfg.sweep.lists[i].n;
             return sc->cfg.sweep.lists[i].v;
         }
+        if (var->type == SCENE_INTEGER) return NULL; /* one value: scene_var_integer */
         const double *x = f;
         *n = isnan(*x) ? 0 : 1; /* NaN: a real without default, left out */
         return x;

@@ -488,9 +488,13 @@ const char *scene_nearest_key(const char *group, const char *key);
 const char *scene_nearest_keyword(const char *keyword);
 int scene_var_takes_list(size_t i); /* 1: a list of values sweeps it (s, q,
                                      exponent, n_granules, rtol, ...)         */
+/* A choice's allowed names, NULL-terminated, in the order of their values;
+ * NULL for a variable that is not a choice. */
+const char *const *scene_var_choices(size_t i);
 /* The value of variable i: a string or choice's text; an integer or a
  * logical; the reals of a real (none when a real without default is left
- * out), sweep or list. */
+ * out), sweep or list, and the values of an integer given a list (a sweep:
+ * exact as doubles; none when it has one value). */
 const char *scene_var_text(const scene *sc, size_t i);
 long long scene_var_integer(const scene *sc, size_t i);
 const double *scene_var_reals(const scene *sc, size_t i, size_t *n);

@@ -1,18 +1,27 @@
 ! taper.f90 -- Fortran interface to libtaper (iso_c_binding, Fortran 2008).
 !
 ! Pulse propagation in tapered granular chains: the C API of include/taper.h
-! as bind(C) interfaces, and a few helpers that turn C strings and the
-! library's arrays into Fortran ones.
+! as bind(C) interfaces, and helpers that take and give Fortran strings,
+! values and arrays.
 !
 ! Settings live in objects the library allocates (type(c_ptr)), written
 ! through setters and read through getters, as CVODE's memory is: nothing
 ! here mirrors a struct of settings, so a later libtaper that adds settings
-! needs no change of this module (docs/api.md, "Why opaque objects").  Each
-! setter checks its value; a refusal returns TAPER_EINVAL and names the
-! setting in the error (taper_field(err): "rtol", "n_granules", ...).  The
-! only structs declared here are the two the library fills and never
-! reorders: taper_error and taper_progress.  Enums are integer(c_int)
-! constants; names come from the library (taper_profile_name, ...).
+! needs no change of this module (docs/api.md, "Why opaque objects").  Every
+! setting can also be set and read by its name in the library's table of
+! settings, with a real, an integer, a logical, a choice's name or an array
+! (taper_chain_spec_set_option, taper_chain_spec_option, ...), and the table
+! itself walked row by row (taper_setting_row: name, group, type, unit,
+! range, default, description).  Each setter checks its value; a refusal
+! returns TAPER_EINVAL and names the setting in the error (taper_field(err):
+! "rtol", "n_granules", ...) with its range.  The only structs declared here
+! are those the library fills or owns and never reorders: taper_error,
+! taper_progress and a row of the table, taper_setting.  Enums are
+! integer(c_int) constants written at build time from the header's own
+! lists into the module taper_constants (taper_constants.f90, installed
+! beside this file: compile it first); names come from the library
+! (taper_profile_name, ...).  `use taper` gives both: the module taper at
+! the end of this file re-exports the constants and the binding.
 !
 !   use taper
 !   type(taper_error) :: err
@@ -27,6 +36,8 @@
 !   call taper_chain_spec_free(cs)
 !   if (.not. c_associated(chain)) error stop taper_message(err)
 !   ss = taper_solver_spec_alloc(err)            ! the library's defaults
+!   if (taper_solver_spec_set_option(ss, "rtol", 1d-8, err) /= TAPER_OK) &   ! by name
+!       error stop taper_field(err)//": "//taper_message(err)
 !   sim = taper_sim_alloc(chain, ss, err)
 !   call taper_solver_spec_free(ss)
 !   if (taper_sim_run(sim, err) /= TAPER_OK) print *, taper_message(err)
@@ -40,74 +51,16 @@
 ! are passed as c_null_ptr where the interface takes type(c_ptr); the
 ! taper_error argument is always required here.  integer(c_size_t) is
 ! signed in Fortran: a negative count reaches the library as a huge one.
-module taper
+module taper_binding
   use, intrinsic :: iso_c_binding
+  ! The version, status codes, every enum of taper.h with its count
+  ! (TAPER_N_PROFILES, ...), the ranges of the settings: written at build
+  ! time from the header's own lists (gen_constants.c).
+  use taper_constants
   implicit none
   private
 
-  ! ---- version ------------------------------------------------------------
-  integer, parameter, public :: TAPER_VERSION_MAJOR = 0, TAPER_VERSION_MINOR = 3, &
-                                TAPER_VERSION_PATCH = 0
-  character(len=*), parameter, public :: TAPER_VERSION_STRING = "0.3.0"
-
-  ! ---- status codes (enum taper_status) -----------------------------------
-  integer(c_int), parameter, public :: TAPER_OK = 0, TAPER_EINVAL = 1, TAPER_ENOMEM = 2, &
-       TAPER_ERANGE = 3, TAPER_ESOLVER = 4, TAPER_EINTERRUPTED = 5, TAPER_ELIMIT = 6
-  integer, parameter, public :: TAPER_MESSAGE_SIZE = 512
-
-  ! ---- ranges of the settings (taper.h states them; the setters check) ------
-  integer(c_size_t), parameter, public :: TAPER_N_GRANULES_MIN = 2, &
-       TAPER_N_GRANULES_MAX = 10000000
-  real(c_double), parameter, public :: TAPER_S_MAX = 1d3, TAPER_Q_MAX = 1d3, &
-       TAPER_EXPONENT_MIN = 1.5d0, TAPER_EXPONENT_MAX = 20d0, TAPER_RTOL_MIN = 1d-14, &
-       TAPER_RTOL_MAX = 0.1d0, TAPER_ATOL_MAX = 0.1d0
-  integer(c_int), parameter, public :: TAPER_MAX_ORDER_ADAMS = 12, TAPER_MAX_ORDER_BDF = 5
-
-  ! ---- enums ------------------------------------------------------------------
-  integer(c_int), parameter, public :: TAPER_MONODISPERSE = 0, TAPER_BACKWARD_LINEAR = 1, &
-       TAPER_FORWARD_LINEAR = 2, TAPER_BACKWARD_EXPONENTIAL = 3, &
-       TAPER_FORWARD_EXPONENTIAL = 4, TAPER_CUSTOM = 5, TAPER_DECORATED = 6
-  integer, parameter, public :: TAPER_N_PROFILES = 7
-  integer(c_int), parameter, public :: TAPER_DISORDER_RADIUS = 0, TAPER_DISORDER_MASS = 1
-  integer, parameter, public :: TAPER_N_DISORDERS = 2
-  integer(c_int), parameter, public :: TAPER_LEFT = 0, TAPER_RIGHT = 1
-  integer, parameter, public :: TAPER_N_ENDS = 2
-  integer(c_int), parameter, public :: TAPER_END_FREE = 0, TAPER_END_WALL = 1
-  integer, parameter, public :: TAPER_N_BOUNDARIES = 2
-  integer(c_int), parameter, public :: TAPER_DIM_LENGTH = 0, TAPER_DIM_TIME = 1, &
-       TAPER_DIM_VELOCITY = 2, TAPER_DIM_MASS = 3, TAPER_DIM_FORCE = 4, TAPER_DIM_ENERGY = 5, &
-       TAPER_DIM_IMPULSE = 6, TAPER_DIM_SIZE = 7, TAPER_DIM_DENSITY = 8, TAPER_DIM_COMPLIANCE = 9, &
-       TAPER_DIM_DRAG = 10, TAPER_DIM_NUMBER = 11
-  integer, parameter, public :: TAPER_N_DIMENSIONS = 12
-  integer(c_int), parameter, public :: TAPER_ADAMS = 0, TAPER_BDF = 1
-  integer, parameter, public :: TAPER_N_METHODS = 2
-  integer(c_int), parameter, public :: TAPER_T_PASS = 0, TAPER_T_RES = 1, TAPER_V_PEAK = 2, &
-       TAPER_T_PEAK = 3, TAPER_X_PASS = 4
-  integer, parameter, public :: TAPER_N_OBSERVABLES = 5
-  integer(c_int), parameter, public :: TAPER_THEORY_V = 0, TAPER_THEORY_MU = 1, &
-       TAPER_THEORY_T_RES = 2, TAPER_THEORY_T = 3
-  integer, parameter, public :: TAPER_N_THEORY_QUANTITIES = 4
-  integer(c_int), parameter, public :: TAPER_STAT_STEPS = 0, TAPER_STAT_RHS_EVALS = 1, &
-       TAPER_STAT_ROOT_EVALS = 2, TAPER_STAT_JAC_EVALS = 3, TAPER_STAT_NONLIN_ITERS = 4, &
-       TAPER_STAT_ERR_TEST_FAILS = 5, TAPER_STAT_WINDOW_CHANGES = 6, TAPER_STAT_RESTARTS = 7, &
-       TAPER_STAT_MAX_WINDOW = 8, TAPER_STAT_GRANULE_REACHED = 9, TAPER_STAT_T_FINAL = 10, &
-       TAPER_STAT_ENERGY_ERROR = 11, TAPER_STAT_MOMENTUM_ERROR = 12, TAPER_STAT_COMPLETE = 13, &
-       TAPER_STAT_ENERGY_INITIAL = 14, TAPER_STAT_ENERGY_DISSIPATED = 15, &
-       TAPER_STAT_ENERGY_TRANSMITTED = 16, TAPER_STAT_ENERGY_REFLECTED = 17, &
-       TAPER_STAT_ENERGY_IN_CHAIN = 18, TAPER_STAT_WALL_PEAK_FORCE_LEFT = 19, &
-       TAPER_STAT_WALL_PEAK_TIME_LEFT = 20, TAPER_STAT_WALL_IMPULSE_LEFT = 21, &
-       TAPER_STAT_WALL_PEAK_FORCE_RIGHT = 22, TAPER_STAT_WALL_PEAK_TIME_RIGHT = 23, &
-       TAPER_STAT_WALL_IMPULSE_RIGHT = 24
-  integer, parameter, public :: TAPER_N_STATISTICS = 25
-  integer(c_int), parameter, public :: TAPER_LAW_V_OF_K = 0, TAPER_LAW_T_RES_OF_K = 1, &
-       TAPER_LAW_T_OF_K = 2, TAPER_LAW_K_OF_T = 3, TAPER_LAW_V_OF_T = 4, &
-       TAPER_LAW_X_OF_T = 5, TAPER_LAW_C_OF_T = 6, TAPER_LAW_FWD_V_OF_K = 7, &
-       TAPER_LAW_FWD_T_OF_K = 8, TAPER_LAW_FWD_V_OF_T = 9
-  integer(c_int), parameter, public :: TAPER_FIT_POWER = 0, TAPER_FIT_EXPONENTIAL = 1, &
-       TAPER_FIT_DIVERGENCE_B = 2, TAPER_FIT_DIVERGENCE_C = 3, TAPER_FIT_DIVERGENCE_M = 4
-  integer, parameter, public :: TAPER_N_FIT_MODELS = 5
-
-  ! ---- the two structs the library fills (fields only ever appended) --------
+  ! ---- the structs the library fills or owns (fields only ever appended) ------
   type, bind(C), public :: taper_error
      integer(c_int) :: status = 0
      type(c_ptr) :: field = c_null_ptr          ! taper_field(err)
@@ -123,6 +76,25 @@ module taper
      integer(c_size_t) :: window_hi
   end type taper_progress
 
+  ! One row of the table of settings (taper.h, "Settings by name"): static
+  ! storage the library owns, read through a pointer and never copied
+  ! (taper_setting_row, taper_setting_find).  Its strings are C pointers:
+  ! taper_setting_name(row), taper_setting_group(row), ...
+  type, bind(C), public :: taper_setting
+     type(c_ptr) :: name             ! "n_granules", "striker_radius", ...
+     type(c_ptr) :: group            ! "chain", "ends", "striker", "losses", "solver"
+     integer(c_int) :: object        ! TAPER_SETTING_CHAIN or TAPER_SETTING_SOLVER
+     integer(c_int) :: type          ! TAPER_SETTING_REAL, ..._INTEGER, ..._BOOLEAN, ...
+     integer(c_int) :: dimension     ! TAPER_DIM_*: the unit of its value (rescaled)
+     real(c_double) :: min, max      ! range (a list: of each entry); may be infinite
+     integer(c_int) :: min_open, max_open   ! 1: that bound excluded
+     real(c_double) :: default_value ! a choice: its index (0-based, as in C)
+     type(c_ptr) :: choices          ! taper_setting_choice_name(row, k)
+     integer(c_int) :: beyond_paper  ! 1: not part of the paper's model
+     type(c_ptr) :: description      ! taper_setting_description(row)
+     type(c_ptr) :: bounds_reason    ! taper_setting_bounds_reason(row)
+  end type taper_setting
+
   ! ---- the C API ---------------------------------------------------------------
   public :: c_taper_version, c_taper_strerror, c_taper_profile_name, c_taper_method_name, &
             c_taper_fit_model_name, c_taper_statistic_name, c_taper_disorder_name, &
@@ -132,7 +104,7 @@ module taper
             taper_observable_dimension, taper_theory_quantity_dimension
   ! The table of settings (taper.h, "Settings by name"): a row is read through
   ! its C pointer (taper_setting_at, taper_setting_find); settings are set and
-  ! read by name.
+  ! read by name.  The Fortran helpers below take Fortran strings and values.
   public :: taper_setting_count, taper_setting_at, c_taper_setting_find, &
             c_taper_chain_spec_set_option, c_taper_chain_spec_set_option_text, &
             c_taper_chain_spec_set_option_list, c_taper_solver_spec_set_option, &
@@ -196,6 +168,33 @@ module taper
             taper_disorder_from_name, taper_boundary_name, taper_boundary_from_name, &
             taper_dimension_name, taper_dimension_unit, taper_chain_theory_note, &
             taper_observable_name, taper_theory_quantity_name, taper_law_name
+  ! Fortran helpers of the table of settings: its rows, and every setting by
+  ! name with a real, an integer, a logical, a choice's name or a list.
+  public :: taper_setting_row, taper_setting_find, taper_setting_name, taper_setting_group, &
+            taper_setting_description, taper_setting_bounds_reason, taper_setting_unit, &
+            taper_setting_choice_name, taper_setting_n_choices, taper_chain_spec_set_option, &
+            taper_solver_spec_set_option, taper_chain_spec_option, taper_chain_spec_option_list, &
+            taper_solver_spec_option
+
+  ! What taper_chain_spec_option_list points to for an empty list (never
+  ! written: it has no element).
+  real(c_double), target :: no_values(0)
+
+  ! taper_chain_spec_set_option(spec, name, value, err): value a real(c_double),
+  ! an integer (c_int or int64: a whole number), a logical (a boolean
+  ! setting), a string (a choice's name, any case; or a number as text) or a
+  ! real(c_double) array (a list; size 0 removes it).  TAPER_EINVAL naming
+  ! the setting for an unknown name, the other spec's setting, the wrong type
+  ! or a value out of range (the message states the range and why).
+  interface taper_chain_spec_set_option
+     module procedure chain_set_real, chain_set_int, chain_set_int64, chain_set_logical, &
+          chain_set_text, chain_set_list
+  end interface taper_chain_spec_set_option
+  ! The same for a solver spec (no setting of it is a list).
+  interface taper_solver_spec_set_option
+     module procedure solver_set_real, solver_set_int, solver_set_int64, solver_set_logical, &
+          solver_set_text
+  end interface taper_solver_spec_set_option
 
   interface
      ! ---- version, errors, names: strings come back as C pointers (helpers below)
@@ -1514,4 +1513,296 @@ contains
     call c_f_pointer(p, a, [taper_chain_size(chain)])
   end function taper_chain_array
 
+
+  ! ---- the table of settings ------------------------------------------------------
+  ! Row i of the table, i = 1 .. taper_setting_count() (taper_setting_at(i - 1)):
+  ! the library's row, read through the pointer; null past the end.
+  !
+  !   type(taper_setting), pointer :: row
+  !   do i = 1, int(taper_setting_count())
+  !      row => taper_setting_row(i)
+  !      print *, taper_setting_group(row), " ", taper_setting_name(row), " [", &
+  !           taper_setting_unit(row), "] ", row%min, row%max, row%default_value
+  !   end do
+  function taper_setting_row(i) result(row)
+    integer, intent(in) :: i
+    type(taper_setting), pointer :: row
+    type(c_ptr) :: p
+    nullify (row)
+    if (i < 1) return
+    p = taper_setting_at(int(i - 1, c_size_t))
+    if (c_associated(p)) call c_f_pointer(p, row)
+  end function taper_setting_row
+
+  ! The row of `name` (any case, trailing blanks ignored), or a null pointer
+  ! and TAPER_EINVAL in err naming the nearest setting ("did you mean ...").
+  function taper_setting_find(name, err) result(row)
+    character(len=*), intent(in) :: name
+    type(taper_error), intent(inout) :: err
+    type(taper_setting), pointer :: row
+    type(c_ptr) :: p
+    nullify (row)
+    p = c_taper_setting_find(trim(name)//c_null_char, err)
+    if (c_associated(p)) call c_f_pointer(p, row)
+  end function taper_setting_find
+
+  ! The strings of a row.
+  function taper_setting_name(row) result(s)
+    type(taper_setting), intent(in) :: row
+    character(len=:), allocatable :: s
+    s = c_string(row%name)
+  end function taper_setting_name
+
+  function taper_setting_group(row) result(s)
+    type(taper_setting), intent(in) :: row
+    character(len=:), allocatable :: s
+    s = c_string(row%group)
+  end function taper_setting_group
+
+  function taper_setting_description(row) result(s)
+    type(taper_setting), intent(in) :: row
+    character(len=:), allocatable :: s
+    s = c_string(row%description)
+  end function taper_setting_description
+
+  ! Why the range is what it is ('' when no bound needs a reason).
+  function taper_setting_bounds_reason(row) result(s)
+    type(taper_setting), intent(in) :: row
+    character(len=:), allocatable :: s
+    s = c_string(row%bounds_reason)
+  end function taper_setting_bounds_reason
+
+  ! The SI unit of the row's dimension ("s", "N", ...; "1" for a pure
+  ! number): values themselves are rescaled (taper_unit_scale converts).
+  function taper_setting_unit(row) result(s)
+    type(taper_setting), intent(in) :: row
+    character(len=:), allocatable :: s
+    s = taper_dimension_unit(row%dimension)
+  end function taper_setting_unit
+
+  ! How many names a choice setting has (0 for any other setting).
+  integer function taper_setting_n_choices(row) result(n)
+    type(taper_setting), intent(in) :: row
+    type(c_ptr), pointer :: names(:)
+    n = 0
+    if (.not. c_associated(row%choices)) return
+    do
+       call c_f_pointer(row%choices, names, [n + 1])
+       if (.not. c_associated(names(n + 1))) exit
+       n = n + 1
+    end do
+  end function taper_setting_n_choices
+
+  ! Name k of a choice setting, k = 1 .. taper_setting_n_choices(row): the
+  ! value k - 1 (as default_value and taper_chain_spec_option give it); ''
+  ! for another k or another setting.
+  function taper_setting_choice_name(row, k) result(s)
+    type(taper_setting), intent(in) :: row
+    integer, intent(in) :: k
+    character(len=:), allocatable :: s
+    type(c_ptr), pointer :: names(:)
+    integer :: n
+    s = ""
+    n = taper_setting_n_choices(row)
+    if (k < 1 .or. k > n) return
+    call c_f_pointer(row%choices, names, [k])
+    s = c_string(names(k))
+  end function taper_setting_choice_name
+
+  ! ---- settings by name (the generic taper_chain_spec_set_option and
+  ! taper_solver_spec_set_option) ---------------------------------------------------
+  function chain_set_real(spec, name, value, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    real(c_double), intent(in) :: value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = c_taper_chain_spec_set_option(spec, trim(name)//c_null_char, value, err)
+  end function chain_set_real
+
+  function chain_set_int(spec, name, value, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    integer(c_int), intent(in) :: value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = chain_set_real(spec, name, real(value, c_double), err)
+  end function chain_set_int
+
+  function chain_set_int64(spec, name, value, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    integer(c_int64_t), intent(in) :: value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    if (inexact(value)) then
+       status = refuse_inexact(name, value, err)
+    else
+       status = chain_set_real(spec, name, real(value, c_double), err)
+    end if
+  end function chain_set_int64
+
+  function chain_set_logical(spec, name, value, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    logical, intent(in) :: value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = chain_set_real(spec, name, merge(1.0_c_double, 0.0_c_double, value), err)
+  end function chain_set_logical
+
+  function chain_set_text(spec, name, value, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name, value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = c_taper_chain_spec_set_option_text(spec, trim(name)//c_null_char, &
+         trim(adjustl(value))//c_null_char, err)
+  end function chain_set_text
+
+  function chain_set_list(spec, name, values, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    real(c_double), intent(in) :: values(:)
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    real(c_double), allocatable, target :: copy(:)   ! contiguous, whatever values is
+    if (size(values) == 0) then
+       status = c_taper_chain_spec_set_option_list(spec, trim(name)//c_null_char, c_null_ptr, &
+            0_c_size_t, err)
+    else
+       copy = values
+       status = c_taper_chain_spec_set_option_list(spec, trim(name)//c_null_char, c_loc(copy), &
+            size(copy, kind=c_size_t), err)
+    end if
+  end function chain_set_list
+
+  function solver_set_real(spec, name, value, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    real(c_double), intent(in) :: value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = c_taper_solver_spec_set_option(spec, trim(name)//c_null_char, value, err)
+  end function solver_set_real
+
+  function solver_set_int(spec, name, value, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    integer(c_int), intent(in) :: value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = solver_set_real(spec, name, real(value, c_double), err)
+  end function solver_set_int
+
+  function solver_set_int64(spec, name, value, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    integer(c_int64_t), intent(in) :: value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    if (inexact(value)) then
+       status = refuse_inexact(name, value, err)
+    else
+       status = solver_set_real(spec, name, real(value, c_double), err)
+    end if
+  end function solver_set_int64
+
+  function solver_set_logical(spec, name, value, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    logical, intent(in) :: value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = solver_set_real(spec, name, merge(1.0_c_double, 0.0_c_double, value), err)
+  end function solver_set_logical
+
+  function solver_set_text(spec, name, value, err) result(status)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name, value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    status = c_taper_solver_spec_set_option_text(spec, trim(name)//c_null_char, &
+         trim(adjustl(value))//c_null_char, err)
+  end function solver_set_text
+
+  ! Every value reaches the library as a double, which holds each whole
+  ! number up to 2^53 exactly and rounds those beyond.
+  logical function inexact(value)
+    integer(c_int64_t), intent(in) :: value
+    integer(c_int64_t), parameter :: EXACT = 9007199254740992_c_int64_t   ! 2^53
+    inexact = value > EXACT .or. value < -EXACT
+  end function inexact
+
+  ! A whole number beyond 2^53 would be set rounded: refused here, naming
+  ! the setting as the library does (an unknown name: the library's refusal).
+  function refuse_inexact(name, value, err) result(status)
+    character(len=*), intent(in) :: name
+    integer(c_int64_t), intent(in) :: value
+    type(taper_error), intent(inout) :: err
+    integer(c_int) :: status
+    type(taper_setting), pointer :: row
+    character(len=TAPER_MESSAGE_SIZE) :: text
+    integer :: k, n
+    row => taper_setting_find(name, err)
+    if (.not. associated(row)) then
+       status = err%status
+       return
+    end if
+    write (text, '(a,i0,a)') taper_setting_name(row)//" = ", value, ": a whole number beyond "// &
+         "2^53, which the double every setting is passed as cannot hold exactly"
+    n = min(len_trim(text), TAPER_MESSAGE_SIZE - 1)
+    do k = 1, n
+       err%message(k) = text(k:k)
+    end do
+    err%message(n + 1) = c_null_char
+    err%status = TAPER_EINVAL
+    err%field = row%name
+    status = TAPER_EINVAL
+  end function refuse_inexact
+
+  ! The value of a chain setting by name: the real, the integer, the boolean
+  ! (0 or 1) or the choice's index (taper_setting_choice_name(row, index + 1) is
+  ! its name); NaN for an unknown name or a solver setting, or a list.  A
+  ! null spec (c_null_ptr) reads as a fresh one: the default.
+  function taper_chain_spec_option(spec, name) result(x)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    real(c_double) :: x
+    x = c_taper_chain_spec_option(spec, trim(name)//c_null_char)
+  end function taper_chain_spec_option
+
+  ! A list setting's values, owned by the spec (valid until it changes or
+  ! is freed); size 0 for none, an unknown name, or a setting that is not a
+  ! list.
+  function taper_chain_spec_option_list(spec, name) result(values)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    real(c_double), pointer :: values(:)
+    integer(c_size_t) :: n
+    type(c_ptr) :: p
+    p = c_taper_chain_spec_option_list(spec, trim(name)//c_null_char, n)
+    if (.not. c_associated(p) .or. n == 0) then
+       values => no_values
+    else
+       call c_f_pointer(p, values, [n])
+    end if
+  end function taper_chain_spec_option_list
+
+  ! The same for a solver setting.
+  function taper_solver_spec_option(spec, name) result(x)
+    type(c_ptr), intent(in) :: spec
+    character(len=*), intent(in) :: name
+    real(c_double) :: x
+    x = c_taper_solver_spec_option(spec, trim(name)//c_null_char)
+  end function taper_solver_spec_option
+end module taper_binding
+
+! The module programs use: every public name of the binding and every
+! constant of taper.h.
+module taper
+  use taper_constants
+  use taper_binding
+  implicit none
+  public
 end module taper
