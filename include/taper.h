@@ -68,10 +68,11 @@ extern "C" {
 /* ------------------------------------------------------------------ */
 /* Version                                                            */
 /* ------------------------------------------------------------------ */
-#define TAPER_VERSION_MAJOR 0
-#define TAPER_VERSION_MINOR 3
-#define TAPER_VERSION_PATCH 0
-#define TAPER_VERSION_STRING "0.3.0"
+/* TAPER_VERSION_MAJOR, _MINOR, _PATCH and TAPER_VERSION_STRING ("1.0.0"),
+ * written by the build from meson.build's project version.  Programs built
+ * against one major version run with any later library of that major version
+ * (the soname is libtaper.so.MAJOR). */
+#include "taper_version.h"
 
 /* The version of the library actually loaded (may differ from the macros
  * the caller was compiled with). */

@@ -3,8 +3,8 @@
 # `meson install` into a temporary root, then share/examples/pulse.c is
 # compiled with nothing but `pkg-config --cflags --libs taper` from there and
 # run against the installed libtaper.so (never the build tree's).  Checks the
-# installed files, the versioned soname (libtaper.so.1 since the opaque
-# settings of 0.2.0) and the example's output: the table close to the theory
+# installed files, the versioned soname (libtaper.so.MAJOR: meson.build derives
+# the soversion from the major version) and the example's output: the table close to the theory
 # and the run's statistics, every one by its library name.
 set -eu
 build=$1
@@ -38,8 +38,10 @@ libdir=$($PC --variable=libdir taper)
 includedir=$($PC --variable=includedir taper)
 
 fail=0
-[ -f "$includedir/taper.h" ] || { echo "taper.h not installed in $includedir" >&2; fail=1; }
-soversion=1
+for h in taper.h taper_version.h; do
+    [ -f "$includedir/$h" ] || { echo "$h not installed in $includedir" >&2; fail=1; }
+done
+soversion=${version%%.*}
 for f in libtaper.so "libtaper.so.$soversion" "libtaper.so.$version"; do
     [ -e "$libdir/$f" ] || { echo "$libdir/$f not installed" >&2; fail=1; }
 done

@@ -121,7 +121,7 @@ clean_env "$tmp/pulse" >"$tmp/pulse.out" 2>"$tmp/pulse.err" || status=$?
 if [ "$status" -ne 0 ] || ! grep -Eq '^#   complete += 1' "$tmp/pulse.out"; then
     echo "FAIL: the installed example: exit $status" >&2; cat "$tmp/pulse.err" >&2; fail=1
 else
-    echo "installed example ran against $libdir/libtaper.so.1"
+    echo "installed example ran against $(readlink -f "$libdir/libtaper.so")"
 fi
 [ "$fail" -eq 0 ] || exit 1
 echo "real install into $prefix: taper, taper_nml and the example run from it alone"

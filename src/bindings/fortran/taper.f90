@@ -1330,7 +1330,8 @@ contains
     s = transfer(chars, s)
   end function c_string
 
-  ! The version of the loaded library ("0.3.0").
+  ! The version of the loaded library (TAPER_VERSION_STRING of the header it was
+  ! built from, when the program runs with the library it was built with).
   function taper_version() result(s)
     character(len=:), allocatable :: s
     s = c_string(c_taper_version())
