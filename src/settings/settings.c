@@ -117,12 +117,12 @@ static size_t n_choices(const taper_setting *s)
 taper_status setting_check(const setting_row *row, double value, taper_error *err)
 {
     const taper_setting *s = &row->info;
-    char v[32];
-    format_real(value, v);
+    char v[32]; /* the value as text, written only for a refusal */
     switch (s->type) {
     case TAPER_SETTING_CHOICE: {
         size_t n = n_choices(s);
         if (!(value >= 0 && value < (double)n && value == floor(value))) {
+            format_real(value, v);
             taper_fail_field(err, TAPER_EINVAL, s->name, "%s = %s: no such %s (use", s->name, v,
                              s->name);
             for (size_t i = 0; i < n; i++)
@@ -133,17 +133,21 @@ taper_status setting_check(const setting_row *row, double value, taper_error *er
         return taper_ok(err);
     }
     case TAPER_SETTING_BOOLEAN:
-        if (value != 0.0 && value != 1.0)
+        if (value != 0.0 && value != 1.0) {
+            format_real(value, v);
             return taper_fail_field(err, TAPER_EINVAL, s->name, "%s = %s: must be 0 (false) or "
                                     "1 (true)", s->name, v);
+        }
         return taper_ok(err);
     case TAPER_SETTING_LIST:
         return taper_fail_field(err, TAPER_EINVAL, s->name, "%s is a list: set it with a list "
                                 "of values", s->name);
     case TAPER_SETTING_INTEGER:
-        if (in_range(s, value) && value != floor(value))
+        if (in_range(s, value) && value != floor(value)) {
+            format_real(value, v);
             return taper_fail_field(err, TAPER_EINVAL, s->name, "%s = %s: must be a whole number",
                                     s->name, v);
+        }
         /* fall through */
     case TAPER_SETTING_REAL:
         if (!in_range(s, value)) return out_of_range(s, 0, value, err);

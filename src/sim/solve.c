@@ -757,15 +757,6 @@ static int absorbed_by_drag(const taper_sim *sim)
 
 /* The longest residence time so far (at least 1e-3): the time scale on
  * which the pulse makes progress. */
-static double longest_residence(const taper_sim *sim)
-{
-    const double *tp = sim->pulse.obs[TAPER_T_PASS];
-    double longest = 1e-3;
-    for (size_t k = 1; k < sim->pulse.next_pass && k <= sim->pass_limit; k++)
-        if (isfinite(tp[k - 1])) longest = fmax(longest, tp[k - 1] - (k > 1 && isfinite(tp[k - 2]) ? tp[k - 2] : 0.0));
-    return longest;
-}
-
 /* A pulse can leave the chain before it has passed every granule: a heavy
  * granule sends it back, or damping absorbs it, and the passes still to
  * come are of motion below what the tolerance resolves (a chain of radii 1,
@@ -776,16 +767,31 @@ static double longest_residence(const taper_sim *sim)
  * to happen.  Checked only when the run has stalled, PEAK_GRACE longest
  * residence times without a pass: the budget walks the whole chain. */
 typedef struct progress_watch {
-    size_t next_pass;
+    size_t next_pass;  /* passes seen so far                          */
+    double longest;    /* the longest residence time among them       */
     double since, interval;
 } progress_watch;
+
+/* The longest residence time so far, kept as a running maximum over the
+ * passes found since the last look (a rescan of every pass at each new one
+ * would cost O(N^2) on a long chain). */
+static void watch_passes(const taper_sim *sim, progress_watch *w)
+{
+    const double *tp = sim->pulse.obs[TAPER_T_PASS];
+    for (size_t k = w->next_pass > 1 ? w->next_pass : 1;
+         k < sim->pulse.next_pass && k <= sim->pass_limit; k++)
+        if (isfinite(tp[k - 1]))
+            w->longest = fmax(w->longest,
+                              tp[k - 1] - (k > 1 && isfinite(tp[k - 2]) ? tp[k - 2] : 0.0));
+    w->next_pass = sim->pulse.next_pass;
+    w->since = sim->t;
+    w->interval = PEAK_GRACE * w->longest;
+}
 
 static int pulse_has_left(taper_sim *sim, progress_watch *w)
 {
     if (sim->pulse.next_pass != w->next_pass) {
-        w->next_pass = sim->pulse.next_pass;
-        w->since = sim->t;
-        w->interval = PEAK_GRACE * longest_residence(sim);
+        watch_passes(sim, w);
         return 0;
     }
     if (sim->t - w->since < w->interval) return 0;
@@ -799,8 +805,8 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
 {
     double tout = sim->spec.t_max > 0.0 ? sim->spec.t_max : NO_TIME_LIMIT;
     int grace = 0, absorbed = 0, left = 0;
-    progress_watch watch = {.next_pass = sim->pulse.next_pass, .since = sim->t,
-                            .interval = PEAK_GRACE * longest_residence(sim)};
+    progress_watch watch = {.next_pass = 0, .longest = 1e-3};
+    watch_passes(sim, &watch);
     while (!taper_events_complete(sim) || !taper_events_walls_settled(sim)) {
         if (sim->spec.max_steps > 0 && total_counters(sim).steps >= sim->spec.max_steps)
             return stop(sim, err, STOP_MAX_STEPS, 0);
