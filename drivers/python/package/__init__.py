@@ -25,8 +25,8 @@ back as numpy arrays.
     taper.asymptotic.exponent("v_of_t")               # the large-k laws (-15/23)
     taper.fit(r.k, r.v_peak, model="power", index_window=(100, None)).params  # (a, b)
 
-Keyword arguments are the scene's variables, by their one name (the key in
-its group, with the group's name in front where two groups share a key:
+Keyword arguments are the scene's variables, by their one name (a scene
+file writes it in its group without the group's name in front:
 ``striker_radius`` is ``&striker radius``; taper.variables() lists them).
 A call is a scene: checked by the driver's scene reader as a file is,
 values left out (or None) are the defaults.  An unknown keyword or a value
@@ -87,11 +87,13 @@ def version() -> str:
 __version__ = _core.version()
 
 _RULE = """
-    Keywords are the scene's variables by their one name (taper.variables()
-    lists them with their groups, types, defaults, units and ranges): the key
-    in its group, with the group's name in front where two groups share a key
-    (``left``, ``right``, ``left_compliance`` of ``&ends``; ``striker_radius``
-    is ``&striker radius``, ``figure_every`` is ``&figure every``).  The call
+    Keywords are the scene's variables by their one name, unique over the
+    groups (taper.variables() lists them with their groups, types, defaults,
+    units and ranges); a scene file writes a variable in its group without
+    the group's name in front, if it has it: ``striker_radius`` is
+    ``&striker radius``, ``fit_model`` is ``&fit model``, ``figure_every``
+    is ``&figure every``, ``left`` and ``left_compliance`` are ``&ends``'s,
+    ``seed`` is ``&chain seed``, ``interval`` is ``&sensors interval``.  The call
     is a scene checked by the driver's scene reader exactly as a file is;
     left out (or None): the default.  Python values by the variable's type:
     a real takes int or float (numpy numbers too, never bool or str), an

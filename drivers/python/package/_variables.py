@@ -23,7 +23,8 @@ class Variable:
             ``losses``, ``material``, ``solver``, ``sensors``, ``output``,
             ``fit``, ``table``, ``figure``, ``sweep``).
         key: its key in that group: the name without the group's name in
-            front (``striker_radius`` is ``&striker radius``).
+            front, if it has it (``striker_radius`` is ``&striker radius``,
+            ``fit_model`` is ``&fit model``, ``seed`` is ``&chain seed``).
         type: ``"real"``, ``"integer"``, ``"logical"``, ``"string"``,
             ``"choice"`` (a str, one of ``choices``) or ``"real list"``; the
             Python value is a float (or int), an int, a bool, a str, a str,
