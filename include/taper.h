@@ -780,13 +780,14 @@ TAPER_API taper_dimension taper_observable_dimension(taper_observable which);
     X(TAPER_STAT_ENERGY_INITIAL, "energy_initial", ENERGY)       /* E(0)                    */ \
     X(TAPER_STAT_ENERGY_DISSIPATED, "energy_dissipated", ENERGY) /* by damping and drag
                                                             until t_final           */ \
-    X(TAPER_STAT_ENERGY_TRANSMITTED, "energy_transmitted", ENERGY) /* in the far group:
-                                       granules from the last open contact to N,
-                                       when they move away or press on a right
+    X(TAPER_STAT_ENERGY_TRANSMITTED, "energy_transmitted", ENERGY) /* left forward
+                                       for good: the clusters (cut at open contacts)
+                                       at the far end moving forward, none of
+                                       which meets the rest again; 0 with a right
                                        wall                                         */ \
-    X(TAPER_STAT_ENERGY_REFLECTED, "energy_reflected", ENERGY) /* in the near group
-                                       (striker, granule 1 up to the first open
-                                       contact) when it moves back                  */ \
+    X(TAPER_STAT_ENERGY_REFLECTED, "energy_reflected", ENERGY) /* left backward for
+                                       good, likewise at the near end; 0 with a
+                                       left wall or a piston                        */ \
     X(TAPER_STAT_ENERGY_IN_CHAIN, "energy_in_chain", ENERGY)   /* the rest                  */ \
     X(TAPER_STAT_WALL_PEAK_FORCE_LEFT, "wall_peak_force_left", FORCE) /* largest wall force
                                                                   (NaN: no wall)    */ \

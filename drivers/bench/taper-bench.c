@@ -13,7 +13,7 @@
  *   references.tsv       agreement of the two references per chain
  *   orders.tsv           observed order: slope of -log err against log steps
  *   pareto.tsv           the non-dominated (seconds, err_t_pass) points
- *   speed-ratios.tsv     time of each method to reach 1e-6 and 1e-9
+ *   speed-ratios.tsv     time of each method to reach 1e-6, 1e-8, 1e-9, 1e-10, 1e-12
  *   scaling.tsv          default settings, N = 10^2 .. --scaling-max (10^4; 10^6 for issue 5)
  *   work-precision.gp    gnuplot script -> work-precision.png
  * Methods: adams (window, the default order; "default" is the shipped
@@ -21,10 +21,13 @@
  * adams-q12, bdf-band (banded analytic Jacobian, whole chain), rk8pd, verlet,
  * and ARKODE ERKStep on the whole chain with ARKODE's root finder:
  * erk-verner6 (ARKODE_VERNER_8_5_6, order 6(5)), erk-fehlberg8
- * (ARKODE_FEHLBERG_13_7_8, order 8(7)), erk-dp5 (ARKODE_DORMAND_PRINCE_7_4_5).
+ * (ARKODE_FEHLBERG_13_7_8, order 8(7)), erk-dp5 (ARKODE_DORMAND_PRINCE_7_4_5);
+ * rk8-window: rk8pd inside an active window, max-norm control with taper's
+ * scaled tolerances (peers/peer_rk8_window.c).
  * Wall times are medians of R repetitions (default 3).
  */
 #include "peers/peers.h"
+#include "reference.h"
 #include "taper.h"
 
 #include <gsl/gsl_errno.h>
@@ -62,10 +65,10 @@ static const chain_def quick_chains[] = {
 static const char *chain_name(const chain_def *c) { return taper_profile_name(c->profile); }
 
 enum { M_ADAMS, M_DEFAULT, M_ADAMS_NOWIN, M_ADAMS_Q4, M_ADAMS_Q12, M_BDF, M_RK8PD, M_VERLET,
-       M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, N_METHODS };
+       M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, M_RK8_WINDOW, N_METHODS };
 static const char *method_names[N_METHODS] = {"adams", "default", "adams-nowin", "adams-q4",
                                               "adams-q12", "bdf-band", "rk8pd", "verlet",
-                                              "erk-verner6", "erk-fehlberg8", "erk-dp5"};
+                                              "erk-verner6", "erk-fehlberg8", "erk-dp5", "rk8-window"};
 
 static int is_erk(int m) { return m == M_ERK_VERNER6 || m == M_ERK_FEHLBERG8 || m == M_ERK_DP5; }
 
@@ -146,10 +149,11 @@ static taper_status run_once(const taper_chain *chain, int m, double tol, long m
     if (!out->t_pass || !out->v_peak) return TAPER_ENOMEM;
     taper_error err;
     double t0 = wall_seconds();
-    if (m == M_RK8PD || m == M_VERLET || is_erk(m)) {
+    if (m == M_RK8PD || m == M_VERLET || is_erk(m) || m == M_RK8_WINDOW) {
         taper_peer_result r;
         taper_status status;
         if (m == M_RK8PD) status = taper_peer_rk8pd(chain, tol, tol * 1e-3, max_steps, &r, &err);
+        else if (m == M_RK8_WINDOW) status = taper_peer_rk8_window(chain, tol, tol * 1e-3, max_steps, &r, &err);
         else if (m == M_VERLET) status = taper_peer_verlet(chain, tol, max_steps, &r, &err);
         else {
             taper_peer_erk_table table = m == M_ERK_VERNER6   ? TAPER_PEER_ERK_VERNER6
@@ -261,6 +265,8 @@ typedef struct study {
     row *rows;
     size_t n_rows, cap;
     double ref_agree_t[8], ref_agree_v[8];
+    double ld_vs_adams[8], ld_vs_rk8pd[8]; /* the CVODE and rk8pd references against taper-reference */
+    unsigned methods; /* bit m: method m runs (--methods; all by default) */
 } study;
 
 static int add_row(study *s, const row *r)
@@ -299,11 +305,13 @@ static size_t sweep(int m, int quick, const taper_chain *chain, double *tol)
         for (size_t i = 0; i < sizeof frac / sizeof *frac; i += quick ? 2 : 1) tol[k++] = frac[i] * tmin;
         return k;
     }
-    /* Adams below rtol 1e-11: the window stops shrinking (docs/benchmarks.md)
-     * and monodisperse runs take minutes; the reference alone goes there. */
-    /* ARKODE ERK (whole chain, orders 5-8): 1e-11 and below take 10^5-10^6
-     * whole-chain steps on N = 1000, so its sweep ends at 1e-11 too. */
-    double lo = m == M_BDF ? 1e-11 : (m == M_RK8PD ? 1e-13 : 1e-11);
+    /* Adams with the window and rk8pd down to the tightest rtol taper
+     * accepts (the long-double reference resolves their errors there);
+     * ARKODE ERK (whole chain, orders 5-8): 1e-11 and below take 10^5-10^6
+     * whole-chain steps on N = 1000, so its sweep ends at 1e-11, as the
+     * whole-chain CVODE runs do. */
+    int tight = m == M_ADAMS || m == M_ADAMS_Q4 || m == M_ADAMS_Q12 || m == M_RK8PD || m == M_RK8_WINDOW;
+    double lo = m == M_BDF ? 1e-11 : tight ? 1e-14 : 1e-11;
     double hi = m == M_BDF ? 1e-4 : 1e-5;
     if (m == M_BDF && !quick) lo = 1e-10;
     if (quick) lo = fmax(lo, 1e-11);
@@ -332,24 +340,39 @@ static int run_chain(study *s, size_t ci)
     size_t n = taper_chain_size(chain);
     fprintf(stderr, "== %s N=%zu\n", chain_name(cd), n);
 
-    /* references */
+    /* references: pass times from taper-reference (long double, ~1e-16,
+     * docs/design.md "Accuracy at tight tolerances") over granules 1..N-2;
+     * peak velocities from CVODE Adams at rtol 1e-13, cross-checked with
+     * rk8pd */
     run ref, ref2;
-    if (run_once(chain, M_ADAMS, 1e-13, 0, &ref) != TAPER_OK) {
+    long double *ld = malloc(n * sizeof *ld);
+    double *ref_t = malloc(n * sizeof *ref_t);
+    double t0 = wall_seconds();
+    if (!ld || !ref_t || taper_reference_pass_times(chain, 1e-17L, ld) != 0 ||
+        run_once(chain, M_ADAMS, 1e-13, 0, &ref) != TAPER_OK) {
+        free(ld), free(ref_t);
         taper_chain_free(chain);
         return -1;
     }
+    for (size_t k = 0; k < n; k++) ref_t[k] = k + 2 < n ? (double)ld[k] : NAN;
+    free(ld);
+    double t_ld = wall_seconds() - t0 - ref.seconds;
     /* run_once sets atol = 1e-3 rtol = 1e-16 */
     double t_ref = ref.seconds;
     taper_status st2 = run_once(chain, M_RK8PD, 1e-13, 0, &ref2);
     size_t miss_t = 0, miss_v = 0;
     s->ref_agree_t[ci] = st2 == TAPER_OK ? max_rel_err(ref2.t_pass, ref.t_pass, n, &miss_t) : NAN;
     s->ref_agree_v[ci] = st2 == TAPER_OK ? max_rel_err(ref2.v_peak, ref.v_peak, n, &miss_v) : NAN;
-    fprintf(stderr, "   reference adams 1e-13: %.2f s; rk8pd 1e-13: %.2f s; agree t_pass %.2e v_peak %.2e"
-            " (missing %zu %zu)\n", t_ref, ref2.seconds, s->ref_agree_t[ci], s->ref_agree_v[ci],
-            miss_t, miss_v);
+    s->ld_vs_adams[ci] = max_rel_err(ref.t_pass, ref_t, n, NULL);
+    s->ld_vs_rk8pd[ci] = st2 == TAPER_OK ? max_rel_err(ref2.t_pass, ref_t, n, NULL) : NAN;
+    fprintf(stderr, "   reference long double: %.2f s; adams 1e-13: %.2f s (t_pass %.2e off); rk8pd 1e-13:"
+            " %.2f s (%.2e off); adams and rk8pd agree t_pass %.2e v_peak %.2e (missing %zu %zu)\n",
+            t_ld, t_ref, s->ld_vs_adams[ci], ref2.seconds, s->ld_vs_rk8pd[ci], s->ref_agree_t[ci],
+            s->ref_agree_v[ci], miss_t, miss_v);
     run_free(&ref2);
 
     for (int m = 0; m < N_METHODS; m++) {
+        if (!(s->methods >> m & 1u)) continue;
         double tol[16];
         size_t nt = sweep(m, s->quick, chain, tol);
         for (size_t i = 0; i < nt; i++) {
@@ -370,7 +393,7 @@ static int run_chain(study *s, size_t ci)
                 run_free(&r);
                 continue;
             }
-            w.err_t = max_rel_err(r.t_pass, ref.t_pass, n, &w.missing);
+            w.err_t = max_rel_err(r.t_pass, ref_t, n, &w.missing);
             w.err_v = max_rel_err(r.v_peak, ref.v_peak, n, &w.missing);
             w.drift = r.energy_drift;
             w.seconds = r.seconds;
@@ -384,6 +407,7 @@ static int run_chain(study *s, size_t ci)
         }
     }
     run_free(&ref);
+    free(ref_t);
     taper_chain_free(chain);
     return 0;
 }
@@ -467,10 +491,10 @@ static int write_results(const study *s, const char *dir)
 
     f = open_out(dir, "references.tsv");
     if (!f) return -1;
-    fprintf(f, "chain\tn_granules\tagree_t_pass\tagree_v_peak\n");
+    fprintf(f, "chain\tn_granules\tagree_t_pass\tagree_v_peak\tadams_t_pass_error\trk8pd_t_pass_error\n");
     for (size_t c = 0; c < s->n_chains; c++)
-        fprintf(f, "%s\t%zu\t%.3e\t%.3e\n", chain_name(&s->chains[c]), s->chains[c].n, s->ref_agree_t[c],
-                s->ref_agree_v[c]);
+        fprintf(f, "%s\t%zu\t%.3e\t%.3e\t%.3e\t%.3e\n", chain_name(&s->chains[c]), s->chains[c].n,
+                s->ref_agree_t[c], s->ref_agree_v[c], s->ld_vs_adams[c], s->ld_vs_rk8pd[c]);
     fclose(f);
 
     f = open_out(dir, "orders.tsv");
@@ -478,9 +502,9 @@ static int write_results(const study *s, const char *dir)
     fprintf(f, "chain\tmethod\torder_per_step\tpoints\n");
     for (size_t c = 0; c < s->n_chains; c++)
         for (int m = 0; m < N_METHODS; m++) {
-            if (m == M_DEFAULT) continue;
+            if (m == M_DEFAULT || !(s->methods >> m & 1u)) continue;
             int np;
-            double floor_err = fmax(100.0 * s->ref_agree_t[c], 1e-12);
+            double floor_err = 1e-14; /* the long-double reference is good to ~1e-16 */
             double p = observed_order(s, (int)c, m, floor_err, &np);
             fprintf(f, "%s\t%s\t%.2f\t%d\n", chain_name(&s->chains[c]), method_names[m], p, np);
         }
@@ -515,13 +539,13 @@ static int write_results(const study *s, const char *dir)
     f = open_out(dir, "speed-ratios.tsv");
     if (!f) return -1;
     fprintf(f, "chain\ttarget\tadams_seconds\tmethod\tseconds\tratio\tnote\n");
-    static const double targets[] = {1e-6, 1e-8, 1e-9};
+    static const double targets[] = {1e-6, 1e-8, 1e-9, 1e-10, 1e-12};
     for (size_t c = 0; c < s->n_chains; c++)
-        for (size_t ti = 0; ti < 3; ti++) {
+        for (size_t ti = 0; ti < sizeof targets / sizeof *targets; ti++) {
             double be, bt;
             double ta = time_to_reach(s, (int)c, M_ADAMS, targets[ti], &be, &bt);
             for (int m = 0; m < N_METHODS; m++) {
-                if (m == M_ADAMS || m == M_DEFAULT) continue;
+                if (m == M_ADAMS || m == M_DEFAULT || !(s->methods >> m & 1u)) continue;
                 double tm = time_to_reach(s, (int)c, m, targets[ti], &be, &bt);
                 if (isnan(tm))
                     fprintf(f, "%s\t%.0e\t%.6f\t%s\t>%.6f\t>%.3g\tnot reached (best err %.2e)\n",
@@ -550,14 +574,17 @@ static int write_results(const study *s, const char *dir)
                                             "lc rgb '#8c564b' pt 11", "lc rgb '#2ca02c' pt 13",
                                             "lc rgb '#ff7f0e' pt 4", "lc rgb '#d62728' pt 6",
                                             "lc rgb '#e377c2' pt 8", "lc rgb '#bcbd22' pt 10",
-                                            "lc rgb '#7f7f7f' pt 12"};
+                                            "lc rgb '#7f7f7f' pt 12", "lc rgb '#ff7f0e' pt 5 dt 2"};
     for (size_t c = 0; c < s->n_chains; c++) {
         fprintf(f, "set title '%s N=%zu' noenhanced\nplot ", chain_name(&s->chains[c]), s->chains[c].n);
-        for (int m = 0; m < N_METHODS; m++)
+        for (int m = 0, first = 1; m < N_METHODS; m++) {
+            if (!(s->methods >> m & 1u)) continue; /* not run (--methods) */
             fprintf(f, "%s'work-precision.tsv' using (strcol(1) eq '%s' && strcol(2) eq '%s' && $16 == 1 ? "
                        "$7 : NaN):4 with linespoints %s title '%s'",
-                    m ? ", \\\n     " : "", chain_name(&s->chains[c]), method_names[m], styles[m],
+                    first ? "" : ", \\\n     ", chain_name(&s->chains[c]), method_names[m], styles[m],
                     method_names[m]);
+            first = 0;
+        }
         fprintf(f, "\n");
     }
     fprintf(f, "unset multiplot\n");
@@ -649,7 +676,7 @@ static int run_scaling(const char *dir, int reps, size_t n_max, int quick)
 static void usage(FILE *out)
 {
     fputs("usage: taper-bench [--quick] [-o DIR] [--reps R] [--chain NAME] [--no-scaling | --scaling-only]\n"
-          "                   [--scaling-max N]\n"
+          "                   [--scaling-max N] [--methods NAME,NAME,...]\n"
           "       taper-bench --single CHAIN METHOD TOL [N]\n"
           "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
           "Methods:",
@@ -705,6 +732,7 @@ int main(int argc, char **argv)
     int quick = 0, reps = 3, scaling = 1;
     const char *only = NULL; /* --chain NAME: just that chain of the set */
     size_t scaling_max = 10000;
+    unsigned methods = (1u << N_METHODS) - 1;
     gsl_set_error_handler_off();
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) quick = 1;
@@ -715,6 +743,18 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--chain") && i + 1 < argc) only = argv[++i];
         else if (!strcmp(argv[i], "--scaling-max") && i + 1 < argc) scaling_max = (size_t)atol(argv[++i]);
         else if (!strcmp(argv[i], "--single")) return single(argc, argv, i + 1);
+        else if (!strcmp(argv[i], "--methods") && i + 1 < argc) {
+            methods = 0;
+            for (char *list = argv[++i], *name; (name = strtok(list, ",")); list = NULL) {
+                int m = 0;
+                while (m < N_METHODS && strcmp(name, method_names[m])) m++;
+                if (m == N_METHODS) {
+                    fprintf(stderr, "taper-bench: no method %s\n", name);
+                    return 2;
+                }
+                methods |= 1u << m;
+            }
+        }
         else {
             usage(!strcmp(argv[i], "--help") ? stdout : stderr);
             return !strcmp(argv[i], "--help") ? 0 : 2;
@@ -725,7 +765,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "taper-bench: cannot create %s: %s\n", dir, strerror(errno));
         return 2;
     }
-    study s = {.quick = quick, .reps = reps};
+    study s = {.quick = quick, .reps = reps, .methods = methods};
     s.chains = quick ? quick_chains : full_chains;
     s.n_chains = quick ? sizeof quick_chains / sizeof *quick_chains : sizeof full_chains / sizeof *full_chains;
     if (only) {

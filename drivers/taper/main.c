@@ -122,7 +122,7 @@ static int run_one(const options *o, const char *path)
     if (mpi_rank() > 0) { /* the runs rank 0 hands out, nothing printed */
         int worker_rc = mpi_worker(o->get ? NULL : sc);
         scene_free(sc);
-        return sc ? RUN_COMPLETE : worker_rc;
+        return sc ? worker_rc : RUN_INPUT;
     }
 #endif
     int rc = one_scene(o, sc);
@@ -141,7 +141,10 @@ static int one_scene(const options *o, scene *sc)
         scene_free(sc);
         return RUN_INPUT;
     }
-    sweep_set_part(o->part, o->parts);
+    sweep_options sweep_opts = {.part = o->part, .parts = o->parts};
+#ifdef TAPER_MPI
+    sweep_opts.remote = mpi_remote(); /* NULL but on rank 0 of several */
+#endif
     int rc;
     if (o->get) {
         rc = scene_print_value(sc, o->get, stdout) == 0 ? RUN_COMPLETE : RUN_INPUT;
@@ -154,8 +157,10 @@ static int one_scene(const options *o, scene *sc)
         /* The echo is the record of what ran: without it, nothing runs. */
         if (check_stdout() != 0)
             rc = RUN_FAILED;
+        else if (scene_cfg(sc)->runs.swept)
+            rc = sweep_run(sc, &sweep_opts);
         else
-            rc = scene_cfg(sc)->runs.swept ? sweep_run(sc) : run_scene(sc);
+            rc = run_scene(sc);
     }
     scene_free(sc);
     return rc;
@@ -165,7 +170,15 @@ static int run(const options *o)
 {
     run_install_signals();
     int rc = RUN_COMPLETE;
-    for (size_t i = 0; i < o->n_paths && !run_interrupted(); i++) {
+    for (size_t i = 0; i < o->n_paths; i++) {
+        if (run_interrupted()) { /* the scenes after it are not started */
+#ifdef TAPER_MPI
+            mpi_scene_skip(); /* but walked in step with the other ranks */
+            continue;
+#else
+            break;
+#endif
+        }
         rc = run_worst(rc, run_one(o, o->paths[i]));
         if (check_stdout() != 0) rc = run_worst(rc, RUN_FAILED);
     }

@@ -25,7 +25,8 @@
  * objects").
  *
  * Build against an installed libtaper:
- *     cc pulse.c $(pkg-config --cflags --libs taper) -lm -o pulse
+ *     cc pulse.c $(pkg-config --cflags --libs taper) \
+ *        -Wl,-rpath,$(pkg-config --variable=libdir taper) -lm -o pulse
  */
 #include <taper.h>
 

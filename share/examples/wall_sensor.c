@@ -23,7 +23,8 @@
  * objects the library allocates (docs/api.md).
  *
  * Build against an installed libtaper:
- *     cc wall_sensor.c $(pkg-config --cflags --libs taper) -lm -o wall_sensor
+ *     cc wall_sensor.c $(pkg-config --cflags --libs taper) \
+ *        -Wl,-rpath,$(pkg-config --variable=libdir taper) -lm -o wall_sensor
  */
 #include <taper.h>
 

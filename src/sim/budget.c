@@ -18,14 +18,26 @@
  *
  * Budget: body k carries its kinetic energy and half of the energy of each
  * of its contacts (all of a wall's contact: a wall carries nothing).
- * Contacts whose elastic force is zero (overlap <= 0) are open.  The near
- * group runs from body 1 (striker or wall included) to the first open
- * contact, the far group from the last open contact to the last body; the
- * near group's energy is reflected when its momentum is negative (it moves
- * back), the far group's transmitted when its momentum is positive or it
- * ends on a right wall (it presses on it); the rest is in the chain.
- * With no open contact everything is in the chain.  The four parts add up
- * to E(0) to the tolerance.
+ * Contacts whose elastic force is zero (overlap <= 0) are open; they cut
+ * the bodies into clusters, each moving freely as a whole (momentum P,
+ * mass M, velocity V = P / M) until it meets another.  Energy has left the
+ * chain for good when the clusters carrying it can never meet the rest
+ * again:
+ *   reflected    the clusters at the near end that move back (V < 0), each
+ *                at least as fast as the next (V_i <= V_{i+1}, so that none
+ *                is caught), without a left wall (or a piston) to send them
+ *                back;
+ *   transmitted  likewise at the far end: moving forward (V > 0), each at
+ *                most as fast as the next (V_{i-1} <= V_i), without a right
+ *                wall;
+ *   in chain     the rest: clusters still to collide, bodies at rest,
+ *                energy pressing on a wall; all of it while the chain is
+ *                one cluster, or under a static load (which pushes the end
+ *                granules back).
+ * So two spheres that separate, the second faster, have both transmitted
+ * their energy forward; a pulse reflected from a wall whose granules all
+ * move back, none faster than the one before, is all reflected.  The
+ * three parts and the dissipated energy add up to E(0) to the tolerance.
  */
 #include "sim.h"
 
@@ -82,35 +94,56 @@ void taper_budget_compute(taper_sim *sim, const double *q)
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, sim->cv.y);
     taper_sim_bodies(sim, x, v);
-    size_t first_open = 0, last_open = 0; /* 0: none */
-    for (size_t k = 1; k < n; k++) {
-        double z = compression(sim, y, x, k);
-        phi[k - 1] = taper_dyn_contact_energy(d, k, z);
-        if (taper_dyn_elastic_force(d, k, z) <= 0.0) {
-            if (!first_open) first_open = k;
-            last_open = k;
-        }
+    /* The clusters: body k starts a new one after an open contact (a wall
+     * belongs to none: it does not move). */
+    size_t nc = 0;
+    double *cp = malloc(n * sizeof(double)), *cm = malloc(n * sizeof(double));
+    double *ce = malloc(n * sizeof(double));
+    if (!cp || !cm || !ce) {
+        free(cp), free(cm), free(ce);
+        free(x), free(v), free(phi);
+        return;
     }
-    double total = 0.0, near = 0.0, far = 0.0, p_near = 0.0, p_far = 0.0, p = 0.0, p_abs = 0.0;
-    double drag_impulse = 0.0;
+    for (size_t k = 1; k < n; k++) phi[k - 1] = taper_dyn_contact_energy(d, k, compression(sim, y, x, k));
+    double total = 0.0, p = 0.0, p_abs = 0.0, drag_impulse = 0.0;
     for (size_t k = 1; k <= n; k++) {
-        double e = 0.0;
-        if (!is_wall(m, k)) {
-            e = 0.5 * sim->mass[k - 1] * v[k - 1] * v[k - 1];
-            if (k > 1) e += (is_wall(m, k - 1) ? 1.0 : 0.5) * phi[k - 2];
-            if (k < n) e += (is_wall(m, k + 1) ? 1.0 : 0.5) * phi[k - 1];
-            drag_impulse -= m->drag * x[k - 1];
+        if (is_wall(m, k)) continue;
+        const int open_left = k == 1 || is_wall(m, k - 1) ||
+                              taper_dyn_elastic_force(d, k - 1, compression(sim, y, x, k - 1)) <= 0.0;
+        if (open_left || nc == 0) {
+            cp[nc] = cm[nc] = ce[nc] = 0.0;
+            nc++;
         }
+        double e = 0.5 * sim->mass[k - 1] * v[k - 1] * v[k - 1];
+        if (k > 1) e += (is_wall(m, k - 1) ? 1.0 : 0.5) * phi[k - 2];
+        if (k < n) e += (is_wall(m, k + 1) ? 1.0 : 0.5) * phi[k - 1];
+        drag_impulse -= m->drag * x[k - 1];
         const double pk = sim->mass[k - 1] * v[k - 1];
+        cp[nc - 1] += pk;
+        cm[nc - 1] += sim->mass[k - 1];
+        ce[nc - 1] += e;
         total += e;
         p += pk;
         p_abs += fabs(pk);
-        if (first_open && k <= first_open) near += e, p_near += pk;
-        if (first_open && k > last_open) far += e, p_far += pk;
     }
-    s->energy_reflected = first_open && p_near < 0.0 ? near : 0.0;
-    s->energy_transmitted = first_open && (p_far > 0.0 || m->wall_right) ? far : 0.0;
-    s->energy_in_chain = total - s->energy_reflected - s->energy_transmitted;
+    /* V = P / M.  A static load pushes the end granules back into the
+     * chain: under it nothing leaves; nor from one cluster, the whole chain
+     * moving together (granule 1 driving the rest before it). */
+    double reflected = 0.0, transmitted = 0.0;
+    size_t i = 0, j = nc;
+    const int apart = nc > 1 && m->load == 0.0;
+    if (!m->wall_left && apart)
+        for (; i < nc && cm[i] > 0.0 && cp[i] < 0.0 &&
+               (i + 1 == nc || cp[i] / cm[i] <= cp[i + 1] / cm[i + 1]); i++)
+            reflected += ce[i];
+    if (!m->wall_right && apart)
+        for (; j > i && cm[j - 1] > 0.0 && cp[j - 1] > 0.0 &&
+               (j - 1 == 0 || cp[j - 2] / cm[j - 2] <= cp[j - 1] / cm[j - 1]); j--)
+            transmitted += ce[j - 1];
+    s->energy_reflected = reflected;
+    s->energy_transmitted = transmitted;
+    s->energy_in_chain = total - reflected - transmitted;
+    free(cp), free(cm), free(ce);
     if (m->piston) {
         /* E + D = E(0) + W, relative to the energy put in (E(0) = 0) */
         const double w = s->piston_work;

@@ -246,9 +246,9 @@ static void record_wall(taper_sim *sim, const double *y, int end)
     size_t k, g;
     if (!wall_contact(sim, end, &k, &g)) return;
     const double force = taper_dyn_window_force(&sim->dyn, y, k);
-    if (force > sim->walls.peak_force[end]) {
+    if (isnan(sim->walls.peak_force[end]) || force > sim->walls.peak_force[end]) {
         sim->walls.peak_force[end] = force;
-        sim->walls.peak_time[end] = sim->t;
+        sim->walls.peak_time[end] = taper_sim_true_time(sim, sim->t);
     }
 }
 
@@ -336,6 +336,21 @@ static int genuine_pass_root(const taper_sim *sim, const double *y, size_t k)
     return sim->pulse.arm_all && g <= ROOT_TIME_RESOLUTION * fabs(rate) * fabs(sim->t);
 }
 
+/* The root functions' values for taper_sim_refine_root. */
+static double pass_value(const taper_sim *sim, const double *y, size_t k)
+{
+    return velocity(sim, y, k + 1) - velocity(sim, y, k);
+}
+
+static double peak_value(const taper_sim *sim, const double *y, size_t k)
+{
+    return taper_dyn_peak_function(&sim->dyn, y, k);
+}
+
+/* The observables of an event are those of the state at its zero located
+ * to a few ulps of t on CVODE's interpolant (taper_sim_refine_root), at
+ * the true time (taper_sim_true_time); y, the state CVODE returned, decides
+ * only whether the root is genuine. */
 static void record_pass(taper_sim *sim, const double *y, size_t k)
 {
     const taper_dyn *d = &sim->dyn;
@@ -344,7 +359,8 @@ static void record_pass(taper_sim *sim, const double *y, size_t k)
         sim->pulse.untimed_passes++; /* passed before its slot was armed */
         return;
     }
-    sim->pulse.obs[TAPER_T_PASS][k - 1] = sim->t;
+    const double t = taper_sim_refine_root(sim, pass_value, k, &y);
+    sim->pulse.obs[TAPER_T_PASS][k - 1] = taper_sim_true_time(sim, t);
     sim->pulse.obs[TAPER_X_PASS][k - 1] = sim->rest[k - 1] + taper_dyn_position(d, y, k);
     double v = velocity(sim, y, k + 1);
     if (v > 0.0) sim->pulse.v_ref = v;
@@ -361,8 +377,9 @@ static void record_peak(taper_sim *sim, const double *y, size_t k)
         sim->pulse.untimed_peaks++; /* peaked before its slot was armed */
         return;
     }
-    sim->pulse.obs[TAPER_V_PEAK][k - 1] = v;
-    sim->pulse.obs[TAPER_T_PEAK][k - 1] = sim->t;
+    const double t = taper_sim_refine_root(sim, peak_value, k, &y);
+    sim->pulse.obs[TAPER_V_PEAK][k - 1] = velocity(sim, y, k);
+    sim->pulse.obs[TAPER_T_PEAK][k - 1] = taper_sim_true_time(sim, t);
 }
 
 /* Moves the rings past known events.  A granule that enters a ring with its
@@ -421,7 +438,7 @@ void taper_events_piston_stopped(taper_sim *sim)
     /* v_2 - v_1 jumps to v_2 > 0 when v_1 did not reach 1: the pass */
     if (sim->pulse.next_pass == 1 && !known(sim, 1, TAPER_EV_PASS)) {
         sim->pulse.events[0] |= TAPER_EV_PASS;
-        sim->pulse.obs[TAPER_T_PASS][0] = sim->t;
+        sim->pulse.obs[TAPER_T_PASS][0] = taper_sim_true_time(sim, sim->t);
         sim->pulse.obs[TAPER_X_PASS][0] = sim->rest[0] + taper_dyn_position(&sim->dyn, y, 1);
         if (velocity(sim, y, 2) > 0.0) sim->pulse.v_ref = velocity(sim, y, 2);
         if (taper_dyn_z(&sim->dyn, y, 1) > 0.0) sim->pulse.z_ref = taper_dyn_z(&sim->dyn, y, 1);
@@ -431,6 +448,21 @@ void taper_events_piston_stopped(taper_sim *sim)
 }
 
 int taper_events_passes_complete(const taper_sim *sim) { return sim->pulse.next_pass > sim->pass_limit; }
+
+/* The pulse always reaches a right wall (it is the end of the chain): its
+ * force has peaked and fallen once a maximum is recorded and the force is
+ * back below half its rise over the static load. */
+int taper_events_walls_settled(const taper_sim *sim)
+{
+    if (!sim->model.wall_right) return 1;
+    const double peak = sim->walls.peak_force[TAPER_RIGHT];
+    if (isnan(peak)) return 0;
+    size_t k, g;
+    if (!wall_contact(sim, TAPER_RIGHT, &k, &g)) return 1;
+    const double force = taper_dyn_window_force(&sim->dyn, taper_sim_data(sim, sim->cv.y), k);
+    const double rest = sim->model.load;
+    return force <= rest + 0.5 * (peak - rest);
+}
 
 int taper_events_complete(const taper_sim *sim)
 {

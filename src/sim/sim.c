@@ -344,10 +344,10 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
         sim->walls.peak_force[e] = sim->walls.peak_time[e] = NAN;
         sim->stats.wall_impulse[e] = NAN;
     }
-    /* a wall's force and impulse are 0 until the run (its peak time: NaN
-     * until it has one) */
-    if (m->wall_left) sim->walls.peak_force[TAPER_LEFT] = sim->stats.wall_impulse[TAPER_LEFT] = 0.0;
-    if (m->wall_right) sim->walls.peak_force[TAPER_RIGHT] = sim->stats.wall_impulse[TAPER_RIGHT] = 0.0;
+    /* a wall's impulse is 0 until the run; its peak force and time NaN
+     * until it has one (a wall the pulse never reached has none) */
+    if (m->wall_left) sim->stats.wall_impulse[TAPER_LEFT] = 0.0;
+    if (m->wall_right) sim->stats.wall_impulse[TAPER_RIGHT] = 0.0;
     p->pass_slots = TAPER_RING_SLOTS;
     p->peak_slots = TAPER_RING_SLOTS;
     /* Rings that grow need a precursor without crossings, as the Hertzian
@@ -367,6 +367,7 @@ void taper_sim_free(taper_sim *sim)
     if (cv->linear) SUNLinSolFree(cv->linear);
     if (cv->band) SUNMatDestroy(cv->band);
     if (cv->y) N_VDestroy(cv->y);
+    if (cv->at_root) N_VDestroy(cv->at_root);
     taper_window_free(cv->window);
     taper_sundials_context_free(&cv->ctx);
     free(cv->message);

@@ -174,6 +174,13 @@ typedef struct taper_cvode {
     taper_cvode_counters before_restart; /* summed over earlier restarts    */
     int *roots;             /* CVodeGetRootInfo's answer, roots_size slots  */
     size_t roots_size;
+    N_Vector at_root;       /* the state at a refined root (events.c)       */
+    /* CVODE's time drifts: it advances tn += h rounded to double, and at a
+     * fixed h each step rounds the same way (solve.c, track_time).  The
+     * rounding errors summed exactly: true time = CVODE's time + t_shift. */
+    double t_shift;
+    double tn_seen;         /* CVODE's tn and step count when last tracked  */
+    long nst_seen;
 } taper_cvode;
 
 struct taper_sim {
@@ -259,6 +266,21 @@ void taper_budget_compute(taper_sim *sim, const double *q);
 /* The piston's work W(sim->t) from the quadratures q (NaN: no piston). */
 double taper_budget_piston_work(const taper_sim *sim, const double *q);
 
+/* ---- solve.c: time and roots for events.c ------------------------------------- */
+/* The true time of CVODE's time t: t plus the rounding drift of CVODE's
+ * own clock summed so far (taper_cvode.t_shift). */
+double taper_sim_true_time(const taper_sim *sim, double t);
+
+/* A root function's value for granule k at the state y (events.c). */
+typedef double (*taper_root_value)(const taper_sim *sim, const double *y, size_t k);
+
+/* The zero of g(k) that CVODE returned at sim->t, located again on CVODE's
+ * interpolant of the step that holds it, to a few ulps of t instead of
+ * CVODE's 100 uround (|t| + |h|).  Returns its time (CVODE's clock) and
+ * sets *y to the state there (sim->cv.at_root's data); where the bracket
+ * cannot be formed it returns sim->t and leaves *y as it was. */
+double taper_sim_refine_root(taper_sim *sim, taper_root_value g, size_t k, const double **y);
+
 /* ---- events.c: pulse events -------------------------------------------------- */
 /* What a root return asks of the window. */
 typedef struct taper_root_report {
@@ -281,6 +303,8 @@ int taper_events_fit_rings(taper_sim *sim);
 /* Records the events of one CVODE root return at the current state. */
 taper_root_report taper_events_record(taper_sim *sim, const int *roots_found);
 int taper_events_complete(const taper_sim *sim);
+/* A right wall's force has peaked and fallen back (1 without a right wall). */
+int taper_events_walls_settled(const taper_sim *sim);
 /* At the piston's stop (solve.c, before v_1 is set to 0): the jump of
  * dz_1/dt from v_1 - v_2 to -v_2 is a maximum of the piston's compression
  * and force that no root function sees (CVODE restarts there); the

@@ -105,11 +105,46 @@ static int jacobian(double t, N_Vector yv, N_Vector fy, SUNMatrix J, void *user,
     return 0;
 }
 
+/* ---- CVODE's clock -------------------------------------------------------- */
+/* CVODE advances its time by tn += h, rounded to double at every step.  At
+ * a fixed h (the step band keeps h for thousands of steps, docs/design.md
+ * "Defaults") and within a binade of t every step rounds by the same
+ * amount, so the errors add up instead of averaging out: monodisperse
+ * N = 1000 at rtol 1e-14 drifted by -1.2e-9 (1.1e-12 of t) over 90 000
+ * steps, the floor of its pass times (docs/benchmarks.md, "Accuracy at
+ * tight tolerances").  The state is not affected (the Nordsieck array is
+ * scaled by h itself, and the equations do not depend on t), only the
+ * time it is labelled with.  Each step's rounding error is recovered
+ * exactly (Knuth's TwoSum of the previous tn and h) and summed into
+ * t_shift; the error-weight function, which CVODE calls before every step,
+ * and the root return call this.  A step whose tn is not tn + h (CVODE
+ * clipped it to a stop time) only re-synchronises. */
+static void track_time(taper_sim *sim)
+{
+    taper_cvode *cv = &sim->cv;
+    long nst = 0;
+    double tn = 0.0, h = 0.0;
+    if (CVodeGetNumSteps(cv->mem, &nst) != CV_SUCCESS || nst == cv->nst_seen) return;
+    CVodeGetCurrentTime(cv->mem, &tn);
+    if (nst == cv->nst_seen + 1 && CVodeGetLastStep(cv->mem, &h) == CV_SUCCESS) {
+        const double a = cv->tn_seen, sum = a + h;
+        if (sum == tn) {
+            const double h_part = sum - a;
+            cv->t_shift += (a - (sum - h_part)) + (h - h_part);
+        }
+    }
+    cv->tn_seen = tn;
+    cv->nst_seen = nst;
+}
+
+double taper_sim_true_time(const taper_sim *sim, double t) { return t + sim->cv.t_shift; }
+
 /* Error weights 1 / (rtol |y_i| + atol scale_i) over the window, the scale
  * being the granule's pulse velocity or maximum compression (see sim.h). */
 static int error_weights(N_Vector yv, N_Vector wv, void *user)
 {
-    const taper_sim *sim = user;
+    taper_sim *sim = user;
+    track_time(sim);
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, yv);
     double *w = taper_sim_data(sim, wv);
@@ -191,6 +226,8 @@ static int make_state(taper_sim *sim)
         if (taper_sim_move_window(sim, 1, sim->n, 0.0) != 0) return -1;
     }
     sim->stats.max_window = sim->dyn.hi - sim->dyn.lo + 1;
+    cv->at_root = N_VClone(cv->y); /* a window vector's clone shares its range */
+    if (!cv->at_root) return -1;
     /* v_1 = 1: the impulse (on the striker, or on granule 1 before a wall) */
     taper_sim_data(sim, cv->y)[taper_idx_v(sim->model.impulse)] = 1.0;
     return 0;
@@ -433,6 +470,8 @@ static taper_status restart(taper_sim *sim, taper_error *err)
 {
     sim->cv.before_restart = total_counters(sim);
     if (CVodeReInit(sim->cv.mem, sim->t, sim->cv.y) != CV_SUCCESS) return stop(sim, err, STOP_RESTART, 0);
+    sim->cv.tn_seen = sim->t; /* CVODE's counters start again from 0 */
+    sim->cv.nst_seen = 0;
     CVodeSetInitStep(sim->cv.mem, INITIAL_STEP * 1e-2);
     sim->stats.restarts++;
     return TAPER_OK;
@@ -537,9 +576,65 @@ static int call_monitor(const taper_sim *sim)
     return sim->spec.monitor(&p, sim->spec.monitor_data);
 }
 
+/* CVODE's root finder (cvRootfind) stops once its bracket is below
+ * ttol = 100 uround (|t| + |h|) and returns the end past the zero: at
+ * t ~ 1000 that is 2e-14 of t, above what rtol 1e-14 gives.  The step's
+ * own interpolant (CVodeGetDky, the same polynomial CVODE searched) is
+ * searched again from a bracket of twice CVODE's tolerance, by the
+ * Illinois method, down to two ulps of t.  A bracket without a sign change
+ * (the zero at the step's start, a function CVODE saw change sign
+ * elsewhere) keeps CVODE's answer. */
+#define ROOT_BRACKET (200.0 * DBL_EPSILON)
+#define ROOT_ITERATIONS 60
+/* Above this rtol the integration error of an event time (~10-100 rtol)
+ * dwarfs CVODE's root tolerance, and the search (~10 interpolations per
+ * event, 8 % of a default monodisperse run's instructions) buys nothing. */
+#define REFINE_BELOW_RTOL 1e-11
+
+static int sign_of(double g) { return g > 0.0 ? 1 : g < 0.0 ? -1 : 0; }
+
+double taper_sim_refine_root(taper_sim *sim, taper_root_value g, size_t k, const double **y)
+{
+    void *mem = sim->cv.mem;
+    N_Vector at = sim->cv.at_root;
+    double tn = sim->t, hu = 0.0;
+    if (!at || !(sim->spec.rtol < REFINE_BELOW_RTOL) || CVodeGetCurrentTime(mem, &tn) != CV_SUCCESS || CVodeGetLastStep(mem, &hu) != CV_SUCCESS)
+        return sim->t;
+    const double *data = taper_sim_data(sim, at);
+    double b = sim->t, gb = g(sim, *y, k);
+    double a = fmax(b - ROOT_BRACKET * (fabs(b) + fabs(hu)), tn - fabs(hu));
+    if (!(a < b) || CVodeGetDky(mem, a, 0, at) != CV_SUCCESS) return sim->t;
+    double ga = g(sim, data, k);
+    if (sign_of(ga) * sign_of(gb) >= 0) return sim->t;
+    int side = 0;
+    for (int i = 0; i < ROOT_ITERATIONS && b - a > 2.0 * DBL_EPSILON * fabs(b); i++) {
+        double c = b - gb * (b - a) / (gb - ga);
+        if (!(c > a && c < b)) c = 0.5 * (a + b);
+        if (!(c > a && c < b) || CVodeGetDky(mem, c, 0, at) != CV_SUCCESS) break;
+        double gc = g(sim, data, k);
+        if (gc == 0.0) {
+            b = c; /* an exact zero: the root */
+            break;
+        }
+        if (sign_of(gc) == sign_of(gb)) {
+            b = c, gb = gc;
+            if (side == 1) ga *= 0.5;
+            side = 1;
+        } else {
+            a = c, ga = gc;
+            if (side == -1) gb *= 0.5;
+            side = -1;
+        }
+    }
+    if (CVodeGetDky(mem, b, 0, at) != CV_SUCCESS) return sim->t;
+    *y = data;
+    return b;
+}
+
 static taper_status handle_roots(taper_sim *sim, taper_error *err)
 {
     if (CVodeGetRootInfo(sim->cv.mem, sim->cv.roots) < 0) return stop(sim, err, STOP_ROOT_INFO, 0);
+    track_time(sim); /* the step holding the root */
     const taper_root_report report = taper_events_record(sim, sim->cv.roots);
     const taper_window_plan plan = taper_window_plan_for(sim, report);
     taper_status status = TAPER_OK;
@@ -660,11 +755,53 @@ static int absorbed_by_drag(const taper_sim *sim)
     return 1;
 }
 
+/* The longest residence time so far (at least 1e-3): the time scale on
+ * which the pulse makes progress. */
+static double longest_residence(const taper_sim *sim)
+{
+    const double *tp = sim->pulse.obs[TAPER_T_PASS];
+    double longest = 1e-3;
+    for (size_t k = 1; k < sim->pulse.next_pass && k <= sim->pass_limit; k++)
+        if (isfinite(tp[k - 1])) longest = fmax(longest, tp[k - 1] - (k > 1 && isfinite(tp[k - 2]) ? tp[k - 2] : 0.0));
+    return longest;
+}
+
+/* A pulse can leave the chain before it has passed every granule: a heavy
+ * granule sends it back, or damping absorbs it, and the passes still to
+ * come are of motion below what the tolerance resolves (a chain of radii 1,
+ * 1e-3, 1e3, 1e-3, 1e3, 1 reflects all but 2e-9 of the energy at granule
+ * 3, then the light granule 4 rattles between the heavy ones for ever).
+ * The budget's "in chain" is the energy that can still be exchanged
+ * (budget.c): once it is below rtol E(0), nothing the run resolves is left
+ * to happen.  Checked only when the run has stalled, PEAK_GRACE longest
+ * residence times without a pass: the budget walks the whole chain. */
+typedef struct progress_watch {
+    size_t next_pass;
+    double since, interval;
+} progress_watch;
+
+static int pulse_has_left(taper_sim *sim, progress_watch *w)
+{
+    if (sim->pulse.next_pass != w->next_pass) {
+        w->next_pass = sim->pulse.next_pass;
+        w->since = sim->t;
+        w->interval = PEAK_GRACE * longest_residence(sim);
+        return 0;
+    }
+    if (sim->t - w->since < w->interval) return 0;
+    w->since = sim->t; /* the next look after another interval */
+    taper_budget_compute(sim, quadratures_now(sim));
+    const double left = sim->stats.energy_in_chain, e0 = sim->stats.energy_initial;
+    return isfinite(left) && left <= sim->spec.rtol * e0;
+}
+
 static taper_status integrate(taper_sim *sim, taper_error *err)
 {
     double tout = sim->spec.t_max > 0.0 ? sim->spec.t_max : NO_TIME_LIMIT;
-    int grace = 0, absorbed = 0;
-    while (!taper_events_complete(sim)) {
+    int grace = 0, absorbed = 0, left = 0;
+    progress_watch watch = {.next_pass = sim->pulse.next_pass, .since = sim->t,
+                            .interval = PEAK_GRACE * longest_residence(sim)};
+    while (!taper_events_complete(sim) || !taper_events_walls_settled(sim)) {
         if (sim->spec.max_steps > 0 && total_counters(sim).steps >= sim->spec.max_steps)
             return stop(sim, err, STOP_MAX_STEPS, 0);
         if (!grace && taper_events_passes_complete(sim)) {
@@ -678,9 +815,21 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
         if (status != TAPER_OK) return status;
         if (grace && sim->t >= tout && sim->t > t_before) break;
         if ((absorbed = absorbed_by_drag(sim))) break;
+        if ((left = pulse_has_left(sim, &watch))) break;
     }
     const size_t next_peak = sim->pulse.next_peak;
-    if (absorbed) {
+    if (left) {
+        const size_t next_pass = sim->pulse.next_pass;
+        taper_sim_log(sim, 1,
+                      "the pulse has left the chain: at t = %.6g the energy that can still be "
+                      "exchanged is %.2g of the initial, below rtol (%.1e): reflected %.6g, "
+                      "transmitted %.6g; from granule %zu on no pass and from granule %zu on "
+                      "no velocity maximum (nan)",
+                      sim->t, sim->stats.energy_in_chain / sim->stats.energy_initial,
+                      sim->spec.rtol, sim->stats.energy_reflected, sim->stats.energy_transmitted,
+                      granule_of(sim, next_pass <= sim->pass_limit ? next_pass : sim->pass_limit + 1),
+                      granule_of(sim, next_peak));
+    } else if (absorbed) {
         const size_t next_pass = sim->pulse.next_pass;
         taper_sim_log(sim, 1,
                       "the pulse was absorbed by drag: at t = %.6g every granule moves slower than "
@@ -700,7 +849,19 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
                       missing, granule_of(sim, next_peak), granule_of(sim, sim->target),
                       PEAK_GRACE, sim->t);
     }
-    return continue_to_end(sim, err);
+    taper_status status = continue_to_end(sim, err);
+    /* A wall the pulse never reached has no peak: said, never 0. */
+    static const char *const sides[TAPER_N_ENDS] = {"left", "right"};
+    for (int e = 0; status == TAPER_OK && e < TAPER_N_ENDS; e++) {
+        const int wall = e == TAPER_LEFT ? sim->model.wall_left && !sim->model.piston
+                                         : sim->model.wall_right;
+        if (wall && isnan(sim->walls.peak_force[e]))
+            taper_sim_log(sim, 1,
+                          "the %s wall felt no force before the run ended at t = %.6g: its peak "
+                          "force and time are nan (give t_end to follow the pulse there)",
+                          sides[e], sim->t);
+    }
+    return status;
 }
 
 /* Smallest residence time, relative to t_pass, that the pass times resolve.
@@ -753,26 +914,29 @@ static residence_report residence_times(taper_sim *sim)
 /* What the caller's log should know about values left NaN on purpose. */
 static void report_untimed(const taper_sim *sim, residence_report residences)
 {
-    if (sim->pulse.untimed_passes || sim->pulse.untimed_peaks)
+    const size_t passes = sim->pulse.untimed_passes, peaks = sim->pulse.untimed_peaks;
+    if (passes || peaks)
         taper_sim_log(sim, 1,
-                      "%zu pass times and %zu peaks happened before their root functions were "
-                      "armed (light granules overtaking in the precursor of a steeply tapered "
-                      "chain): written as nan, not guessed",
-                      sim->pulse.untimed_passes, sim->pulse.untimed_peaks);
+                      "%zu pass time%s and %zu peak%s happened before their root functions "
+                      "were armed (light granules overtaking in the precursor of a steeply "
+                      "tapered chain): written as nan, not guessed",
+                      passes, passes == 1 ? "" : "s", peaks, peaks == 1 ? "" : "s");
     if (residences.unresolved)
         taper_sim_log(sim, 1,
-                      "%zu residence times are below the resolution of the pass times "
+                      "%zu residence time%s below the resolution of the pass times "
                       "(%.1e t, set by CVODE's root finder): written as nan",
-                      residences.unresolved, PASS_TIME_RESOLUTION);
+                      residences.unresolved, residences.unresolved == 1 ? " is" : "s are",
+                      PASS_TIME_RESOLUTION);
     if (residences.out_of_order)
         taper_sim_log(sim, 1,
-                      "%zu granules were passed before the granule ahead of them (first: "
+                      "%zu granule%s passed before the granule ahead of %s (first: "
                       "granule %zu): the pulse is no longer a sequence of passes there "
                       "(light granules overtaken within the pulse: small granules of a "
                       "decorated or mixed chain, the precursor below n = 2, the light end of "
                       "a steep forward taper); their residence times are written as nan, "
                       "their pass times kept",
-                      residences.out_of_order, residences.first_out_of_order);
+                      residences.out_of_order, residences.out_of_order == 1 ? " was" : "s were",
+                      residences.out_of_order == 1 ? "it" : "them", residences.first_out_of_order);
 }
 
 /* Energy error beyond which the caller is told that the far end of the

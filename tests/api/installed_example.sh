@@ -18,6 +18,12 @@ meson install -C "$build" --no-rebuild --quiet --destdir "$root" >"$tmp/install.
     cat "$tmp/install.log" >&2
     exit 1
 }
+# An install says nothing it should not (Meson warns, for example, when it
+# copies a symlink as its target).
+if grep -i 'warning' "$tmp/install.log" >&2; then
+    echo "meson install warns (above)" >&2
+    exit 1
+fi
 
 pc=$(find "$root" -name taper.pc | head -n 1)
 [ -n "$pc" ] || { echo "taper.pc was not installed" >&2; exit 1; }
@@ -63,14 +69,23 @@ if [ -d "$build/sundials/lib" ] && [ ! -f "$build/sundials/fallback" ] &&
 fi
 [ $fail -eq 0 ] || exit 1
 
-# The example as docs/api.md builds it: with an rpath, it runs without
-# LD_LIBRARY_PATH (the staging root's libdir stands for the prefix's).
-# shellcheck disable=SC2046
-"$CC" -std=c11 -Wall -Wextra -Werror -o "$tmp/pulse" "$src/share/examples/pulse.c" \
-    $($PC --cflags taper) $($PC --libs taper) -Wl,-rpath,"$libdir" -lm
+# Each example as its own comment says to build it (the lines after "Build
+# against an installed libtaper:"), word for word but for pkg-config, which
+# here reads the staging root's taper.pc: with the rpath the line gives, it
+# runs without LD_LIBRARY_PATH.
+pkg_config_staged() { $PC "$@"; }
 sundials_path=${runpath:+$root$runpath}
-env -u LD_LIBRARY_PATH ${sundials_path:+LD_LIBRARY_PATH=$sundials_path} "$tmp/pulse" >"$tmp/out"
-cat "$tmp/out"
+for example in pulse wall_sensor; do
+    line=$(sed -n '/Build against an installed libtaper:/,/^ \*\//p' "$src/share/examples/$example.c" |
+        sed -n 's/^ \*  *//p' | sed -e ':a' -e '/\\$/N; s/\\\n//; ta' | grep '^cc ')
+    [ -n "$line" ] || { echo "$example.c: no build line in its comment" >&2; exit 1; }
+    cp "$src/share/examples/$example.c" "$tmp/"
+    line=$(printf '%s\n' "$line" | sed 's/pkg-config/pkg_config_staged/g')
+    (cd "$tmp" && eval "$line") || { echo "$example.c: its build line failed: $line" >&2; exit 1; }
+    env -u LD_LIBRARY_PATH ${sundials_path:+LD_LIBRARY_PATH=$sundials_path} "$tmp/$example" \
+        >"$tmp/$example.out" || { echo "$example: did not run as built by its comment" >&2; exit 1; }
+done
+cp "$tmp/pulse.out" "$tmp/out"
 
 # It ran against the installed library...
 env -u LD_LIBRARY_PATH ldd "$tmp/pulse" | grep -q "$libdir/libtaper.so.$soversion" || {
@@ -93,4 +108,4 @@ awk -v version="$version" '
               print "statistics: complete " value["complete"] ", steps " value["steps"] \
                     ", energy_error " value["energy_error"]; bad = 1 }
           exit bad }' "$tmp/out" >&2
-echo "installed example OK (libtaper $version from $root$prefix)"
+echo "installed examples OK (libtaper $version from $root$prefix)"

@@ -189,6 +189,16 @@ check_result_dir out/defaults_theory
 [ $? -eq 2 ] || fail "an output directory below a file must exit 2"
 grep -q 'defaults.nml/sub\|defaults.nml: exists' err.txt || fail "unwritable -o: $(cat err.txt)"
 
+# ---- figures -------------------------------------------------------------------------
+# Fig. 1's y axis spans its data: the inset finds room inside it rather than
+# stretching the axis decades below the lowest point (theory only: fast).
+TAPER_GNUPLOT=none "$TAPER" "$SRC/share/scenes/paper/fig01.nml" solver.numerics=.false. \
+    figure.curves=\'theory\' -o fig01 > /dev/null 2> err.txt || fail "fig01 theory only: $(cat err.txt)"
+lowest=$(awk -F '\t' '!/^#/ && NF > 3 && $4 > 0 { if (m == "" || $4 < m) m = $4 } END { print m }' fig01/figure.tsv)
+ylo=$(sed -n 's/^set yrange \[\([^:]*\):.*/\1/p' fig01/figure.gp)
+[ -z "$ylo" ] || awk "BEGIN { exit !($ylo >= $lowest / 10) }" ||
+    fail "fig01: the y axis starts at $ylo, the lowest point is $lowest"
+
 if [ "$failures" -ne 0 ]; then
     echo "$failures failure(s)" >&2
     exit 1

@@ -134,6 +134,53 @@ python3 "$SRC/tests/driver/si_units.py" run/steel_rescaled $d >&2 || fail "steel
 peak=$(header_value $d/granules.tsv 'wall_peak_force_right\[N\]')
 awk_true "$peak > 10 && $peak < 10000" || fail "steel_wall_si: wall peak force $peak N"
 
+# SI in: with &material, t_end and the sensors' interval are seconds: 1.5 ms
+# sampled every microsecond is 1501 samples, not 1.5e-3 rescaled units at
+# intervals of 1e-6 of them (which wrote 9 GB)
+"$TAPER" "$PHYS/steel_wall_si.nml" solver.t_end=1.5e-3 sensors.interval=1e-6 -o run/si_in > /dev/null 2>&1 ||
+    fail "steel_wall_si with t_end = 1.5e-3 s does not run"
+samples=$(grep -cv '^[#t]' run/si_in/walls.tsv)
+[ "$samples" -eq 1501 ] || fail "t_end = 1.5e-3 s every 1e-6 s: $samples samples, wanted 1501"
+# a sweep of the impact velocity keeps every physical input fixed: both runs
+# end at t_end = 1.5 ms and sample every microsecond (in rescaled units both
+# differ, as the unit of time scales as V^(-1/5))
+"$TAPER" "$PHYS/steel_wall_si.nml" solver.t_end=1.5e-3 sensors.interval=1e-6 material.velocity=0.5,1 \
+    -o run/si_velocity > /dev/null 2>&1 || fail "a sweep of &material velocity does not run"
+for v in 0.5 1; do
+    last=$(grep -v '^[#t]' "run/si_velocity/velocity=$v/walls.tsv" | tail -n 1 | cut -f 1)
+    awk_true "($last - 1.5e-3) ^ 2 < 1e-24" || fail "velocity $v: last sample at t = $last s, wanted 1.5e-3 s"
+done
+# and 1e8 samples are refused before the run, with the estimate
+"$TAPER" "$PHYS/steel_wall_si.nml" sensors.interval=1e-11 -o run/si_huge > /dev/null 2> huge.err
+rc=$?
+[ "$rc" -eq 2 ] || fail "1e8 samples: exit status $rc, wanted 2"
+grep -q 'the samples would take about .* bytes (1.27e+08 samples' huge.err ||
+    fail "1e8 samples: no estimate in '$(cat huge.err)'"
+grep -q 'max_output' huge.err || fail "1e8 samples: the message does not name max_output"
+[ -e run/si_huge/walls.tsv ] && fail "1e8 samples: walls.tsv written"
+
+# a wall's peak is found without t_end: the run goes on until the wall's
+# force has peaked and fallen (the same peak as the run to t_end)
+"$TAPER" "$PHYS/steel_wall_si.nml" solver.t_end=0 -o run/wall_no_t_end > /dev/null 2>&1 ||
+    fail "steel_wall_si without t_end does not run"
+p0=$(header_value run/wall_no_t_end/granules.tsv 'wall_peak_force_right\[N\]')
+p1=$(header_value run/steel_wall_si/granules.tsv 'wall_peak_force_right\[N\]')
+[ -n "$p0" ] && [ "$p0" = "$p1" ] || fail "wall peak force without t_end '$p0', with t_end '$p1'"
+# a wall the pulse never reached has no peak: nan and a warning, never 0
+# (forward taper: granule 1 follows the lighter ones, never back to the wall)
+printf '&chain profile = %s, q = 0.2, n_granules = 20 /\n&ends left = %s /\n' "'forward_exponential'" "'wall'" > left_wall.nml
+"$TAPER" left_wall.nml -o run/left_wall > /dev/null 2> left_wall.err || fail "a left wall without t_end does not run"
+[ "$(header_value run/left_wall/granules.tsv wall_peak_force_left)" = nan ] ||
+    fail "left wall not reached: peak force $(header_value run/left_wall/granules.tsv wall_peak_force_left)"
+grep -q 'the left wall felt no force' left_wall.err || fail "left wall not reached: no warning ($(cat left_wall.err))"
+
+# the space-time picture has a title and says the unit of each axis
+for d in run/damped run/mixed_si; do
+    grep -q '^set title "velocity v(k, t)' $d/spacetime.gp || fail "$d/spacetime.gp: no title"
+done
+grep -q "^set ylabel 't \[rescaled time, eq. (5)\]'" run/damped/spacetime.gp || fail "damped/spacetime.gp: time axis unit"
+grep -q "^set cblabel 'v \[m/s\]'" run/mixed_si/spacetime.gp || fail "mixed_si/spacetime.gp: velocity unit"
+
 # a mixed chain: each granule's mass from its material (PTFE 2200 kg/m^3
 # between steel 8000), sizes in metres (R = R_1 = 4.76 mm)
 awk -F '\t' 'NR == 1 || /^#/ { next }

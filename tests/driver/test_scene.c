@@ -883,7 +883,7 @@ static void test_table_output(void **state)
     fclose(fp);
     assert_string_equal(text,
                         "k\tR\tm\tX0\tt_pass\tT_res\tv_peak\tt_peak\tX_pass\ttheory_v\ttheory_T\ttheory_t\n"
-                        "1\t1\tnan\tnan\t0.10000000000000001\tnan\tnan\tnan\tnan\tnan\tnan\tnan\n"
+                        "1\t1\tnan\tnan\t0.1\tnan\tnan\tnan\tnan\tnan\tnan\tnan\n"
                         "2\t2\tnan\tnan\tnan\tnan\tnan\tnan\tnan\tnan\tnan\tnan\n");
     free(text);
 }

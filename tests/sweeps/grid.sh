@@ -42,7 +42,7 @@ sed -n 1p out/sweep.tsv | cut -f 1-4 | grep -q "^q	exponent	k	R$" ||
 rows=$(grep -vc '^#' out/sweep.tsv)
 [ "$rows" -eq 241 ] || fail "grid: sweep.tsv has $rows lines, wanted 1 + 6 x 40"
 pairs=$(grep -v '^#' out/sweep.tsv | sed 1d | cut -f 1,2 | uniq | tr '\t\n' ': ')
-[ "$pairs" = "0.050000000000000003:2 0.050000000000000003:2.5 0.050000000000000003:3 0.10000000000000001:2 0.10000000000000001:2.5 0.10000000000000001:3 " ] ||
+[ "$pairs" = "0.05:2 0.05:2.5 0.05:3 0.1:2 0.1:2.5 0.1:3 " ] ||
     fail "grid: sweep.tsv values $pairs"
 # Each run's rows are those of the point run alone.
 "$TAPER" grid.nml --set chain.q=0.1 --set chain.exponent=2.5 -o alone > /dev/null 2>&1 ||

@@ -776,7 +776,7 @@ static void log_warns_of_drift(void **state)
  * says how many and where. */
 static void count_out_of_order(int level, const char *message, void *user)
 {
-    if (level == 1 && strstr(message, "passed before the granule ahead of them")) ++*(int *)user;
+    if (level == 1 && strstr(message, "passed before the granule ahead of")) ++*(int *)user;
 }
 
 static void residence_times_never_negative(void **state)

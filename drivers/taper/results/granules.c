@@ -4,6 +4,7 @@
 #include "results/granules.h"
 
 #include "results/output.h"
+#include "util/number.h"
 #include "util/text.h"
 
 #include <math.h>
@@ -36,10 +37,9 @@ static void write_dimensioned(const granules_run *r, FILE *fp, taper_statistic w
     double x = taper_sim_statistic(r->sim, which) * scene_unit(cfg, dim);
     if (!name) return;
     fprintf(fp, "# %s%s%s%s = ", name, unit ? "[" : "", unit ? unit : "", unit ? "]" : "");
-    if (isnan(x))
-        fputs("nan\n", fp);
-    else
-        fprintf(fp, "%.17g\n", x);
+    char num[NUMBER_SIZE];
+    number_shortest(num, x);
+    fprintf(fp, "%s\n", num);
 }
 
 /* The statistics of the run, by name, in the order of taper_statistic:
@@ -77,8 +77,10 @@ static void write_stats_comment(const granules_run *r, FILE *fp)
     const int piston = taper_chain_piston_duration(r->chain) > 0.0;
     if (piston) {
         const char *unit = scene_unit_suffix(&r->at, TAPER_DIM_ENERGY);
-        fprintf(fp, "# piston_work%s%s%s = %.17g\n", unit ? "[" : "", unit ? unit : "",
-                unit ? "]" : "", taper_sim_piston_work(r->sim) * scene_unit(&r->at, TAPER_DIM_ENERGY));
+        char num[NUMBER_SIZE];
+        number_shortest(num, taper_sim_piston_work(r->sim) * scene_unit(&r->at, TAPER_DIM_ENERGY));
+        fprintf(fp, "# piston_work%s%s%s = %s\n", unit ? "[" : "", unit ? unit : "",
+                unit ? "]" : "", num);
     }
     static const taper_statistic wall_stats[TAPER_N_ENDS][3] = {
         {TAPER_STAT_WALL_PEAK_FORCE_LEFT, TAPER_STAT_WALL_PEAK_TIME_LEFT,
@@ -103,12 +105,16 @@ static void write_units_comment(const granules_run *r, FILE *fp)
           "is:\n", fp);
     /* The dimensions of results (length to impulse); the others are those
      * of inputs (sizes, densities, compliances, drag). */
-    for (int d = 0; d <= TAPER_DIM_IMPULSE; d++)
-        fprintf(fp, "# unit_%s = %.17g %s\n", taper_dimension_name((taper_dimension)d),
-                scene_unit(cfg, (taper_dimension)d), taper_dimension_unit((taper_dimension)d));
-    fprintf(fp, "# unit_radius = %.17g m: the sizes R and X0 are in units of R_1 (eq. (5): "
+    char num[NUMBER_SIZE];
+    for (int d = 0; d <= TAPER_DIM_IMPULSE; d++) {
+        number_shortest(num, scene_unit(cfg, (taper_dimension)d));
+        fprintf(fp, "# unit_%s = %s %s\n", taper_dimension_name((taper_dimension)d), num,
+                taper_dimension_unit((taper_dimension)d));
+    }
+    number_shortest(num, cfg->material.radius);
+    fprintf(fp, "# unit_radius = %s m: the sizes R and X0 are in units of R_1 (eq. (5): "
             "R'_k = R'_1 R_k), displacements in unit_length = R_1 alpha^(1/n); X_pass = X0 + "
-            "x_k is X0 unit_radius + x_k unit_length\n", cfg->material.radius);
+            "x_k is X0 unit_radius + x_k unit_length\n", num);
 }
 
 _Static_assert(OUT_N_COLUMNS == SCENE_N_COLUMNS, "granules.tsv columns");

@@ -33,8 +33,8 @@ typedef struct granules_run {
  * the other one (a stale result must not pass for this one), and says so
  * on stdout.  0, or -1 with *msg (malloc'd). */
 int granules_write(const char *dir, const granules_run *run, int partial, char **msg);
-/* The same without a word on stdout (the runs of a sweep: run/sweep.c
- * prints in the order of the sweep). */
+/* The same without a word on stdout (the runs of a sweep:
+ * run/sweep_print.c prints in the order of the sweep). */
 int granules_save(const char *dir, const granules_run *run, int partial, char **msg);
 
 /* DIR/sweep.tsv: every run's rows, the swept value `values[i]` of

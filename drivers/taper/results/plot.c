@@ -3,6 +3,8 @@
  */
 #include "results/plot.h"
 
+#include "util/number.h"
+
 #include "results/output.h"
 #include "util/text.h"
 
@@ -29,7 +31,9 @@ static void data_block(const report *r, const report_point *p, double *buf[4], F
     /* Log-log axes: about 40 points per decade of k instead of every n-th
      * (which would leave the first decade nearly empty). */
     int geometric = fig->log_x && fig->log_y;
-    fprintf(fp, "# %s = %.17g\n", r->param_name, p->param);
+    char param[NUMBER_SIZE];
+    number_shortest(param, p->param);
+    fprintf(fp, "# %s = %s\n", r->param_name, param);
     for (size_t i = 0, kept = 0; i < last; i += geometric ? 1 : every) {
         if (geometric && i > 0 && (double)(i + 1) < 1.06 * (double)kept) continue;
         kept = i + 1;
@@ -87,8 +91,7 @@ static int write_inset(const report *r, char **msg)
 
 /* ---- script ----------------------------------------------------------------- */
 
-/* A gnuplot string literal in double quotes ("enhanced" text kept). */
-static void gp_string(FILE *fp, const char *s)
+void plot_gp_string(FILE *fp, const char *s)
 {
     fputc('"', fp);
     for (; *s; s++) {
@@ -147,12 +150,12 @@ static void main_panel(const report *r, FILE *fp, int inset, double y_lo, double
             FRAME_L, FRAME_R, FRAME_B, FRAME_T);
     fputs("set title ", fp);
     char *title = text_printf("%s  %s", fig->name, fig->title);
-    gp_string(fp, title ? title : fig->name);
+    plot_gp_string(fp, title ? title : fig->name);
     free(title);
     fputs("\nset xlabel ", fp);
-    gp_string(fp, label_or(fig->x_label, fig->x));
+    plot_gp_string(fp, label_or(fig->x_label, fig->x));
     fputs("\nset ylabel ", fp);
-    gp_string(fp, label_or(fig->y_label, fig->y));
+    plot_gp_string(fp, label_or(fig->y_label, fig->y));
     fputc('\n', fp);
     if (fig->log_x) fputs("set logscale x\nset format x \"10^{%L}\"\n", fp);
     if (fig->log_y) fputs("set logscale y\nset format y \"10^{%L}\"\n", fp);
@@ -197,14 +200,17 @@ static double tic_step(const report *r)
 #define INSET_PAD_B 0.15
 #define INSET_GAP 0.03
 
-typedef struct inset_box { double u0, v0; } inset_box; /* lower left of the inset's frame */
+/* The inset's frame: lower left corner and size, fractions of the main frame. */
+typedef struct inset_box { double u0, v0, w; } inset_box;
 
-static const inset_box inset_corners[4] = {
-    {1 - INSET_GAP - INSET_W, 1 - INSET_GAP - INSET_W},         /* upper right */
-    {INSET_GAP + INSET_PAD_L, 1 - INSET_GAP - INSET_W},         /* upper left  */
-    {1 - INSET_GAP - INSET_W, INSET_GAP + INSET_PAD_B},         /* lower right */
-    {INSET_GAP + INSET_PAD_L, INSET_GAP + INSET_PAD_B},         /* lower left  */
-};
+/* Corner c (0 upper right, 1 upper left, 2 lower right, 3 lower left) of
+ * an inset of size w. */
+static inset_box corner_box(int c, double w)
+{
+    inset_box b = {c % 2 ? INSET_GAP + INSET_PAD_L : 1 - INSET_GAP - w,
+                   c < 2 ? 1 - INSET_GAP - w : INSET_GAP + INSET_PAD_B, w};
+    return b;
+}
 
 /* The range gnuplot's autoscale draws for data in [lo, hi] (in log10 on a
  * logarithmic axis): out to whole decades, or to the next tic of a step of 1,
@@ -223,76 +229,134 @@ static void autoscale(double *lo, double *hi, int logarithmic)
     *hi = ceil(*hi / step) * step;
 }
 
-/* Where the inset goes.  The drawn points (the rows figure.tsv holds) as
- * fractions u, v of the axes' autoscaled range (logarithmic where the axis
- * is); for each corner, the factor by which the y range must grow, away from
- * the corner, for the inset and its labels to cover no point (1: none
- * covered as it is).  The corner needing the least growth wins; *y_lo,
- * *y_hi: the y range to set (data units), or NaN to leave gnuplot's. */
-static int inset_corner(const report *r, double *y_lo, double *y_hi)
+/* Does the inset at b (with room for its labels) cover the point (u, v)? */
+static int covers(const inset_box *b, double u, double v)
+{
+    return u >= b->u0 - INSET_PAD_L - INSET_GAP && u <= b->u0 + b->w + INSET_GAP &&
+           v >= b->v0 - INSET_PAD_B - INSET_GAP && v <= b->v0 + b->w + INSET_GAP;
+}
+
+/* The drawn points (the rows figure.tsv holds) as fractions (u, v) of the
+ * axes' autoscaled range (logarithmic where the axis is), 2 doubles each;
+ * lo, hi: the data's range before autoscaling (log10 on a log axis).
+ * malloc'd, NULL (and *count 0) when nothing can be placed. */
+static double *drawn_points(const report *r, size_t *count, double lo[2], double hi[2])
 {
     const scene_figure_config *fig = &r->cfg->figure;
-    *y_lo = *y_hi = NAN;
-    size_t n = 0;
-    for (size_t i = 0; i < r->n; i++)
+    size_t n = 0, total = 0;
+    *count = 0;
+    for (size_t i = 0; i < r->n; i++) {
         if (r->points[i].src.n > n) n = r->points[i].src.n;
-    double *buf[4] = {0};
-    int ok = n > 0;
+        total += r->points[i].src.n;
+    }
+    double *buf[4] = {0}, *uv = malloc((2 * total + 2) * sizeof(double) * 2);
+    int ok = n > 0 && uv;
     for (int c = 0; c < 4; c++)
         if (!(buf[c] = malloc((n ? n : 1) * sizeof(double)))) ok = 0;
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    double need[4] = {0, 0, 1, 1}; /* upper corners: highest v; lower: lowest v */
+    lo[0] = lo[1] = INFINITY;
+    hi[0] = hi[1] = -INFINITY;
     const int lg[2] = {fig->log_x, fig->log_y};
-    for (int pass = 0; ok && pass < 2; pass++) {
-        if (pass == 1) {
-            if (!(hi[0] > lo[0]) || !(hi[1] > lo[1])) break;
-            for (int a = 0; a < 2; a++) autoscale(&lo[a], &hi[a], lg[a]);
-        }
-        for (size_t i = 0; i < r->n; i++) {
-            const report_point *p = &r->points[i];
-            int have[2];
-            have[0] = fig->curves != SCENE_CURVES_NUMERICS &&
-                      series_fill(&p->src, SERIES_THEORY, fig->x, buf[0]) == 0 &&
-                      series_fill(&p->src, SERIES_THEORY, fig->y, buf[1]) == 0;
-            have[1] = fig->curves != SCENE_CURVES_THEORY &&
-                      series_fill(&p->src, SERIES_NUMERICS, fig->x, buf[2]) == 0 &&
-                      series_fill(&p->src, SERIES_NUMERICS, fig->y, buf[3]) == 0;
-            size_t last = (size_t)fig->k_max;
-            if (last == 0 || last > p->src.n) last = p->src.n;
-            for (size_t k = 0; k < last; k++)
-                for (int s = 0; s < 2; s++) {
-                    if (!have[s]) continue;
-                    double xy[2] = {buf[2 * s][k], buf[2 * s + 1][k]};
-                    int good = 1;
-                    for (int a = 0; a < 2; a++) {
-                        if (lg[a]) xy[a] = xy[a] > 0 ? log10(xy[a]) : NAN;
-                        if (!isfinite(xy[a])) good = 0;
-                    }
-                    if (!good) continue;
-                    if (pass == 0) {
-                        for (int a = 0; a < 2; a++) {
-                            lo[a] = fmin(lo[a], xy[a]);
-                            hi[a] = fmax(hi[a], xy[a]);
-                        }
-                        continue;
-                    }
-                    double u = (xy[0] - lo[0]) / (hi[0] - lo[0]);
-                    double v = (xy[1] - lo[1]) / (hi[1] - lo[1]);
-                    for (int c = 0; c < 4; c++) {
-                        const inset_box *b = &inset_corners[c];
-                        if (u < b->u0 - INSET_PAD_L - INSET_GAP || u > b->u0 + INSET_W + INSET_GAP)
-                            continue;
-                        need[c] = c < 2 ? fmax(need[c], v) : fmin(need[c], v);
-                    }
+    size_t m = 0;
+    for (size_t i = 0; ok && i < r->n; i++) {
+        const report_point *p = &r->points[i];
+        int have[2];
+        have[0] = fig->curves != SCENE_CURVES_NUMERICS &&
+                  series_fill(&p->src, SERIES_THEORY, fig->x, buf[0]) == 0 &&
+                  series_fill(&p->src, SERIES_THEORY, fig->y, buf[1]) == 0;
+        have[1] = fig->curves != SCENE_CURVES_THEORY &&
+                  series_fill(&p->src, SERIES_NUMERICS, fig->x, buf[2]) == 0 &&
+                  series_fill(&p->src, SERIES_NUMERICS, fig->y, buf[3]) == 0;
+        size_t last = (size_t)fig->k_max;
+        if (last == 0 || last > p->src.n) last = p->src.n;
+        for (size_t k = 0; k < last; k++)
+            for (int s = 0; s < 2; s++) {
+                if (!have[s]) continue;
+                double xy[2] = {buf[2 * s][k], buf[2 * s + 1][k]};
+                int good = 1;
+                for (int a = 0; a < 2; a++) {
+                    if (lg[a]) xy[a] = xy[a] > 0 ? log10(xy[a]) : NAN;
+                    if (!isfinite(xy[a])) good = 0;
                 }
-        }
+                if (!good) continue;
+                for (int a = 0; a < 2; a++) {
+                    lo[a] = fmin(lo[a], xy[a]);
+                    hi[a] = fmax(hi[a], xy[a]);
+                }
+                uv[m++] = xy[0];
+                uv[m++] = xy[1];
+            }
     }
     for (int c = 0; c < 4; c++) free(buf[c]);
-    if (!ok || !(hi[0] > lo[0]) || !(hi[1] > lo[1])) return 0;
+    if (!ok || !(hi[0] > lo[0]) || !(hi[1] > lo[1])) {
+        free(uv);
+        return NULL;
+    }
+    double alo[2] = {lo[0], lo[1]}, ahi[2] = {hi[0], hi[1]};
+    for (int a = 0; a < 2; a++) autoscale(&alo[a], &ahi[a], lg[a]);
+    for (size_t j = 0; j < m; j += 2)
+        for (int a = 0; a < 2; a++) uv[j + a] = (uv[j + a] - alo[a]) / (ahi[a] - alo[a]);
+    *count = m / 2;
+    return uv;
+}
+
+/* A free place for an inset of size w: where it covers no point, as near
+ * a corner as can be (the corners first, then places a step further in, on
+ * a grid of GRID x GRID).  1 and *b, or 0. */
+#define GRID 7
+static int free_place(const double *uv, size_t n, double w, inset_box *b)
+{
+    const inset_box top_right = corner_box(0, w), bottom_left = corner_box(3, w);
+    for (int d = 0; d < GRID; d++)
+        for (int i = 0; i < GRID; i++)
+            for (int j = 0; j < GRID; j++) {
+                int di = i < GRID - 1 - i ? i : GRID - 1 - i, dj = j < GRID - 1 - j ? j : GRID - 1 - j;
+                if ((di > dj ? di : dj) != d) continue;
+                inset_box c = {top_right.u0 - (top_right.u0 - bottom_left.u0) * i / (GRID - 1),
+                               top_right.v0 - (top_right.v0 - bottom_left.v0) * j / (GRID - 1), w};
+                size_t k = 0;
+                while (k < n && !covers(&c, uv[2 * k], uv[2 * k + 1])) k++;
+                if (k == n) {
+                    *b = c;
+                    return 1;
+                }
+            }
+    return 0;
+}
+
+/* Where the inset goes, as in the paper: inside the main panel where it
+ * covers no point, at full size (INSET_W) or down to two thirds of it;
+ * where no place is free, full size in the corner needing the least growth
+ * of the y range, away from the corner, for it and its labels to cover no
+ * point.  *y_lo, *y_hi: the y range to set (data units), or NaN to leave
+ * gnuplot's. */
+static inset_box inset_place(const report *r, double *y_lo, double *y_hi)
+{
+    const int lg_y = r->cfg->figure.log_y;
+    *y_lo = *y_hi = NAN;
+    size_t n = 0;
+    double lo[2], hi[2];
+    double *uv = drawn_points(r, &n, lo, hi);
+    if (!uv) return corner_box(0, INSET_W);
+    inset_box b;
+    for (double w = INSET_W; w >= INSET_W * 2 / 3 - 1e-9; w -= INSET_W / 9)
+        if (free_place(uv, n, w, &b)) {
+            free(uv);
+            return b;
+        }
+    /* No free place: a corner, and room made for it. */
+    double need[4] = {0, 0, 1, 1}; /* upper corners: highest v; lower: lowest v */
+    for (size_t k = 0; k < n; k++)
+        for (int c = 0; c < 4; c++) {
+            const inset_box cb = corner_box(c, INSET_W);
+            double u = uv[2 * k], v = uv[2 * k + 1];
+            if (u < cb.u0 - INSET_PAD_L - INSET_GAP || u > cb.u0 + INSET_W + INSET_GAP) continue;
+            need[c] = c < 2 ? fmax(need[c], v) : fmin(need[c], v);
+        }
+    free(uv);
     double grow[4];
     for (int c = 0; c < 4; c++) {
-        const inset_box *b = &inset_corners[c];
-        double edge = c < 2 ? b->v0 - INSET_PAD_B - INSET_GAP : b->v0 + INSET_W + INSET_GAP;
+        const inset_box cb = corner_box(c, INSET_W);
+        double edge = c < 2 ? cb.v0 - INSET_PAD_B - INSET_GAP : cb.v0 + INSET_W + INSET_GAP;
         grow[c] = c < 2 ? fmax(1.0, need[c] / edge)
                         : fmax(1.0, 1.0 + (edge - need[c]) / (1.0 - edge));
     }
@@ -300,20 +364,21 @@ static int inset_corner(const report *r, double *y_lo, double *y_hi)
     for (int c = 1; c < 4; c++)
         if (grow[c] < grow[best] - 1e-9) best = c;
     if (grow[best] > 1.0) {
-        double span = hi[1] - lo[1], l = lo[1], h = hi[1];
+        double l = lo[1], h = hi[1];
+        autoscale(&l, &h, lg_y);
+        double span = h - l;
         if (best < 2) h = l + grow[best] * span;
         else l = h - grow[best] * span;
-        autoscale(&l, &h, lg[1]);
-        *y_lo = lg[1] ? pow(10.0, l) : l;
-        *y_hi = lg[1] ? pow(10.0, h) : h;
+        autoscale(&l, &h, lg_y);
+        *y_lo = lg_y ? pow(10.0, l) : l;
+        *y_hi = lg_y ? pow(10.0, h) : h;
     }
-    return best;
+    return corner_box(best, INSET_W);
 }
 
-static void inset_panel(const report *r, FILE *fp, int corner)
+static void inset_panel(const report *r, FILE *fp, const inset_box *b)
 {
     double ref = r->cfg->figure.inset_reference; /* NaN: none */
-    const inset_box *b = &inset_corners[corner];
     double w = FRAME_R - FRAME_L, h = FRAME_T - FRAME_B;
     double x0 = FRAME_L + b->u0 * w, y0 = FRAME_B + b->v0 * h;
     fputs("set autoscale\nunset logscale\nunset title\nunset mxtics\nunset mytics\n"
@@ -321,12 +386,12 @@ static void inset_panel(const report *r, FILE *fp, int corner)
     fprintf(fp, "set xtics %.17g\n", tic_step(r));
     fprintf(fp, "set lmargin at screen %.4f\nset rmargin at screen %.4f\n"
                 "set bmargin at screen %.4f\nset tmargin at screen %.4f\n",
-            x0, x0 + INSET_W * w, y0, y0 + INSET_W * h);
+            x0, x0 + b->w * w, y0, y0 + b->w * h);
     fputs("set object 1 rectangle from graph 0, graph 0 to graph 1, graph 1 behind "
           "fillcolor rgb \"white\" fillstyle solid 1.0 noborder\n", fp);
     fputs("set key inside bottom right spacing 0.9 font \",9\" samplen 1 opaque\n", fp);
     fprintf(fp, "set xlabel \"%s\" font \",10\" offset 0, 0.6\nset ylabel ", display_name(r));
-    gp_string(fp, analysis_label(r->cfg));
+    plot_gp_string(fp, analysis_label(r->cfg));
     fputs(" font \",10\" offset 1.5, 0\n", fp);
     fputs("set offsets graph 0.08, graph 0.08, graph 0.15, graph 0.15\n", fp);
     fputs("plot \"inset.tsv\" using 1:2 with points pt 6 ps 1.1 lc rgb \"black\" title \"theory\", \\\n"
@@ -342,10 +407,10 @@ static int write_script(const report *r, int inset, char **msg)
     out_file *f = out_open(r->dir, "figure.gp", msg);
     if (!f) return -1;
     double y_lo = NAN, y_hi = NAN;
-    int corner = inset ? inset_corner(r, &y_lo, &y_hi) : 0;
+    inset_box place = inset ? inset_place(r, &y_lo, &y_hi) : corner_box(0, INSET_W);
     script_head(r, f->fp);
     main_panel(r, f->fp, inset, y_lo, y_hi);
-    if (inset) inset_panel(r, f->fp, corner);
+    if (inset) inset_panel(r, f->fp, &place);
     return out_commit(f, msg);
 }
 

@@ -3,8 +3,8 @@
  * data block per run), DIR/inset.tsv (the fitted value against the swept
  * variable), DIR/figure.gp (a gnuplot script in the paper's style: theory
  * open circles, numerics filled circles, the inset drawn inside the main
- * panel, in the corner where the main panel has the fewest points, as the
- * paper draws its insets) and, with gnuplot installed, DIR/figure.png.
+ * panel where it covers no point, as near a corner as can be, as the paper
+ * draws its insets) and, with gnuplot installed, DIR/figure.png.
  *
  * Not part of libtaper.
  */
@@ -14,6 +14,7 @@
 #include "results/analysis.h"
 
 #include <stddef.h>
+#include <stdio.h>
 
 /* Writes figure.tsv, inset.tsv (with an inset) and figure.gp.  0, or -1
  * with *msg (malloc'd). */
@@ -25,5 +26,7 @@ int plot_write(const report *r, char **msg);
 int plot_render(const char *dir, char **msg);
 /* The same for another script of DIR (spacetime.gp). */
 int plot_render_script(const char *dir, const char *script, char **msg);
+/* A gnuplot string literal in double quotes ("enhanced" text kept). */
+void plot_gp_string(FILE *fp, const char *s);
 
 #endif

@@ -4,6 +4,8 @@
  */
 #include "results/sensors.h"
 
+#include "util/number.h"
+
 #include "results/output.h"
 #include "results/plot.h"
 #include "util/text.h"
@@ -220,8 +222,26 @@ static void interval_comment(const sensors *s, FILE *fp, double every)
     char text[SCENE_REAL_TEXT];
     scene_format_real(every, text);
     fprintf(fp, "# sampled every %s (rescaled time)", text);
-    if (u) fprintf(fp, " = %.17g %s", every * unit(s, TAPER_DIM_TIME), u);
+    if (u) {
+        char num[NUMBER_SIZE];
+        number_shortest(num, every * unit(s, TAPER_DIM_TIME));
+        fprintf(fp, " = %s %s", num, u);
+    }
     fprintf(fp, "; %zu samples\n", s->n_samples);
+}
+
+/* About 22 bytes a number: a shortest double (17 digits at most, a sign,
+ * a point, an exponent) and its tab. */
+#define BYTES_PER_NUMBER 22.0
+
+double sensors_bytes_per_sample(const sensors *s)
+{
+    double numbers = (s->series ? 7.0 * (double)s->n_granule : 0.0) +
+                     (s->wall[TAPER_LEFT] || s->wall[TAPER_RIGHT]
+                          ? 1.0 + s->wall[TAPER_LEFT] + s->wall[TAPER_RIGHT] : 0.0);
+    /* and what is kept in memory until the files are written */
+    double kept = 8.0 * (4.0 * (double)s->n_granule + 3.0);
+    return numbers * BYTES_PER_NUMBER + kept;
 }
 
 static int write_sensors(const sensors *s, const char *dir, FILE *out, char **msg)
@@ -362,9 +382,13 @@ static int write_spacetime_script(const sensors *s, const char *dir, double vmax
             "this directory) -> spacetime.png\n", taper_version());
     fputs("set terminal pngcairo size 900,700 enhanced font ',11'\n"
           "set output 'spacetime.png'\n", fp);
-    fprintf(fp, "set xlabel 'granule k'\nset ylabel 't%s%s%s'\nset cblabel 'v%s%s%s'\n",
-            ut ? " [" : "", ut ? ut : "", ut ? "]" : "", uv ? " [" : "", uv ? uv : "",
-            uv ? "]" : "");
+    /* Every axis says its unit: SI, or the rescaled units of eq. (5). */
+    fputs("set title ", fp);
+    char *title = text_printf("velocity v(k, t) of every granule: %s", dir);
+    plot_gp_string(fp, title ? title : "velocity v(k, t) of every granule");
+    free(title);
+    fprintf(fp, "\nset xlabel 'granule k'\nset ylabel 't [%s]'\nset cblabel 'v [%s]'\n",
+            ut ? ut : "rescaled time, eq. (5)", uv ? uv : "impulse velocity");
     fputs("set palette defined (-1 '#2c4f9e', 0 '#ffffff', 1 '#b2182b')\n", fp);
     fprintf(fp, "set cbrange [%.6g:%.6g]\n", -vmax, vmax);
     fputs("set autoscale xfix\nset autoscale yfix\n"

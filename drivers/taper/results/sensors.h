@@ -33,6 +33,9 @@ typedef struct sensors sensors;
  * NULL out of memory, with *failed set. */
 sensors *sensors_new(const scene_config *at, const taper_chain *chain, int *failed);
 void sensors_free(sensors *s);
+/* About how many bytes one sample adds to the files the sensors write and
+ * to the memory they keep until then (the guard of &output max_output). */
+double sensors_bytes_per_sample(const sensors *s);
 
 /* The taper_sample_fn: records one sample.  Never stops the run (a
  * recording that runs out of memory is reported by sensors_write). */

@@ -21,14 +21,23 @@
 int mpi_start(int *argc, char ***argv);
 /* This rank (0 without MPI). */
 int mpi_rank(void);
+/* Rank 0 of several: how a sweep serves the other ranks (sweep_run's
+ * options).  NULL on the other ranks and without MPI. */
+struct sweep_remote;
+const struct sweep_remote *mpi_remote(void);
 /* The work of a rank other than 0 on one scene: computes the runs rank 0
- * hands out, until it says stop, then says goodbye.  sc NULL (the scene
- * did not load) or a scene that is not a sweep: nothing to do but that.
- * Returns a run_status. */
+ * hands out, until it says stop or a signal stops this rank, then says
+ * goodbye.  sc NULL (the scene did not load) or a scene that is not a
+ * sweep: nothing to do but that.  Returns RUN_PARTIAL after a signal,
+ * RUN_COMPLETE otherwise (rank 0 speaks for the runs). */
 int mpi_worker(const scene *sc);
 /* Rank 0, after each scene of the command line: waits for every worker to
  * be done with it (a scene that was no sweep, or did not load, included). */
 void mpi_scene_end(void);
+/* In place of a scene not run after an interruption: every rank walks
+ * the scenes of the command line in step (rank 0 collects the goodbyes,
+ * the others say it). */
+void mpi_scene_skip(void);
 /* Finalises MPI.  Returns rc. */
 int mpi_stop(int rc);
 

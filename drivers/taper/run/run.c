@@ -30,6 +30,7 @@
 #include <fcntl.h>
 #include <math.h>
 #include <signal.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,7 +40,15 @@
 
 /* ---- interruption and progress ------------------------------------------ */
 
-static volatile sig_atomic_t interrupted; /* the first signal's number */
+/* The signal that stopped the runs: this process's first (the handler),
+ * or one another MPI rank received (run_interrupt), whichever came first.
+ * Lock-free, so both may set it. */
+static atomic_int interrupted;
+static volatile sig_atomic_t received;     /* this process's first signal    */
+static volatile sig_atomic_t sender;       /* the process that sent it (0: unknown) */
+static volatile sig_atomic_t on_rank = -1; /* interrupted by that rank's signal */
+static long launcher;                      /* run_signal_source's process, and its name */
+static char launcher_name[32];
 
 /* The signals that end a run with its partial result: Ctrl-C (SIGINT), and
  * what `timeout`, batch queues and a closed terminal send (SIGTERM, SIGHUP,
@@ -50,10 +59,14 @@ static volatile sig_atomic_t interrupted; /* the first signal's number */
 static const int stop_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGXCPU};
 #define N_STOP_SIGNALS (sizeof stop_signals / sizeof stop_signals[0])
 
-static void on_signal(int sig)
+static void on_signal(int sig, siginfo_t *info, void *context)
 {
-    if (!interrupted) {
-        interrupted = sig;
+    (void)context;
+    if (!received) { /* the first: stop the runs (unless another rank's did) */
+        received = sig;
+        sender = info && info->si_code == SI_USER ? (sig_atomic_t)info->si_pid : 0;
+        int none = 0;
+        atomic_compare_exchange_strong(&interrupted, &none, sig);
         return;
     }
     out_signal_cleanup();
@@ -65,7 +78,8 @@ void run_install_signals(void)
 {
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
+    sa.sa_sigaction = on_signal;
+    sa.sa_flags = SA_SIGINFO;
     sigemptyset(&sa.sa_mask);
     for (size_t i = 0; i < N_STOP_SIGNALS; i++) sigaddset(&sa.sa_mask, stop_signals[i]);
     for (size_t i = 0; i < N_STOP_SIGNALS; i++) {
@@ -82,6 +96,19 @@ void run_install_signals(void)
 
 int run_interrupted(void) { return interrupted; }
 
+void run_interrupt(int sig, int rank)
+{
+    int none = 0;
+    on_rank = rank;
+    if (!atomic_compare_exchange_strong(&interrupted, &none, sig)) on_rank = -1;
+}
+
+void run_signal_source(long pid, const char *name)
+{
+    launcher = pid;
+    snprintf(launcher_name, sizeof launcher_name, "%s", name);
+}
+
 static const char *signal_name(int sig)
 {
     switch (sig) {
@@ -91,6 +118,18 @@ static const char *signal_name(int sig)
     case SIGXCPU: return "SIGXCPU";
     default: return "a signal";
     }
+}
+
+/* "SIGTERM", "SIGTERM from mpirun" (the launcher stopping the ranks),
+ * "SIGINT to rank 2" (another rank's signal stopping the sweep). */
+static void interruption(char *buf, size_t size)
+{
+    int n = snprintf(buf, size, "%s", signal_name(interrupted));
+    if (n < 0 || (size_t)n >= size) return;
+    if (on_rank >= 0)
+        snprintf(buf + n, size - (size_t)n, " to rank %d", (int)on_rank);
+    else if (launcher && sender == launcher)
+        snprintf(buf + n, size - (size_t)n, " from %s", launcher_name);
 }
 
 typedef struct progress_state {
@@ -259,6 +298,53 @@ static int attach_sensors(run *r, taper_solver_spec *spec)
 }
 
 /* The sim, and with it the theory, computed once by the library. */
+/* How long the run will last, before it starts: until t_end, and until
+ * the pulse has passed the chain, when the binary-collision theory says
+ * (eq. (19)); a chain it does not describe (losses, a load) by the
+ * monodisperse pulse's 1.19 time units a granule (docs/physics.md,
+ * Nesterenko's wave), with room. */
+static double duration_estimate(const run *r)
+{
+    const double *t = taper_sim_theory(r->sim, TAPER_THEORY_T);
+    size_t n = taper_chain_size(r->chain);
+    double pulse = 1.5 * (double)n;
+    for (size_t k = n; k-- > 0;)
+        if (t && isfinite(t[k])) {
+            pulse = t[k];
+            break;
+        }
+    double t_end = taper_solver_spec_t_end(NULL); /* the default, replaced below */
+    taper_solver_spec *spec = scene_solver_spec(r->cfg, NULL);
+    if (spec) t_end = taper_solver_spec_t_end(spec);
+    taper_solver_spec_free(spec);
+    return fmax(pulse, t_end);
+}
+
+/* &output max_output: a run whose samples would fill the disk is refused
+ * before it starts, with the estimate and what to change. */
+static int check_output_size(run *r)
+{
+    const double limit = r->cfg->output.max_output;
+    const double interval = scene_sample_interval(r->cfg);
+    const double duration = duration_estimate(r);
+    const double samples = floor(duration / interval) + 1.0;
+    const double bytes = samples * sensors_bytes_per_sample(r->sensors);
+    if (limit == 0.0 || bytes <= limit) return RUN_COMPLETE;
+    const int si = scene_unit_suffix(r->cfg, TAPER_DIM_TIME) != NULL;
+    const int line = scene_line_of(r->sc, "interval");
+    char where[32] = "";
+    if (line > 0) snprintf(where, sizeof where, "%d:", line);
+    char *text = text_printf(
+        "%s:%s &sensors interval: the samples would take about %.2g bytes (%.3g samples to t = "
+        "%.4g%s, the pulse's crossing by the binary-collision theory or t_end), more than "
+        "&output max_output = %g: give a longer interval or fewer sensor granules, or raise "
+        "max_output", scene_path(r->sc), where, bytes, samples,
+        si ? duration * scene_unit(r->cfg, TAPER_DIM_TIME) : duration, si ? " s" : "", limit);
+    print_scene_message(r, text);
+    free(text);
+    return RUN_INPUT;
+}
+
 static int build_sim(run *r)
 {
     taper_solver_spec *spec = scene_solver_spec(r->cfg, &r->err);
@@ -284,7 +370,7 @@ static int build_sim(run *r)
         fprintf(r->log, "%s: out of memory\n", r->label);
         return RUN_FAILED;
     }
-    return RUN_COMPLETE;
+    return r->sensors ? check_output_size(r) : RUN_COMPLETE;
 }
 
 static int prepare_dir(const run *r)
@@ -388,8 +474,10 @@ static int simulate(run *r)
         const char *m = r->err.message;
         int lead = strncmp(m, word, sizeof word - 1) == 0;
         snprintf(rest, sizeof rest, "%s", lead ? m + sizeof word - 1 : m);
-        snprintf(r->err.message, sizeof r->err.message, "interrupted by %s%s%.400s",
-                 signal_name(interrupted), lead ? "" : ": ", rest);
+        char by[64];
+        interruption(by, sizeof by);
+        snprintf(r->err.message, sizeof r->err.message, "interrupted by %s%s%.400s", by,
+                 lead ? "" : ": ", rest);
     }
     if (r->status == TAPER_OK) return RUN_COMPLETE;
     set_message(r, r->err.message);

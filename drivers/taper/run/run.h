@@ -40,10 +40,18 @@ int run_worst(int a, int b);
 void run_install_signals(void);
 /* The number of the first such signal received, 0 if none. */
 int run_interrupted(void);
+/* Stops the runs as that signal does: signal sig received by MPI rank
+ * `rank` (run/mpi.c), which stops the whole sweep. */
+void run_interrupt(int sig, int rank);
+/* Process pid (named `name`) launched this one and stops it on the user's
+ * behalf: mpirun sends SIGTERM to every rank when it gets Ctrl-C, SIGINT,
+ * SIGTERM or SIGHUP itself.  Messages then say "interrupted by SIGTERM
+ * from mpirun", not the signal the user sent, which only mpirun saw. */
+void run_signal_source(long pid, const char *name);
 
 /* Runs a scene without a sweep (runs.swept 0) into &output dir; a sweep is
  * run by sweep_run (run/sweep.c), which calls run_point for each of its
- * runs.  Returns a run_status. */
+ * runs (run/sweep_resume.c).  Returns a run_status. */
 int run_scene(const scene *sc);
 
 /* &output dir created and locked for this process (flock on

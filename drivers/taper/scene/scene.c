@@ -229,6 +229,11 @@ static const scene_var own[] = {
      .flags = SCENE_LO_OPEN, .offset = AT(output.max_momentum_error), .def = "1e-3",
      .lib = SCENE_OWN, .lo = 0, .hi = 1e300,
      .doc = "the same bound on the relative momentum error"},
+    {.group = "output", .keyword = "max_output", .type = SCENE_REAL, .flags = SCENE_EXTRA,
+     .offset = AT(output.max_output), .def = "1e9", .lib = SCENE_OWN, .lo = 0, .hi = 1e18,
+     .doc = "bytes: a run whose sampled files (sensors.tsv, walls.tsv; in Python the samples' "
+            "memory) would take more by the estimate made before it is refused, saying the "
+            "estimate; 0: no limit"},
     {.group = "output", .keyword = "units", .type = SCENE_CHOICE, .flags = SCENE_EXTRA,
      .offset = AT(output.units), .def = "'rescaled'", .lib = SCENE_OWN, .choices = units,
      .doc = "units of the result files: 'rescaled' (eq. (5) of arXiv:0905.4512), or 'si' (needs"

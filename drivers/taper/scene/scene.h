@@ -156,6 +156,7 @@ typedef struct scene_output_config {
     char *columns;          /* names of granules.tsv columns; "": all the run has */
     long long every;        /* rows k = 1, 1 + every, ..., and N              */
     double max_energy_error, max_momentum_error; /* beyond: UNTRUSTED          */
+    double max_output;      /* bytes of sampled output a run may write; 0: any */
     int units;              /* scene_units                                    */
     unsigned column_set;    /* resolved: bit c for scene_column c written     */
 } scene_output_config;
