@@ -111,8 +111,9 @@ _RULE = """
     Without ``&material`` everything is in the rescaled units of eq. (5).
 
     What a file would write elsewhere: ``&sensors interval`` > 0 fills
-    ``Result.samples`` (the state of every granule at each sample; the
-    sensors' ``granules`` and ``spacetime`` are the driver's files);
+    ``Result.samples`` (the state of every granule at each sample, refused
+    before the run beyond ``max_output`` bytes; the sensors' ``granules``
+    and ``spacetime`` are the driver's files);
     ``&output columns`` and ``every`` choose the Result's columns and rows
     as they do granules.tsv's; ``max_energy_error`` and
     ``max_momentum_error`` set ``Result.untrusted``; ``units`` chooses the

@@ -437,8 +437,52 @@ static PyObject *stats_dict(const taper_sim *sim)
 
 /* Builds the chain from cs and either the theory alone (ss NULL) or a full
  * run (_core.h). */
-PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss, double interval)
+/* How long a run will last, before it starts: until t_end, and until the
+ * pulse has passed the chain, when the binary-collision theory says (eq.
+ * (19)); a chain it does not describe (losses, a load) by the
+ * monodisperse pulse's 1.19 time units a granule (docs/physics.md,
+ * Nesterenko's wave), with room.  The driver estimates its sensors' files
+ * the same way (&output max_output). */
+static double duration_estimate(const taper_sim *sim, size_t n, const taper_solver_spec *ss)
 {
+    const double *t = taper_sim_theory(sim, TAPER_THEORY_T);
+    double pulse = 1.5 * (double)n;
+    for (size_t k = n; k-- > 0;)
+        if (t && isfinite(t[k])) {
+            pulse = t[k];
+            break;
+        }
+    return fmax(pulse, taper_solver_spec_t_end(ss));
+}
+
+/* Samples beyond sampling->max_bytes (3 N + 2 doubles each, to the run's
+ * estimated end): InvalidArgumentError naming "interval", before the run. */
+static int check_samples_size(const taper_sim *sim, size_t n, const taper_solver_spec *ss,
+                              const core_sampling *sampling)
+{
+    if (sampling->max_bytes <= 0.0) return 0;
+    const double duration = duration_estimate(sim, n, ss);
+    const double samples = floor(duration / sampling->interval) + 1.0;
+    const double bytes = samples * (3.0 * (double)n + 2.0) * sizeof(double);
+    if (bytes <= sampling->max_bytes) return 0;
+    char text[TAPER_MESSAGE_SIZE];
+    snprintf(text, sizeof text,
+             "the samples would take about %.2g bytes of memory (%.3g samples of 3 N + 2 "
+             "values to t = %.4g%s%s, the pulse's crossing by the binary-collision theory or "
+             "t_end), more than max_output = %g: give a longer interval, or raise max_output",
+             bytes, samples, duration * sampling->time_scale, sampling->time_unit ? " " : "",
+             sampling->time_unit ? sampling->time_unit : "", sampling->max_bytes);
+    PyObject *full = PyUnicode_FromFormat("interval: %s", text);
+    if (full) core_raise(core_InvalidArgumentError, PyUnicode_AsUTF8(full), TAPER_EINVAL,
+                         "interval", text);
+    Py_XDECREF(full);
+    return -1;
+}
+
+PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
+                   const core_sampling *sampling)
+{
+    const double interval = sampling ? sampling->interval : 0.0;
     taper_error err;
     taper_chain *chain = NULL;
     taper_sim *sim = NULL;
@@ -495,12 +539,15 @@ PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss, double int
 
         Py_BEGIN_ALLOW_THREADS
         sim = taper_sim_alloc(chain, ss, &err);
-        if (sim) rc = taper_sim_run(sim, &err);
         Py_END_ALLOW_THREADS
         if (!sim) {
             core_raise_library(&err);
             goto fail;
         }
+        if (interval > 0.0 && check_samples_size(sim, n, ss, sampling) != 0) goto fail;
+        Py_BEGIN_ALLOW_THREADS
+        rc = taper_sim_run(sim, &err);
+        Py_END_ALLOW_THREADS
         if (ctx.interrupted) goto fail; /* KeyboardInterrupt (or a handler's exception) is set */
         if (ctx.samples_failed) {
             PyErr_NoMemory();

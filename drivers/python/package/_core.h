@@ -54,16 +54,29 @@ PyObject *core_double_array(const double *src, size_t n);
 /* dict[key] = value, the reference to value stolen; -1 when value is NULL. */
 int core_put(PyObject *dict, const char *key, PyObject *value);
 
+/* How a run is sampled: every `interval` (rescaled time; 0: never), the
+ * samples held in memory refused beyond max_bytes (0: no bound), a time
+ * shown in messages times time_scale with its unit (NULL: rescaled). */
+typedef struct core_sampling {
+    double interval;
+    double max_bytes;
+    double time_scale;
+    const char *time_unit;
+} core_sampling;
+
 /* One run of libtaper, the GIL released while it computes (Ctrl-C raises
  * KeyboardInterrupt): the chain of cs, and either its binary-collision
  * theory alone (ss NULL) or a sim with the solver settings of ss (which
- * receives the extension's monitor, log and, for interval > 0, its sampler
- * at that rescaled interval).  Returns a dict in the library's units:
+ * receives the extension's monitor, log and, when sampling, its sampler).
+ * Samples that would take more than sampling->max_bytes are refused before
+ * the run: InvalidArgumentError naming "interval".  Returns a dict in the
+ * library's units:
  * "columns" {name: array} (k R m X0, the observables when run, theory_v
  * theory_T theory_t), "stats", "status", "message", "warnings", and for a
  * sim "x_final", "v_final" and with samples "samples" {t, x, v, force};
  * "theory_note".  NULL with an exception. */
-PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss, double interval);
+PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
+                   const core_sampling *sampling);
 /* The chain of cs alone: "columns" {k R m X0 r mu}, "profile", "exponent",
  * "theory_note", "striker_mass", in the library's units. */
 PyObject *core_chain(const taper_chain_spec *cs);

@@ -436,7 +436,12 @@ static PyObject *run_point(PyObject *capsule, const scene *sc, size_t point, PyO
         taper_chain_spec_free(cs);
         return core_raise_library(&err);
     }
-    PyObject *d = core_run(cs, ss, ss ? scene_sample_interval(&at) : 0.0);
+    const char *seconds = scene_unit_suffix(&at, TAPER_DIM_TIME);
+    core_sampling sampling = {.interval = ss ? scene_sample_interval(&at) : 0.0,
+                              .max_bytes = at.output.max_output,
+                              .time_scale = scene_unit(&at, TAPER_DIM_TIME),
+                              .time_unit = seconds};
+    PyObject *d = core_run(cs, ss, &sampling);
     taper_solver_spec_free(ss);
     taper_chain_spec_free(cs);
     PyObject *units = d ? PyDict_New() : NULL;

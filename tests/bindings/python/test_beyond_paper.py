@@ -224,3 +224,12 @@ def test_samples_hold_the_state_and_forces_that_conserve_energy():
     assert e.value.field == "interval"
     # the samples need no sensors, walls or picture: they go to Result.samples
     assert taper.simulate(n_granules=5, interval=2.0).samples["x"].shape[1] == 5
+    # samples beyond &output max_output bytes are refused before the run, as
+    # the driver refuses sensor files: 20 granules to t = 30 every 0.5 are 61
+    # samples of 62 doubles, 30256 bytes
+    with pytest.raises(taper.InvalidArgumentError) as e:
+        taper.simulate(n_granules=20, right="wall", t_end=30.0, interval=0.5, max_output=3e4)
+    assert e.value.field == "interval" and "3e+04 bytes" in e.value.message, e.value
+    assert "max_output = 30000" in e.value.message
+    ok = taper.simulate(n_granules=20, right="wall", t_end=30.0, interval=0.5, max_output=3.1e4)
+    assert len(ok.samples["t"]) == 61
