@@ -1,31 +1,36 @@
 /*
- * _scene.h -- the one place where the Python extension meets the driver's
- * scene reader (drivers/taper/scene, linked in from the static library
- * taper_app): taper.run_scene reads a scene exactly as `taper` does, and a
- * change of the scene module's API touches only _scene.c.
+ * _scene.h -- the Python package's scenes (_scene.c): where the extension
+ * meets the driver's scene module (drivers/taper/scene, linked in from the
+ * static library taper_app).  simulate(), theory() and chain() build a
+ * scene from their keywords, run_scene() reads one from a file; either is
+ * validated by the driver's reader and its points run by core_run
+ * (_core.c), the results converted to the scene's units.
  */
 #ifndef TAPER_PY_SCENE_H
 #define TAPER_PY_SCENE_H
 
-#include "taper.h"
+#include "_core.h"
 
-#include <stddef.h>
+typedef enum pyscene_kind {
+    PYSCENE_SIMULATE = 0, /* the scene's one run                          */
+    PYSCENE_THEORY = 1,   /* the same with numerics = .false.             */
+    PYSCENE_CHAIN = 2     /* its chain alone                              */
+} pyscene_kind;
 
-typedef struct pyscene pyscene;
-
-/* Reads and validates the scene at path.  0: *out holds it; -1: the scene
- * is invalid and *diag (malloc'd, the caller frees it) holds the reader's
- * diagnostics as the driver prints them; -2: out of memory.  Needs no GIL,
- * prints nothing. */
-int pyscene_load(const char *path, pyscene **out, char **diag);
-void pyscene_free(pyscene *sc);
-
-/* The number of runs: the values of the swept variable, or 1. */
-size_t pyscene_runs(const pyscene *sc);
-/* 0 when the scene asks for the theory alone (&solver numerics = .false.). */
-int pyscene_numerics(const pyscene *sc);
-/* Fills the library's specs for run i, as the driver does. */
-taper_status pyscene_specs(const pyscene *sc, size_t i, taper_chain_spec *chain,
-                           taper_solver_spec *solver, taper_error *err);
+/* simulate(**kw), theory(**kw), chain(**kw): the dict a Result (Chain) is
+ * made from, or NULL with TypeError (an unknown keyword, a value of the
+ * wrong Python type), InvalidArgumentError (a value the scene or the
+ * library refuses: .field the keyword) or another exception. */
+PyObject *pyscene_call(pyscene_kind kind, PyObject *args, PyObject *kwargs);
+/* run_scene(path): one dict per point of the scene's sweep; SceneError
+ * with the reader's diagnostics for an invalid scene. */
+PyObject *pyscene_run_file(PyObject *path);
+/* variables(): one dict per scene variable, in the table's order. */
+PyObject *pyscene_variables(void);
+/* scene_text(scene, point): the echo of a result's scene at its point. */
+PyObject *pyscene_text(PyObject *args);
+/* The names of granules.tsv's columns in their order; theory_only: those
+ * a run without numerics has. */
+PyObject *pyscene_columns(int theory_only);
 
 #endif

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Any, Dict, List, Mapping, Optional, Union
+from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
@@ -16,11 +16,10 @@ from ._columns import Columns
 
 __all__ = ["Result", "read_granules", "COLUMNS", "THEORY_COLUMNS"]
 
-#: The columns of granules.tsv, in order (README, "What you get").
-COLUMNS = ("k", "R", "m", "X0", "t_pass", "T_res", "v_peak", "t_peak", "X_pass",
-           "theory_v", "theory_T", "theory_t")
+#: The columns of granules.tsv, in order (the driver's scene module names them).
+COLUMNS = _core.COLUMNS
 #: The columns of taper.theory(): the chain and the binary collision theory.
-THEORY_COLUMNS = ("k", "R", "m", "X0", "theory_v", "theory_T", "theory_t")
+THEORY_COLUMNS = _core.THEORY_COLUMNS
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -31,22 +30,39 @@ class Result(Columns):
     Columns are numpy arrays of length N, granule k at index k-1: ``k``
     (int64) and float64 ``R m X0 t_pass T_res v_peak t_peak X_pass theory_v
     theory_T theory_t`` (those of the run that exist: ``taper.theory()``
-    has no ``t_pass ... X_pass``).  NaN marks a value that does not exist.
-    Read them as attributes (``r.v_peak``) or items (``r["v_peak"]``).
+    has no ``t_pass ... X_pass``; ``&output columns`` and ``every`` choose
+    columns and rows as they do granules.tsv's).  NaN marks a value that
+    does not exist.  Read them as attributes (``r.v_peak``) or items
+    (``r["v_peak"]``).
 
     Attributes:
         stats: the run's statistics by their library names (``steps``,
             ``rhs_evals``, ..., ``energy_error``, ``momentum_error``,
             ``complete``); empty for the theory alone.
-        settings: the resolved settings of the run (every default filled in),
-            by scene variable name.
+        units: the SI unit of every column, statistic, sample and final
+            state that has one (``{"t_pass": "s", "v_peak": "m/s", ...}``)
+            when the results are in SI (a scene with ``&material``, unless
+            ``units='rescaled'``); empty when they are in the rescaled units
+            of eq. (5) of arXiv:0905.4512.
+        settings: every scene variable of the run by its name (the keywords
+            of simulate()), defaults filled in, as the scene holds them (SI
+            with &material); a sweep's run has its point's values.
         complete: True when every requested observable is known.
         status: ``"ok"``, or why the run ended early: ``"solver"`` (the
             integrator failed), ``"limit"`` (t_max or max_steps reached).
         message: the library's message for a partial run, else "".
+        untrusted: why the run is not to be trusted (its energy or momentum
+            error beyond ``max_energy_error``, ``max_momentum_error``, as
+            the driver's granules.tsv says), else "".
         warnings: the library's warnings during the run (nothing is printed).
         x_final, v_final: displacements and velocities where the run ended
             (None when the result was read from a file or is theory only).
+        samples: with ``&sensors interval`` > 0, ``{"t": (S,), "x": (S, N),
+            "v": (S, N), "force": (S, N + 1)}`` at t = 0, dt, 2 dt, ...
+            (``force[:, 0]`` on granule 1 from the left, ``force[:, k]`` the
+            contact (k, k+1), ``force[:, N]`` from the right); else None.
+        theory_note: why the binary collision theory does not describe the
+            chain (its columns are then NaN), else None.
         source: where the result came from ("simulate", "theory", a scene or
             a granules.tsv path).
     """
@@ -56,33 +72,48 @@ class Result(Columns):
                  warnings: Optional[List[str]] = None, x_final: Optional[np.ndarray] = None,
                  v_final: Optional[np.ndarray] = None, source: str = "",
                  complete: Optional[bool] = None,
-                 samples: Optional[Dict[str, np.ndarray]] = None) -> None:
+                 samples: Optional[Dict[str, np.ndarray]] = None,
+                 units: Optional[Dict[str, str]] = None, theory_note: Optional[str] = None,
+                 untrusted: str = "") -> None:
         ordered = [c for c in COLUMNS if c in columns] + [c for c in columns if c not in COLUMNS]
         self._columns: Dict[str, np.ndarray] = {c: columns[c] for c in ordered}
         self.stats: Dict[str, Any] = dict(stats or {})
         self.settings: Dict[str, Any] = dict(settings or {})
+        self.units: Dict[str, str] = dict(units or {})
         self.status = status
         self.message = message
         self.warnings: List[str] = list(warnings or [])
         self.x_final = x_final
         self.v_final = v_final
-        #: simulate(sample_interval=dt): {"t": (S,), "x": (S, N), "v": (S, N),
-        #: "force": (S, N + 1)} at t = 0, dt, 2 dt, ...; None otherwise.
         self.samples = samples
+        self.theory_note = theory_note
         self.source = source
         if complete is None:
             complete = bool(self.stats.get("complete", status == "ok"))
         self.complete = bool(complete)
-        #: why a driver's granules.tsv is UNTRUSTED (its "# UNTRUSTED:" line), else "".
-        self.untrusted: str = ""
+        self.untrusted: str = untrusted
+        self._scene: Any = None
+        self._point = 0
 
     @classmethod
-    def _from_core(cls, d: Dict[str, Any], source: str) -> "Result":
-        return cls(d["columns"], stats=d.get("stats"), settings=d.get("settings"),
-                   status=d.get("status", "ok"), message=d.get("message", ""),
-                   warnings=d.get("warnings"), x_final=d.get("x_final"),
-                   v_final=d.get("v_final"), source=d.get("scene", source),
-                   samples=d.get("samples"))
+    def _from_core(cls, d: Dict[str, Any]) -> "Result":
+        r = cls(d["columns"], stats=d.get("stats"), settings=d.get("settings"),
+                status=d.get("status", "ok"), message=d.get("message", ""),
+                warnings=d.get("warnings"), x_final=d.get("x_final"),
+                v_final=d.get("v_final"), source=d.get("source", ""),
+                samples=d.get("samples"), units=d.get("units"),
+                theory_note=d.get("theory_note"))
+        r._scene, r._point = d.get("scene"), d.get("point", 0)
+        r.untrusted = _distrust(r.stats, r.settings)
+        return r
+
+    @property
+    def scene(self) -> Optional[str]:
+        """The resolved scene of the run as a namelist, as the driver echoes
+        it in granules.tsv (a sweep's run: its point's values): saved to a
+        file, ``taper FILE`` runs the same chain.  None for a result read
+        from a file."""
+        return None if self._scene is None else _core.scene_text(self._scene, self._point)
 
     # -- conservation ------------------------------------------------------------
     @property
@@ -134,6 +165,25 @@ class Result(Columns):
         return f"<taper.Result {what or self.source} N={len(self)} {state}>"
 
 
+def _distrust(stats: Mapping[str, Any], settings: Mapping[str, Any]) -> str:
+    """The driver's verdict on a run's conservation (&output
+    max_energy_error, max_momentum_error): why it is not to be trusted, or
+    "" (also for the theory alone)."""
+    if "energy_error" not in stats or "max_energy_error" not in settings:
+        return ""
+    e, p = float(stats["energy_error"]), float(stats["momentum_error"])
+    be, bp = settings["max_energy_error"], settings["max_momentum_error"]
+    bad_e, bad_p = not e <= be, not p <= bp      # NaN is not trusted either
+    if bad_e and bad_p:
+        return (f"energy error {e:.2e} exceeds {be!r} and momentum error {p:.2e} exceeds "
+                f"{bp!r} (&output max_energy_error, max_momentum_error)")
+    if bad_e:
+        return f"energy error {e:.2e} exceeds {be!r} (&output max_energy_error)"
+    if bad_p:
+        return f"momentum error {p:.2e} exceeds {bp!r} (&output max_momentum_error)"
+    return ""
+
+
 def _number(text: str) -> Any:
     try:
         return int(text)
@@ -160,11 +210,14 @@ def read_granules(path: PathLike) -> Result:
     granules its rows hold (``&output every`` thins them).  Integer columns
     (k) become int64 arrays, the others float64 (``nan`` is NaN), read back to
     the same doubles the driver computed (it writes 17 significant digits).
+    A file in SI names units in brackets (``t_pass[s]``, ``# t_final[s] =
+    ...``): the names go without them, the units to ``units``.
     """
     path = os.fspath(path)
     statistics = set(_core.STATISTICS)
     statuses = {desc: ident for ident, (_, desc) in _core.statuses().items()}
     stats: Dict[str, Any] = {}
+    units: Dict[str, str] = {}
     status, message, complete, untrusted = "ok", "", None, ""
     header: Optional[List[str]] = None
     rows: List[str] = []
@@ -183,11 +236,19 @@ def read_granules(path: PathLike) -> Result:
                     untrusted = text[len("UNTRUSTED: "):]
                 else:
                     name, eq, value = text.partition(" = ")
+                    name, unit = _unit_of(name)
                     if eq and name in statistics:
                         stats[name] = _number(value.strip())
+                        if unit:
+                            units[name] = unit
                 continue
             if header is None:
-                header = line.rstrip("\r\n").split("\t")
+                header = []
+                for cell in line.rstrip("\r\n").split("\t"):
+                    name, unit = _unit_of(cell)
+                    header.append(name)
+                    if unit:
+                        units[name] = unit
                 continue
             if line.strip():
                 rows.append(line)
@@ -210,7 +271,13 @@ def read_granules(path: PathLike) -> Result:
         stats["complete"] = bool(stats["complete"])
     if complete is None:
         complete = bool(stats.get("complete", True))
-    result = Result(columns, stats=stats, status=status, message=message, source=path,
-                    complete=complete)
-    result.untrusted = untrusted
-    return result
+    return Result(columns, stats=stats, status=status, message=message, source=path,
+                  complete=complete, units=units, untrusted=untrusted)
+
+
+def _unit_of(name: str) -> Tuple[str, str]:
+    """"t_pass[s]" -> ("t_pass", "s"); "k" -> ("k", "")."""
+    if name.endswith("]") and "[" in name:
+        base, _, unit = name[:-1].partition("[")
+        return base, unit
+    return name, ""

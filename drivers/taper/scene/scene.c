@@ -132,7 +132,7 @@ static const scene_var own[] = {
             "left wall or a load). The energy budget adds up to its work (docs/physics.md, "
             "\"Piston\")"},
 
-    {.group = "material", .keyword = "young", .type = SCENE_REAL,
+    {.group = "material", .keyword = "young", .si_unit = "Pa", .type = SCENE_REAL,
      .flags = SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA, .offset = AT(material.young),
      .lib = SCENE_OWN, .lo = 0, .hi = INFINITY,
      .doc = "Young's modulus E of material 1 [Pa] (e.g. 193e9, stainless steel); the group "
@@ -141,19 +141,19 @@ static const scene_var own[] = {
      .flags = SCENE_LO_OPEN | SCENE_HI_OPEN | SCENE_SWEEP | SCENE_EXTRA,
      .offset = AT(material.poisson), .lib = SCENE_OWN, .lo = -1, .hi = 0.5,
      .doc = "Poisson ratio nu of material 1"},
-    {.group = "material", .keyword = "density", .type = SCENE_REAL,
+    {.group = "material", .keyword = "density", .si_unit = "kg/m^3", .type = SCENE_REAL,
      .flags = SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA, .offset = AT(material.density),
      .lib = SCENE_OWN, .lo = 0, .hi = INFINITY,
      .doc = "density of material 1 [kg/m^3]"},
-    {.group = "material", .keyword = "radius", .type = SCENE_REAL,
+    {.group = "material", .keyword = "radius", .si_unit = "m", .type = SCENE_REAL,
      .flags = SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA, .offset = AT(material.radius),
      .lib = SCENE_OWN, .lo = 0, .hi = INFINITY,
      .doc = "radius R_1 of granule 1 [m] (every length of the scene is relative to it)"},
-    {.group = "material", .keyword = "velocity", .type = SCENE_REAL,
+    {.group = "material", .keyword = "velocity", .si_unit = "m/s", .type = SCENE_REAL,
      .flags = SCENE_LO_OPEN | SCENE_SWEEP | SCENE_EXTRA, .offset = AT(material.velocity),
      .lib = SCENE_OWN, .lo = 0, .hi = INFINITY,
      .doc = "velocity of the impulse given to granule 1, or of the striker [m/s]"},
-    {.group = "material", .keyword = "other_young", .type = SCENE_REAL_LIST,
+    {.group = "material", .keyword = "other_young", .si_unit = "Pa", .type = SCENE_REAL_LIST,
      .flags = SCENE_LO_OPEN | SCENE_EXTRA, .offset = AT(material.other_young), .lib = SCENE_OWN,
      .lo = 0, .hi = INFINITY,
      .doc = "mixed chains: Young's moduli of materials 2, 3, ... [Pa]"},
@@ -161,7 +161,7 @@ static const scene_var own[] = {
      .flags = SCENE_LO_OPEN | SCENE_HI_OPEN | SCENE_EXTRA, .offset = AT(material.other_poisson),
      .lib = SCENE_OWN, .lo = -1, .hi = 0.5,
      .doc = "Poisson ratios of materials 2, 3, ..."},
-    {.group = "material", .keyword = "other_density", .type = SCENE_REAL_LIST,
+    {.group = "material", .keyword = "other_density", .si_unit = "kg/m^3", .type = SCENE_REAL_LIST,
      .flags = SCENE_LO_OPEN | SCENE_EXTRA, .offset = AT(material.other_density), .lib = SCENE_OWN,
      .lo = 0, .hi = INFINITY,
      .doc = "densities of materials 2, 3, ... [kg/m^3]"},
@@ -456,6 +456,20 @@ const char *const *scene_var_choices(size_t i)
     return i < scene_var_count() && table[i].type == SCENE_CHOICE ? table[i].choices : NULL;
 }
 size_t scene_var_index(const scene_var *var) { return (size_t)(var - table); }
+
+int scene_var_describe(size_t i, scene_var_about *about)
+{
+    if (i >= scene_var_count()) return -1;
+    const scene_var *var = &table[i];
+    *about = (scene_var_about){.description = var->doc, .dimension = var->dim,
+                               .unit = var->si_unit ? var->si_unit
+                                       : var->dim == TAPER_DIM_NUMBER ? NULL
+                                       : taper_dimension_unit(var->dim),
+                               .choices = var->choices,
+                               .beyond_paper = (var->flags & SCENE_EXTRA) != 0,
+                               .checked_by = var->lib};
+    return 0;
+}
 
 int scene_var_find(const char *group, const char *name)
 {

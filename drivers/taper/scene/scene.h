@@ -376,6 +376,10 @@ typedef struct scene_value {
  * --set does.  A list of reals is not held to the file's SCENE_MAX_LIST.
  * Returns the number of errors (recorded as diagnostics; line 0). */
 size_t scene_set_values(scene *sc, const char *keyword, const scene_value *values, size_t n);
+/* The program keeps every sample itself (the Python package's
+ * Result.samples): &sensors interval needs no granules, spacetime or wall
+ * to be useful. */
+void scene_keep_samples(scene *sc);
 /* Checks every value and the relations between them (the library's
  * settings through the library's setters, each value of a sweep too), and
  * resolves scene_config.runs.  Returns the number of errors. */
@@ -491,6 +495,30 @@ int scene_var_takes_list(size_t i); /* 1: a list of values sweeps it (s, q,
 /* A choice's allowed names, NULL-terminated, in the order of their values;
  * NULL for a variable that is not a choice. */
 const char *const *scene_var_choices(size_t i);
+/* The row of `key` in `group` (case-insensitive), or -1: a diagnostic's
+ * group and key back to the variable (its keyword). */
+int scene_var_find(const char *group, const char *key);
+/* What `taper --doc` says of variable i, for programs that list the
+ * variables (the Python package's taper.variables()). */
+typedef struct scene_var_about {
+    const char *description;     /* one line                                   */
+    taper_dimension dimension;   /* its unit with &material (TAPER_DIM_NUMBER:
+                                    a pure number, the same in every unit, or
+                                    a value that is SI in any case)            */
+    const char *unit;            /* the SI unit its value is read in with
+                                    &material ("s", "Pa", ...); NULL: none    */
+    const char *const *choices;  /* CHOICE: its names, NULL-terminated; else
+                                    NULL                                        */
+    int beyond_paper;            /* 1: not part of the paper's model (the echo
+                                    leaves it out unless given)                 */
+    scene_lib checked_by;        /* the scene itself, or the library's object  */
+} scene_var_about;
+/* Fills *about for row i.  0, or -1 past the table's end. */
+int scene_var_describe(size_t i, scene_var_about *about);
+/* The values row i allows, as --doc writes them ("[0, 1000]", "(0, inf)",
+ * "'adams', 'bdf'"; "" when anything goes).  malloc'd; NULL out of memory
+ * or past the table's end. */
+char *scene_var_range(size_t i);
 /* The value of variable i: a string or choice's text; an integer or a
  * logical; the reals of a real (none when a real without default is left
  * out), sweep or list, and the values of an integer given a list (a sweep:

@@ -61,6 +61,8 @@ typedef struct scene_var {
     int choice_first;           /* CHOICE: the first value (-1: 'none')        */
     taper_dimension dim;        /* the unit its value is given in with
                                    &material (TAPER_DIM_NUMBER: none)          */
+    const char *si_unit;        /* own rows always in SI (&material's young,
+                                   density, ...): their unit; NULL: dim's     */
     const char *after;          /* own rows: the keyword of the library row
                                    it follows in its group; NULL: at the end  */
     const taper_setting *setting; /* library rows: the library's row         */
@@ -78,8 +80,6 @@ void scene_setting_store(scene_config *cfg, const char *name, double value);
 const char *scene_choice_name(const scene_var *var, int v);
 
 const scene_var *scene_var_at(size_t i);
-/* Index of group/name (case-insensitive) or -1. */
-int scene_var_find(const char *group, const char *name);
 /* Index of the row of the library's setting (or &fit's) named `field`
  * (taper_error.field), or -1. */
 int scene_var_of_field(scene_lib lib, const char *field);
@@ -105,6 +105,7 @@ struct scene {
     scene_origin *origin;           /* one per table row                   */
     int group_line[SCENE_N_GROUPS]; /* line where each group opens (0: not) */
     int n_from_radii;               /* n_granules resolved from the radii  */
+    int samples_kept;               /* scene_keep_samples                   */
     scene_diag *diags;              /* the first SCENE_MAX_DIAGS errors    */
     size_t n_diags;
     size_t n_errors;                /* errors found (may exceed n_diags)   */

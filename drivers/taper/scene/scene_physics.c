@@ -322,7 +322,8 @@ static void check_sensors(scene *sc)
                         "turn the numerics on or set interval = 0");
     int walls = scene_setting(cfg, "left") == TAPER_END_WALL ||
                 scene_setting(cfg, "right") == TAPER_END_WALL;
-    if (sampling && cfg->solver.numerics && s->granules.n == 0 && !s->spacetime && !walls)
+    if (sampling && cfg->solver.numerics && s->granules.n == 0 && !s->spacetime && !walls &&
+        !sc->samples_kept)
         scene_var_error(sc, iv, "the samples would go nowhere: give &sensors granules, "
                         "spacetime = .true., or a wall (&ends)");
     if (!sampling && s->granules.n > 0)
@@ -387,6 +388,8 @@ static void check_piston(scene *sc)
         }
     }
 }
+
+void scene_keep_samples(scene *sc) { sc->samples_kept = 1; }
 
 void scene_check_physics(scene *sc)
 {

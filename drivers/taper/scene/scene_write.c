@@ -35,6 +35,11 @@ char *scene_range_text(const scene_var *var)
     return text;
 }
 
+char *scene_var_range(size_t i)
+{
+    return i < scene_var_count() ? scene_range_text(scene_var_at(i)) : NULL;
+}
+
 /* Fortran string literal: quotes doubled, so any text survives. */
 static void write_quoted(const char *s, FILE *fp)
 {
@@ -548,7 +553,9 @@ static void write_doc_outro(FILE *fp)
 /* The unit of a variable's value with &material ("" for a pure number). */
 static const char *doc_unit(const scene_var *var)
 {
-    return var->dim == TAPER_DIM_NUMBER ? "" : taper_dimension_unit(var->dim);
+    scene_var_about about;
+    scene_var_describe(scene_var_index(var), &about);
+    return about.unit ? about.unit : "";
 }
 
 void scene_write_doc(const scene *sc, FILE *fp)

@@ -26,6 +26,10 @@ def test_name_tuples_come_from_the_library():
     assert len(taper.STATISTICS) == 25
     assert taper.STATISTICS[0] == "steps" and taper.STATISTICS[13] == "complete"
     assert taper.STATISTICS[-1] == "wall_impulse_right"
+    # granules.tsv's columns, as the driver's scene module names them
+    assert taper.COLUMNS == ("k", "R", "m", "X0") + taper.OBSERVABLES + \
+        ("theory_v", "theory_T", "theory_t")
+    assert taper.THEORY_COLUMNS == tuple(c for c in taper.COLUMNS if c not in taper.OBSERVABLES)
     # The observables are columns of a run, the theory's (but mu) theory_<name>.
     r = taper.simulate(n_granules=5)
     assert all(name in r.columns for name in taper.OBSERVABLES)
@@ -84,8 +88,11 @@ def test_chain_refusals_name_the_argument():
     assert e.value.field == "radii"
     with pytest.raises(TypeError, match="s"):
         taper.chain(s="0.1")
-    with pytest.raises(TypeError, match="rtol"):
-        taper._core.chain(rtol=1e-8)  # a solver setting is not a chain keyword
+    # every scene variable is a keyword of chain() (solver settings are
+    # checked as in a file); an unknown one is a TypeError with the nearest
+    with pytest.raises(TypeError, match="did you mean 'rtol'"):
+        taper._core.chain(rtoll=1e-8)
+    assert taper.chain(n_granules=5, rtol=1e-8).settings["rtol"] == 1e-8
     with pytest.raises(TypeError):
         taper._core.chain("monodisperse")
 

@@ -93,10 +93,16 @@ def test_unknown_keyword_and_positional():
         taper.simulate(rtoll=1e-8)
     with pytest.raises(TypeError, match="rtoll"):
         taper._core.simulate(rtoll=1e-8)
-    with pytest.raises(TypeError, match="rtol"):
-        taper.theory(rtol=1e-8)  # a solver setting is not a theory keyword
-    with pytest.raises(TypeError, match="rtol"):
-        taper._core.theory(rtol=1e-8)
+    with pytest.raises(TypeError, match="did you mean 'rtol'"):
+        taper.simulate(rtoll=1e-8)
+    with pytest.raises(TypeError, match="'RTOL'.*did you mean 'rtol'"):
+        taper.simulate(RTOL=1e-8)    # a keyword is spelt as its variable
+    with pytest.raises(TypeError, match="numerics"):
+        taper.theory(numerics=True)  # the theory is the scene without numerics
+    with pytest.raises(TypeError, match="numerics"):
+        taper._core.theory(numerics=False)
+    with pytest.raises(TypeError, match="'sample_interval'"):   # &sensors interval now
+        taper.simulate(sample_interval=1.0)
     with pytest.raises(TypeError):
         taper.simulate("monodisperse")
     with pytest.raises(TypeError):

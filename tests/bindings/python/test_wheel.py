@@ -28,7 +28,7 @@ def test_wheel_builds_installs_and_imports(source, tmp_path):
     names = zipfile.ZipFile(wheel).namelist()
     assert any(re.match(r"taper/_core\..*so$", n) for n in names), names
     assert "taper/py.typed" in names and "taper/_core.pyi" in names
-    for module in ("__init__", "result", "plotting", "asymptotic", "_fit", "_chain"):
+    for module in ("__init__", "result", "plotting", "asymptotic", "_fit", "_chain", "_variables"):
         assert f"taper/{module}.py" in names, (module, names)
     assert not [n for n in names if "libtaper" in n or n.endswith(".h")], names
 
