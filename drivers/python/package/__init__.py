@@ -32,6 +32,7 @@ import os
 from typing import Any, List, Optional, Sequence, Union
 
 from . import _core, asymptotic
+from ._build import build_info
 from ._chain import BEYOND_PAPER, CHAIN_COLUMNS, Chain, chain
 from ._core import InvalidArgumentError, SceneError, TaperError, collision_time
 from ._fit import FitResult, fit
@@ -39,6 +40,7 @@ from .result import COLUMNS, THEORY_COLUMNS, Result, read_granules
 
 __all__ = [
     "simulate", "theory", "run_scene", "read_granules", "plot", "collision_time", "version",
+    "build_info",
     "chain", "fit", "asymptotic",
     "Result", "Chain", "FitResult", "TaperError", "InvalidArgumentError", "SceneError",
     "PROFILES", "METHODS", "STATISTICS", "OBSERVABLES", "THEORY_QUANTITIES", "LAWS",
