@@ -1,11 +1,17 @@
 #!/bin/sh
-# share/sundials/build.sh PREFIX -- build the SUNDIALS that taper links, optimised,
-# from the distribution's own source package, and install it in PREFIX.
-# Called by share/setup.sh with PREFIX = <build dir>/sundials; see
-# docs/design.md, "SUNDIALS: bundled and optimised".
+# share/sundials/build.sh PREFIX [shared|static] -- build the SUNDIALS that
+# taper links, optimised, from the distribution's own source package, and
+# install it in PREFIX.
+#   shared  (the default) shared libraries: share/setup.sh, PREFIX =
+#           <build dir>/sundials, linked by libtaper.so and the programs
+#   static  static libraries of position-independent code: meson.build's
+#           -Dsundials=build (pip install .), PREFIX = <build dir>/sundials-static,
+#           linked into the Python extension (and libtaper.so), so that a
+#           wheel carries its SUNDIALS and needs no build directory
+# See docs/design.md, "SUNDIALS: bundled and optimised".
 #
-#   1. Nothing to do if PREFIX/.stamp matches this script, the patch and the
-#      source version (a second run costs a few milliseconds).
+#   1. Nothing to do if PREFIX/.stamp matches this script, the patches, the
+#      source version and the kind (a second run costs a few milliseconds).
 #   2. A deb-src entry for every deb entry of the system's own apt sources
 #      (read at run time from the files apt reads: no host name is written in
 #      this repository), in a private sources dir and lists dir under
@@ -19,15 +25,18 @@
 #      vector call per addition, each element's column in registers: bit
 #      for bit the same results, 1.12x and then a further 1.12x on taper's
 #      short window vectors; docs/benchmarks.md).
-#   5. CMake Release (-O3 -DNDEBUG), shared libraries only, CVODE and ARKODE
-#      and no other package, no examples; installed in PREFIX, work dir removed.
+#   5. CMake Release (-O3 -DNDEBUG), libraries of the one kind asked for (both
+#      would compile every file twice), CVODE and ARKODE and no other package,
+#      no examples; installed in PREFIX, work dir removed.
 #
 # Exit 0: PREFIX holds the build.  Exit 1: it could not be made; stdout then
-# holds one short reason (for setup.sh's fallback line), the details are in
-# PREFIX.log.  Environment: TAPER_SUNDIALS_JOBS (default: nproc).
+# holds one short reason (for the fallback line of setup.sh and of
+# meson.build's -Dsundials=build), the details are in PREFIX.log.
+# Environment: TAPER_SUNDIALS_JOBS (default: nproc).
 set -u
 
 prefix=$1
+kind=${2:-shared}
 here=$(cd "$(dirname "$0")" && pwd)
 patch_file=$here/rootfind-underflow.patch
 predictor_patch=$here/fused-predictor.patch
@@ -38,6 +47,12 @@ fail() {
     echo "$1"
     exit 1
 }
+
+case $kind in
+    shared) shared=ON static=OFF suffix=so ;;
+    static) shared=OFF static=ON suffix=a ;;
+    *) fail "share/sundials/build.sh: unknown kind '$kind' (shared or static)" ;;
+esac
 
 if ! command -v apt-get >/dev/null 2>&1 || ! command -v dpkg-query >/dev/null 2>&1; then
     fail "not a Debian system"
@@ -51,13 +66,14 @@ upstream=${upstream%%-*}
 upstream=${upstream%%+*}
 
 # What the build depends on, in one line: a change to any of them rebuilds.
-stamp="sundials $version; $(cat "$0" "$patch_file" "$predictor_patch" | sha256sum | cut -c1-16)"
+stamp="sundials $version; $(cat "$0" "$patch_file" "$predictor_patch" | sha256sum | cut -c1-16); $kind"
 if [ -f "$prefix/.stamp" ] && [ "$(cat "$prefix/.stamp")" = "$stamp" ] &&
-   [ -e "$prefix/lib/libsundials_cvode.so" ]; then
+   [ -e "$prefix/lib/libsundials_cvode.$suffix" ]; then
     exit 0
 fi
 
 # From here on, the details go to PREFIX.log.
+mkdir -p "$(dirname "$prefix")" || fail "cannot create the directory of $prefix"
 exec 2>"$prefix.log"
 rm -rf "$work" "$prefix"
 mkdir -p "$work/sources.list.d" "$work/lists/partial" "$work/src" "$work/build" || fail "cannot write $work"
@@ -183,7 +199,7 @@ command -v ninja >/dev/null 2>&1 && generator="-G Ninja"
 # shellcheck disable=SC2086
 cmake -S "$srcdir" -B "$work/build" $generator \
     -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$prefix" -DCMAKE_INSTALL_LIBDIR=lib \
-    -DBUILD_SHARED_LIBS=ON -DBUILD_STATIC_LIBS=OFF \
+    -DBUILD_SHARED_LIBS=$shared -DBUILD_STATIC_LIBS=$static -DCMAKE_POSITION_INDEPENDENT_CODE=ON \
     -DBUILD_CVODE=ON -DBUILD_ARKODE=ON -DBUILD_CVODES=OFF -DBUILD_IDA=OFF -DBUILD_IDAS=OFF \
     -DBUILD_KINSOL=OFF -DBUILD_NVECTOR_MANYVECTOR=OFF -DBUILD_FORTRAN_MODULE_INTERFACE=OFF \
     -DEXAMPLES_ENABLE_C=OFF -DEXAMPLES_ENABLE_CXX=OFF -DEXAMPLES_INSTALL=OFF \

@@ -30,9 +30,13 @@ print(next((str(o["value"]) for o in json.load(sys.stdin) if o["name"] == sys.ar
 }
 sundials=$(option sundials)
 sundials_prefix=$(option sundials_prefix)
-[ -n "$sundials_prefix" ] || sundials_prefix=$build/sundials
+if [ -z "$sundials_prefix" ]; then
+    sundials_prefix=$build/sundials
+    [ "$sundials" != build ] || sundials_prefix=$build/sundials-static
+fi
 args="-Dsundials=$sundials"
-if [ "$sundials" != system ] && [ -e "$sundials_prefix/lib/libsundials_cvode.so" ]; then
+# (-Dsundials=build: its prefix again, whose stamp spares a second SUNDIALS build.)
+if [ "$sundials" = build ] || { [ "$sundials" != system ] && [ -e "$sundials_prefix/lib/libsundials_cvode.so" ]; }; then
     args="$args -Dsundials_prefix=$sundials_prefix"
 elif [ "$sundials" = auto ]; then
     sundials=system     # auto without a bundled build links the system SUNDIALS

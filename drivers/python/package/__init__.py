@@ -43,6 +43,7 @@ import os
 from typing import Any, List, Union
 
 from . import _core, asymptotic
+from ._build import build_info
 from ._chain import CHAIN_COLUMNS, Chain, chain
 from ._core import InvalidArgumentError, SceneError, TaperError, collision_time
 from ._fit import FitResult, fit
@@ -51,7 +52,7 @@ from .result import COLUMNS, THEORY_COLUMNS, Result, read_granules
 
 __all__ = [
     "simulate", "theory", "run_scene", "read_granules", "plot", "collision_time", "version",
-    "chain", "fit", "asymptotic", "variables",
+    "build_info", "chain", "fit", "asymptotic", "variables",
     "Result", "Chain", "FitResult", "Variable", "TaperError", "InvalidArgumentError",
     "SceneError", "PROFILES", "METHODS", "STATISTICS", "OBSERVABLES", "THEORY_QUANTITIES",
     "LAWS", "FIT_MODELS", "COLUMNS", "THEORY_COLUMNS", "CHAIN_COLUMNS",

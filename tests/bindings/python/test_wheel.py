@@ -1,7 +1,10 @@
 """pip wheel . builds a wheel from the source tree with build isolation (its
 build requirements from PyPI), and the wheel installs into a fresh venv and
-works there, with no libtaper.so beside it.  Slow: one full build."""
+works there, with no libtaper.so beside it, and with the optimised SUNDIALS
+linked in (no libsundials loaded) or, where the build could not make it, the
+system's and the one line saying so.  Slow: one full build."""
 
+import json
 import os
 import pathlib
 import re
@@ -22,7 +25,9 @@ def run(cmd, **kw):
 def test_wheel_builds_installs_and_imports(source, tmp_path):
     version = re.search(r"version:\s*'([^']+)'", (source / "meson.build").read_text()).group(1)
     wheels = tmp_path / "wheels"
-    run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-w", wheels, source], timeout=1800)
+    # -v: the build's own output, where a SUNDIALS fallback line would be.
+    built = run([sys.executable, "-m", "pip", "wheel", "-v", "--no-deps", "-w", wheels, source],
+                timeout=1800)
     (wheel,) = wheels.glob("taper-*.whl")
     assert wheel.name.startswith(f"taper-{version}-")
     names = zipfile.ZipFile(wheel).namelist()
@@ -45,3 +50,23 @@ def test_wheel_builds_installs_and_imports(source, tmp_path):
     ext = next(pathlib.Path(where).parent.glob("_core.*so"))
     needed = run(["readelf", "-d", ext])
     assert "libtaper" not in needed
+
+    # Which SUNDIALS the running extension uses: the files mapped into the
+    # process after a run, against what the build recorded and printed.
+    code = ("import json, taper; r = taper.simulate(profile='monodisperse', n_granules=20);"
+            "maps = open('/proc/self/maps').read().splitlines();"
+            "print(json.dumps([taper.build_info(), r.stats['steps'],"
+            " sorted({m.split()[-1] for m in maps if 'libsundials' in m})]))")
+    info, steps, loaded = json.loads(run([py, "-c", code], cwd=tmp_path,
+                                         env={**os.environ, "PYTHONPATH": ""}))
+    assert steps > 0
+    fallback = [line for line in built.splitlines() if "using the system SUNDIALS" in line]
+    if info["sundials"] == "bundled":
+        assert info["sundials_linked"] == "static" and info["sundials_optimised"], info
+        assert loaded == [], loaded
+        assert "sundials" not in needed, needed
+        assert fallback == [] and info["sundials_fallback"] == "", (fallback, info)
+    else:
+        assert info["sundials"] == "system" and not info["sundials_optimised"], info
+        assert len(fallback) == 1 and info["sundials_fallback"] in fallback[0], (fallback, info)
+        assert any(p.rsplit("/", 1)[-1].startswith("libsundials_cvode.so") for p in loaded), loaded
