@@ -69,7 +69,7 @@ typedef struct taper_model {
                                scale of energies and impulses              */
     double load, damping, drag;
     int options;            /* any option: the general right-hand side      */
-    int free_flight;        /* no load, no losses: bodies that leave the
+    int free_flight;        /* no load, no drag: bodies that leave the
                                window fly freely (window.c)                 */
     int quadratures;        /* walls or losses: CVODE integrates the wall
                                impulses and the dissipated energy           */

@@ -176,13 +176,7 @@ static int make_state(taper_sim *sim)
          * n = 2 at any rtol (the whole chain: 2.5e-9 and 1.6e-9 at rtol
          * 1e-12).  Under a load the same holds for the linear K h^2 / 2. */
         const size_t i0 = sim->model.impulse;
-        size_t hi = i0 < sim->n ? i0 + 1 : i0;
-        /* Damping: a contact starting to close pushes with r damping (n-1)
-         * z^(n-2) dz/dt, far above the r z^(n-1) the growth thresholds bound
-         * (at the first contact, the neglected impulse damping h^(n-1) was
-         * 1.5e-7 of a two-granule collision's restitution): every granule
-         * is in from the start (and none leaves: window.c). */
-        if (sim->model.damping > 0.0) hi = sim->n;
+        const size_t hi = i0 < sim->n ? i0 + 1 : i0;
         if (taper_sim_move_window(sim, 1, hi, 0.0) != 0) return -1;
     } else {
         cv->y = N_VNew_Serial((sunindextype)(2 * sim->n + extra), cv->ctx);

@@ -135,6 +135,37 @@ static void loaded_thresholds(const taper_sim *sim, double *grow_z)
     }
 }
 
+/* With Kuwabara-Kono damping a closing contact also pushes with r damping
+ * d(s^(n-1))/dt (s = delta + z), whose impulse integrates exactly: from
+ * rest to the time a compression z is reached it is r damping (s^(n-1) -
+ * delta^(n-1)), i.e. r damping z^(n-1) unloaded and damping K z to first
+ * order under a load (K the linear stiffness above; the clipping at zero
+ * force only lowers it).  The neglected contact's impulse is therefore
+ * bounded by bounding z: that impulse below 1e-40 of m v, the lighter
+ * granule's binary-collision momentum (eq. (9)).  The force itself is not
+ * small against the elastic one near contact onset (their ratio is damping
+ * (n-1) (dz/dt) / z, large while z grows from 0), but what the window
+ * neglects is the momentum it would have given granule hi+1, and that is
+ * this impulse plus the elastic one the other bounds hold.  Only ever
+ * lowers the thresholds; for damping below a unit time the per-unit-time
+ * bound is the lower one already. */
+static void damped_thresholds(const taper_sim *sim, double *grow_z)
+{
+    const double n = sim->exponent, damping = sim->model.damping;
+    for (size_t k = 1; k < sim->n; k++) {
+        const double r = sim->contact[k - 1];
+        const double momentum = 1e-40 * lighter(sim, k) * fmin(sim->v_scale[k - 1], sim->v_scale[k]);
+        double z;
+        if (sim->model.load > 0.0) {
+            const double delta = sim->model.delta[k - 1];
+            z = momentum / (damping * (n - 1.0) * r * pow(delta, n - 2.0));
+        } else {
+            z = pow(momentum / (damping * r), 1.0 / (n - 1.0));
+        }
+        if (z < grow_z[k - 1]) grow_z[k - 1] = fmax(z, GROW_FLOOR);
+    }
+}
+
 void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
 {
     const double power = 1.0 / (sim->exponent - 1.0);
@@ -156,6 +187,7 @@ void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
      * grew 10^4-fold) and CVODE failed there (flag -4).  A window of two
      * bodies has neither: its error estimate follows the first contact. */
     if (sim->model.load > 0.0) loaded_thresholds(sim, grow_z);
+    if (sim->model.damping > 0.0) damped_thresholds(sim, grow_z);
     grow_z[sim->n - 1] = INFINITY; /* nothing beyond the last granule */
 }
 
@@ -194,11 +226,15 @@ static double resting_compression(const taper_sim *sim, size_t j, double z_eps)
 taper_departure taper_window_departure(const taper_sim *sim)
 {
     const taper_departure stays = {TAPER_STAYS, 0.0};
-    /* Under a load, damping or drag a granule behind the pulse is neither
-     * in free flight nor at rest in a way the gap slot can follow (its
-     * contacts keep pushing, drag keeps slowing it): none leaves, the
-     * window only grows (exact, at the cost of integrating the chain
-     * behind the pulse). */
+    /* Under a load a granule behind the pulse is neither in free flight
+     * nor at rest in a way the gap slot can follow (its contacts keep
+     * pushing about the loaded equilibrium): none leaves, the window only
+     * grows (exact, at the cost of integrating the chain behind the
+     * pulse).  Kuwabara-Kono damping never pulls, so with open contacts a
+     * granule flies freely and both criteria hold as for the paper's
+     * chain; the damping part of a compression left at rest (criterion 2)
+     * has the impulse r damping z^(n-1) while it closes, a fixed multiple
+     * of the elastic force bound below. */
     if (!sim->cv.window || !sim->model.free_flight) return stays;
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, sim->cv.y);
