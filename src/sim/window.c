@@ -222,6 +222,30 @@ static double resting_compression(const taper_sim *sim, size_t j, double z_eps)
     return fmin(z_eps, fmax(unit, z_force));
 }
 
+/* How far body k still flies under drag at velocity v: v m_k / drag
+ * (taper_sim_flight); a wall (inverse mass 0) rests. */
+static double drag_reach(const taper_sim *sim, size_t k, double v)
+{
+    const double rate = sim->model.drag * sim->dyn.inv_mass[k - 1];
+    return v != 0.0 && rate > 0.0 ? v / rate : 0.0;
+}
+
+/* Under drag both granules of the gap behind j fly as v e^(-s/tau) once j
+ * leaves (tau = m / drag, different for different masses), so "not closing
+ * now" (v_back <= v) is not "never closing": the lighter one stops sooner.
+ * The gap is z_back + a tau_a (1 - e^(-s/tau_a)) - b tau_b (1 - e^(-s/tau_b))
+ * (a = v_back, b = v); its rate a e^(-s/tau_a) - b e^(-s/tau_b) changes
+ * sign at most once, and from a - b <= 0 only upward, so the gap is
+ * largest at s = 0 or s = oo: it stays open for ever iff its limit
+ * z_back + a tau_a - b tau_b is open too.  Exact free flight again, as
+ * criterion 1 needs.  Without drag: always (constant velocities). */
+static int drag_gap_stays_open(const taper_sim *sim, size_t j, double z_back, double v_back, double v,
+                               double z_eps_back)
+{
+    if (!(sim->model.drag > 0.0) || j == 1) return 1;
+    return z_back + drag_reach(sim, j - 1, v_back) - drag_reach(sim, j, v) < -z_eps_back;
+}
+
 /* Whether granule lo may leave now, and how (criteria 1 and 2 above). */
 taper_departure taper_window_departure(const taper_sim *sim)
 {
@@ -246,14 +270,16 @@ taper_departure taper_window_departure(const taper_sim *sim)
     const double v = taper_dyn_v(d, y, j), v_next = taper_dyn_v(d, y, j + 1);
     const double z = taper_dyn_z(d, y, j);
     const double z_back = j > 1 ? y[0] : -INFINITY; /* gap z_{j-1} */
-    const double v_back = j > 1 ? d->v_left : -INFINITY;
+    const double v_back = j > 1 ? taper_dyn_v_left(d, sim->t) : -INFINITY;
     const double rtol = sim->spec.rtol, atol = sim->spec.atol;
     const double v_ref = sim->pulse.v_ref, z_ref = sim->pulse.z_ref;
     const double v_eps = REST_FACTOR * (rtol * fabs(v_ref) + atol * sim->v_scale[j - 1]);
     const double z_eps = REST_FACTOR * (rtol * fabs(z_ref) + atol * sim->z_scale[j - 1]);
     const double z_eps_back = j > 1 ? REST_FACTOR * (rtol * fabs(z_ref) + atol * sim->z_scale[j - 2]) : 0.0;
-    /* Criterion 1: gaps open beyond the tolerance's compression and not closing. */
-    if (z < -z_eps && v <= v_next && z_back < -z_eps_back && v_back <= v)
+    /* Criterion 1: gaps open beyond the tolerance's compression and not
+     * closing (under drag: not for ever, drag_gap_stays_open). */
+    if (z < -z_eps && v <= v_next && z_back < -z_eps_back && v_back <= v &&
+        drag_gap_stays_open(sim, j, z_back, v_back, v, z_eps_back))
         return (taper_departure){TAPER_LEAVES_FREE, 0.0};
     /* Criterion 2: at rest within the tolerance, relative to the granule
      * behind (which left before and flies freely; rest itself for j = 1),
