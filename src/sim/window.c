@@ -29,7 +29,11 @@
  * gaps on both sides of lo are open by more than z_eps and not closing
  * (v_{lo-1} <= v_lo <= v_{lo+1}).  Granule lo then moves at constant velocity
  * for ever unless the window pushes granule lo+1 back into it, which the gap
- * slot watches at compression 0 (gap_watch = 0): take-back is exact.
+ * slot watches at compression 0 (gap_watch = 0): take-back is exact.  Under
+ * drag it flies as m dv/dt = -drag v has it (sim.c, taper_sim_flight), and
+ * the gap behind must stay open for ever under both flights
+ * (drag_gap_stays_open); with Kuwabara-Kono damping open contacts push
+ * nothing, so the flight is free as without it.
  *
  * Criterion 2, at rest within the tolerance (monodisperse chains, the tails
  * of forward chains, the recoiling train of long backward chains): behind the
