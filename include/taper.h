@@ -32,8 +32,13 @@
  *    breaking programs compiled against this header (docs/api.md, "Why
  *    opaque objects").  A setter checks its value alone and refuses it
  *    (TAPER_EINVAL, the spec unchanged); the *_alloc that consumes a spec
- *    checks the relations between settings.  The ranges are the TAPER_*_MIN
- *    and _MAX constants below, stated once, here.
+ *    checks the relations between settings.  Every setting is a row of the
+ *    table of settings ("Settings by name" below: its range, default,
+ *    dimension and description); the ranges are the TAPER_*_MIN and _MAX
+ *    constants below, stated once, here.
+ *  - Getters never fail: a NULL object reads as a fresh one (a spec's
+ *    getter returns the default), and an index or enum value out of range
+ *    reads as NaN (a double), NULL (a pointer) or 0.
  *  - The library never prints, never calls exit() or abort(), and has no
  *    global mutable state: distinct objects may be used from distinct
  *    threads at once.  A chain is only read after taper_chain_alloc, so one
@@ -73,17 +78,35 @@ extern "C" {
 TAPER_API const char *taper_version(void);
 
 /* ------------------------------------------------------------------ */
+/* Enumerations and their names                                       */
+/* ------------------------------------------------------------------ */
+/* Every enum below and its names come from one list, as REBOUND's do: the
+ * macro TAPER_<ENUM>_LIST(X) calls X(constant, "name") once per value, in
+ * the order of the values (0, 1, ...).  The header expands it into the enum
+ * and its count; the library expands it into the table its *_name and
+ * *_from_name functions read, so a value and its name cannot drift apart.
+ * Callers may expand a list too (a switch over every value, a table of
+ * their own). */
+#define TAPER_ENUM_CONSTANT(constant, name) constant,
+#define TAPER_ENUM_COUNT(constant, name) +1
+
+/* ------------------------------------------------------------------ */
 /* Errors                                                             */
 /* ------------------------------------------------------------------ */
-typedef enum taper_status {
-    TAPER_OK = 0,
-    TAPER_EINVAL = 1,        /* invalid argument or setting                */
-    TAPER_ENOMEM = 2,        /* allocation failed                          */
-    TAPER_ERANGE = 3,        /* a value overflows double precision         */
-    TAPER_ESOLVER = 4,       /* the integrator failed; partial results kept */
-    TAPER_EINTERRUPTED = 5,  /* the monitor asked to stop; partial results kept */
-    TAPER_ELIMIT = 6         /* t_max or max_steps reached; partial results kept */
-} taper_status;
+/* X(constant, "name", "description"): the name is a short identifier (the
+ * Python package's Result.status), the description taper_strerror's. */
+#define TAPER_STATUS_LIST(X)                                                           \
+    X(TAPER_OK, "ok", "success")                                                       \
+    X(TAPER_EINVAL, "invalid", "invalid argument")   /* invalid argument or setting */ \
+    X(TAPER_ENOMEM, "nomem", "out of memory")        /* allocation failed           */ \
+    X(TAPER_ERANGE, "range", "value out of double-precision range")                    \
+    X(TAPER_ESOLVER, "solver", "integrator failure") /* partial results kept        */ \
+    X(TAPER_EINTERRUPTED, "interrupted", "interrupted") /* the monitor asked to stop;
+                                                           partial results kept     */ \
+    X(TAPER_ELIMIT, "limit", "time or step limit reached") /* t_max or max_steps;
+                                                              partial results kept  */
+#define TAPER_STATUS_CONSTANT(constant, name, description) constant,
+typedef enum taper_status { TAPER_STATUS_LIST(TAPER_STATUS_CONSTANT) } taper_status;
 
 #define TAPER_MESSAGE_SIZE 512
 
@@ -101,6 +124,13 @@ typedef struct taper_error {
 /* A short constant description of a status code ("invalid argument", ...);
  * "unknown status" for other values.  Never NULL; static storage. */
 TAPER_API const char *taper_strerror(taper_status status);
+/* The status's identifier ("ok", "invalid", ...); NULL outside the enum. */
+TAPER_API const char *taper_status_name(taper_status status);
+/* The name of names[0..n) nearest to `name` (case-insensitive, at most two
+ * edits away), for "did you mean" in messages; NULL if none is that near.
+ * The library's own refusals of unknown names use it, and so can callers
+ * with lists of their own. */
+TAPER_API const char *taper_nearest_name(const char *name, const char *const *names, size_t n);
 
 /* ------------------------------------------------------------------ */
 /* Ranges of the settings (inclusive unless said otherwise)            */
@@ -125,26 +155,25 @@ TAPER_API const char *taper_strerror(taper_status status);
 /* ------------------------------------------------------------------ */
 /* Chain geometry                                                      */
 /* ------------------------------------------------------------------ */
-typedef enum taper_profile {
-    TAPER_MONODISPERSE = 0,          /* R_k = 1                                  */
-    TAPER_BACKWARD_LINEAR = 1,       /* R_k = 1 + S (k-1),  S > 0                */
-    TAPER_FORWARD_LINEAR = 2,        /* R_k = 1 - S (k-1),  S > 0, N < 1 + 1/S   */
-    TAPER_BACKWARD_EXPONENTIAL = 3,  /* R_k = (1-q)^(1-k),  0 < q < 1            */
-    TAPER_FORWARD_EXPONENTIAL = 4,   /* R_k = (1+q)^(1-k),  q > 0                */
-    TAPER_CUSTOM = 5,                /* R_k given, R_1 = 1 (the unit of length)  */
-    TAPER_DECORATED = 6              /* R_k = pattern[(k-1) mod P], pattern[0] = 1:
-                                        small granules between large ones       */
-} taper_profile;
-#define TAPER_N_PROFILES 7
+#define TAPER_PROFILE_LIST(X)                                                          \
+    X(TAPER_MONODISPERSE, "monodisperse")                 /* R_k = 1                */ \
+    X(TAPER_BACKWARD_LINEAR, "backward_linear")           /* 1 + S (k-1), S > 0     */ \
+    X(TAPER_FORWARD_LINEAR, "forward_linear")             /* 1 - S (k-1), S > 0,
+                                                             N < 1 + 1/S            */ \
+    X(TAPER_BACKWARD_EXPONENTIAL, "backward_exponential") /* (1-q)^(1-k), 0 < q < 1 */ \
+    X(TAPER_FORWARD_EXPONENTIAL, "forward_exponential")   /* (1+q)^(1-k), q > 0     */ \
+    X(TAPER_CUSTOM, "custom")         /* R_k given, R_1 = 1 (the unit of length)    */ \
+    X(TAPER_DECORATED, "decorated")   /* R_k = pattern[(k-1) mod P], pattern[0] = 1:
+                                         small granules between large ones          */
+typedef enum taper_profile { TAPER_PROFILE_LIST(TAPER_ENUM_CONSTANT) } taper_profile;
+#define TAPER_N_PROFILES (0 TAPER_PROFILE_LIST(TAPER_ENUM_COUNT))
 
-/* "monodisperse", "backward_linear", "forward_linear",
- * "backward_exponential", "forward_exponential", "custom", "decorated": the
- * one list of profile names (scene files, bindings and the bench all take it from
- * here).  NULL for a value outside the enum, so that
+/* The profile's name in the list above (scene files, bindings and the
+ * bench all take it from here).  NULL for a value outside the enum, so that
  * `for (i = 0; taper_profile_name(i); i++)` walks them. */
 TAPER_API const char *taper_profile_name(taper_profile profile);
 /* Case-insensitive inverse of taper_profile_name.  TAPER_EINVAL if unknown
- * (field "profile"). */
+ * (field "profile"; the message lists the names and the nearest one). */
 TAPER_API taper_status taper_profile_from_name(const char *name, taper_profile *profile,
                                                taper_error *err);
 
@@ -202,11 +231,11 @@ TAPER_API const double *taper_chain_spec_pattern(const taper_chain_spec *spec, s
  * u_k uniform in [-1, 1) drawn from (seed, k) alone, so that granule k gets
  * the same u_k whatever N and whichever profile.  Granule 1 stays the unit.
  * 0 <= amplitude < 1; amplitude 0 (the default) switches it off. */
-typedef enum taper_disorder {
-    TAPER_DISORDER_RADIUS = 0,
-    TAPER_DISORDER_MASS = 1
-} taper_disorder;
-#define TAPER_N_DISORDERS 2
+#define TAPER_DISORDER_LIST(X)                                                         \
+    X(TAPER_DISORDER_RADIUS, "radius")                                                 \
+    X(TAPER_DISORDER_MASS, "mass")
+typedef enum taper_disorder { TAPER_DISORDER_LIST(TAPER_ENUM_CONSTANT) } taper_disorder;
+#define TAPER_N_DISORDERS (0 TAPER_DISORDER_LIST(TAPER_ENUM_COUNT))
 /* "radius", "mass"; NULL outside the enum. */
 TAPER_API const char *taper_disorder_name(taper_disorder kind);
 TAPER_API taper_status taper_disorder_from_name(const char *name, taper_disorder *kind,
@@ -234,16 +263,16 @@ TAPER_API size_t taper_chain_spec_materials(const taper_chain_spec *spec, const 
                                             const double **compliance);
 
 /* The ends of a chain. */
-typedef enum taper_end {
-    TAPER_LEFT = 0,   /* granule 1's end, where the pulse starts              */
-    TAPER_RIGHT = 1   /* granule N's end                                       */
-} taper_end;
-#define TAPER_N_ENDS 2
-typedef enum taper_boundary {
-    TAPER_END_FREE = 0,  /* nothing (under a static load: the load pushes it)  */
-    TAPER_END_WALL = 1   /* a fixed flat wall touching the end granule at rest */
-} taper_boundary;
-#define TAPER_N_BOUNDARIES 2
+#define TAPER_END_LIST(X)                                                              \
+    X(TAPER_LEFT, "left")     /* granule 1's end, where the pulse starts              */ \
+    X(TAPER_RIGHT, "right")   /* granule N's end                                       */
+typedef enum taper_end { TAPER_END_LIST(TAPER_ENUM_CONSTANT) } taper_end;
+#define TAPER_N_ENDS (0 TAPER_END_LIST(TAPER_ENUM_COUNT))
+#define TAPER_BOUNDARY_LIST(X)                                                         \
+    X(TAPER_END_FREE, "free") /* nothing (under a static load: the load pushes it)  */ \
+    X(TAPER_END_WALL, "wall") /* a fixed flat wall touching the end granule at rest */
+typedef enum taper_boundary { TAPER_BOUNDARY_LIST(TAPER_ENUM_CONSTANT) } taper_boundary;
+#define TAPER_N_BOUNDARIES (0 TAPER_BOUNDARY_LIST(TAPER_ENUM_COUNT))
 /* "free", "wall"; NULL outside the enum. */
 TAPER_API const char *taper_boundary_name(taper_boundary boundary);
 TAPER_API taper_status taper_boundary_from_name(const char *name, taper_boundary *boundary,
@@ -309,11 +338,12 @@ TAPER_API taper_status taper_chain_spec_set_drag(taper_chain_spec *spec, double 
 TAPER_API double taper_chain_spec_drag(const taper_chain_spec *spec);
 
 /* Checks the relations between the settings, without building the chain:
- * TAPER_OK, or TAPER_EINVAL naming the setting to change.  The fields the
- * options above name: "left_end", "right_end", "left_wall_compliance",
- * "right_wall_compliance" (set_end), "striker_radius", "striker_density",
- * "striker_compliance", "load", "damping", "drag", "materials", "pattern",
- * "disorder", "disorder_amplitude", "piston_duration", "piston_compliance".
+ * TAPER_OK, or TAPER_EINVAL naming the setting to change by its name in the
+ * table of settings: "left", "right", "left_compliance", "right_compliance"
+ * (set_end), "striker_radius", "striker_density", "striker_compliance",
+ * "load", "damping", "drag", "densities", "compliances" (set_materials),
+ * "pattern", "disorder", "disorder_amplitude", "seed", "piston_duration",
+ * "piston_compliance".
  * Relations refused: a pattern without the decorated profile or the
  * reverse, pattern[0] != 1, materials for another number of granules than
  * n_granules, a wall compliance on a free end, striker density or
@@ -375,17 +405,25 @@ TAPER_API const char *taper_chain_theory_note(const taper_chain *chain);
  * alpha^(1/n) t, with alpha of eq. (4) and a = sqrt(2) E / (3 (1 - nu^2))
  * (Hertz, same material: a r_k of eq. (7) is (4/3) E* sqrt(R*)).
  */
-typedef enum taper_dimension {
-    TAPER_DIM_LENGTH = 0,    /* m    */
-    TAPER_DIM_TIME = 1,      /* s    */
-    TAPER_DIM_VELOCITY = 2,  /* m/s  */
-    TAPER_DIM_MASS = 3,      /* kg   */
-    TAPER_DIM_FORCE = 4,     /* N    */
-    TAPER_DIM_ENERGY = 5,    /* J    */
-    TAPER_DIM_IMPULSE = 6    /* N s  */
-} taper_dimension;
-#define TAPER_N_DIMENSIONS 7
-/* "length", ...; and the SI unit "m", "s", "m/s", "kg", "N", "J", "N s".
+/* X(constant, "name", "SI unit"): the one list of dimensions and units. */
+#define TAPER_DIMENSION_LIST(X)                                                        \
+    X(TAPER_DIM_LENGTH, "length", "m")          /* R_1 alpha^(1/n), eq. (5)         */ \
+    X(TAPER_DIM_TIME, "time", "s")              /* the length over V                 */ \
+    X(TAPER_DIM_VELOCITY, "velocity", "m/s")    /* V, the impulse's                  */ \
+    X(TAPER_DIM_MASS, "mass", "kg")             /* M_1 = (4/3) pi rho_1 R_1^3        */ \
+    X(TAPER_DIM_FORCE, "force", "N")            /* M_1 V^2 / length                  */ \
+    X(TAPER_DIM_ENERGY, "energy", "J")          /* M_1 V^2                           */ \
+    X(TAPER_DIM_IMPULSE, "impulse", "N s")      /* M_1 V                             */ \
+    X(TAPER_DIM_DENSITY, "density", "kg/m^3")   /* rho_1: densities are relative to
+                                                   granule 1's                       */ \
+    X(TAPER_DIM_COMPLIANCE, "compliance", "1/Pa") /* c_1 = (1 - nu_1^2)/E_1          */ \
+    X(TAPER_DIM_DRAG, "drag", "kg/s")           /* a drag coefficient: mass / time   */ \
+    X(TAPER_DIM_NUMBER, "number", "1")          /* dimensionless: scale 1            */
+#define TAPER_DIMENSION_CONSTANT(constant, name, unit) constant,
+#define TAPER_DIMENSION_COUNT(constant, name, unit) +1
+typedef enum taper_dimension { TAPER_DIMENSION_LIST(TAPER_DIMENSION_CONSTANT) } taper_dimension;
+#define TAPER_N_DIMENSIONS (0 TAPER_DIMENSION_LIST(TAPER_DIMENSION_COUNT))
+/* "length", ...; and the SI unit "m", "s", "m/s", ... of the list above.
  * NULL outside the enum. */
 TAPER_API const char *taper_dimension_name(taper_dimension dim);
 TAPER_API const char *taper_dimension_unit(taper_dimension dim);
@@ -436,14 +474,16 @@ TAPER_API double taper_dynamics_peak_function(const taper_dynamics *dyn, const d
 TAPER_API double taper_theory_collision_time(double mu, double r, double zdot0, double n);
 
 /* The columns of the theory of a chain. */
+#define TAPER_THEORY_QUANTITY_LIST(X)                                                  \
+    X(TAPER_THEORY_V, "v")       /* v_k, eq. (9): the velocity granule k leaves its
+                                    collision with                                   */ \
+    X(TAPER_THEORY_MU, "mu")     /* mu_k = m_k m_{k+1} / (m_k + m_{k+1}), k = 1..N-1  */ \
+    X(TAPER_THEORY_T_RES, "T")   /* T_k, eq. (18) with zdot0 = v_k, k = 1..N-1       */ \
+    X(TAPER_THEORY_T, "t")       /* t_k = sum_{j<=k} T_j, eq. (19), k = 1..N-1        */
 typedef enum taper_theory_quantity {
-    TAPER_THEORY_V = 0,    /* v_k, eq. (9): the velocity granule k leaves its
-                              collision with                                   */
-    TAPER_THEORY_MU = 1,   /* mu_k = m_k m_{k+1} / (m_k + m_{k+1}), k = 1..N-1  */
-    TAPER_THEORY_T_RES = 2, /* T_k, eq. (18) with zdot0 = v_k, k = 1..N-1       */
-    TAPER_THEORY_T = 3     /* t_k = sum_{j<=k} T_j, eq. (19), k = 1..N-1        */
+    TAPER_THEORY_QUANTITY_LIST(TAPER_ENUM_CONSTANT)
 } taper_theory_quantity;
-#define TAPER_N_THEORY_QUANTITIES 4
+#define TAPER_N_THEORY_QUANTITIES (0 TAPER_THEORY_QUANTITY_LIST(TAPER_ENUM_COUNT))
 
 /* "v", "mu", "T", "t": the names of taper_theory_compute's arrays (the
  * spelling of the paper's symbols).  granules.tsv writes three of them as
@@ -462,11 +502,11 @@ TAPER_API taper_status taper_theory_compute(const taper_chain *chain, double *v,
 /* ------------------------------------------------------------------ */
 /* Full dynamics                                                       */
 /* ------------------------------------------------------------------ */
-typedef enum taper_method {
-    TAPER_ADAMS = 0,  /* CVODE Adams-Moulton, fixed-point iteration (non-stiff) */
-    TAPER_BDF = 1     /* CVODE BDF, Newton with the banded analytic Jacobian    */
-} taper_method;
-#define TAPER_N_METHODS 2
+#define TAPER_METHOD_LIST(X)                                                           \
+    X(TAPER_ADAMS, "adams") /* CVODE Adams-Moulton, fixed-point iteration (non-stiff) */ \
+    X(TAPER_BDF, "bdf")     /* CVODE BDF, Newton with the banded analytic Jacobian    */
+typedef enum taper_method { TAPER_METHOD_LIST(TAPER_ENUM_CONSTANT) } taper_method;
+#define TAPER_N_METHODS (0 TAPER_METHOD_LIST(TAPER_ENUM_COUNT))
 
 /* "adams", "bdf"; NULL outside the enum. */
 TAPER_API const char *taper_method_name(taper_method method);
@@ -570,78 +610,181 @@ TAPER_API int taper_solver_spec_max_order(const taper_solver_spec *spec);
 TAPER_API double taper_solver_spec_t_max(const taper_solver_spec *spec);
 TAPER_API long taper_solver_spec_max_steps(const taper_solver_spec *spec);
 
-/* Per-granule observables of a run (arrays of length N, NaN where unknown). */
-typedef enum taper_observable {
-    TAPER_T_PASS = 0,   /* first time v_{k+1} overtakes v_k (pulse passes k)    */
-    TAPER_T_RES = 1,    /* t_pass(k) - t_pass(k-1), t_pass(0) = 0; NaN where
-                           k is passed before k-1 (never negative)             */
-    TAPER_V_PEAK = 2,   /* first maximum of v_k (v_peak(1) = 1 at t = 0; with a
-                           striker a maximum found like the others)        */
-    TAPER_T_PEAK = 3,   /* its time                                             */
-    TAPER_X_PASS = 4    /* X0(k) + x_k(t_pass(k)): pulse position               */
-} taper_observable;
-#define TAPER_N_OBSERVABLES 5
+/* ------------------------------------------------------------------ */
+/* Settings by name: the one table of settings                        */
+/* ------------------------------------------------------------------ */
+/*
+ * Every setting of taper_chain_spec and taper_solver_spec is one row of one
+ * table, in the spirit of SUNDIALS' name-to-setter tables: its name, type,
+ * physical dimension, range, default, a one-line description and the
+ * reason for its bounds.  The typed setters above and the by-name setters
+ * below check a value against the same row, so a program, a scene file
+ * and the bindings all see one range and one message.  The driver builds
+ * its scene variables, `taper --defaults`, `taper --doc` and docs/scene.md
+ * from this table; the Python and Fortran bindings their keywords.
+ *
+ * Names are unique over the table and are taper_error.field.  `group` is
+ * where the driver's scene files put a setting ("chain", "ends",
+ * "striker", "losses", "solver"); in a scene file the group's name is left
+ * off the front of the setting's name: striker_radius is &striker radius.
+ *
+ * Values are in the rescaled units of eq. (5) of arXiv:0905.4512; a row's
+ * dimension says which unit (taper_unit_scale converts to SI).
+ */
+typedef enum taper_setting_type {
+    TAPER_SETTING_REAL = 0,     /* a double                                       */
+    TAPER_SETTING_INTEGER = 1,  /* a whole number (exact in a double below 2^53)  */
+    TAPER_SETTING_BOOLEAN = 2,  /* 0 or 1                                         */
+    TAPER_SETTING_CHOICE = 3,   /* one of `choices`, set by name or by index      */
+    TAPER_SETTING_LIST = 4      /* a list of reals, each within the range         */
+} taper_setting_type;
 
-/* "t_pass", "T_res", "v_peak", "t_peak", "X_pass": the column names of
- * granules.tsv (the driver and the bindings take them from here).  NULL
+typedef enum taper_setting_object {
+    TAPER_SETTING_CHAIN = 0,    /* a taper_chain_spec's                           */
+    TAPER_SETTING_SOLVER = 1    /* a taper_solver_spec's                          */
+} taper_setting_object;
+
+/* One row.  Static storage, read-only; a later version may append fields,
+ * never reorder them, so never copy or allocate one: hold the pointer. */
+typedef struct taper_setting {
+    const char *name;              /* "n_granules", "striker_radius", ...        */
+    const char *group;             /* "chain", "ends", "striker", "losses",
+                                      "solver"                                   */
+    taper_setting_object object;   /* the spec that holds it                     */
+    taper_setting_type type;
+    taper_dimension dimension;     /* TAPER_DIM_NUMBER: a pure number            */
+    double min, max;               /* range (list: of each entry); a bound may
+                                      be infinite                                */
+    int min_open, max_open;        /* 1: that bound excluded                     */
+    double default_value;          /* real, integer, boolean, or the choice's
+                                      index; a list's default is empty           */
+    const char *const *choices;    /* CHOICE: the names, NULL-terminated (the
+                                      enum's list: taper_profile_name, ...)      */
+    int beyond_paper;              /* 1: not part of the paper's model; its
+                                      default is the paper's idealisation        */
+    const char *description;       /* one line                                   */
+    const char *bounds_reason;     /* why the range is what it is ("" if no
+                                      bound needs a reason)                      */
+} taper_setting;
+
+/* The rows, i < taper_setting_count(), in a fixed order (chain settings
+ * first; later versions append).  NULL past the end. */
+TAPER_API size_t taper_setting_count(void);
+TAPER_API const taper_setting *taper_setting_at(size_t i);
+/* The row of `name` (case is ignored, as in scene files), or NULL with
+ * TAPER_EINVAL naming the nearest name ("did you mean 'n_granules'?") when
+ * err is given. */
+TAPER_API const taper_setting *taper_setting_find(const char *name, taper_error *err);
+
+/* Set a setting of either spec by name.  `value` is the real, the integer
+ * (a whole number), the boolean (0 or 1) or the choice's index; _text takes
+ * a choice by name (case-insensitive) and a number as text (strtod); _list
+ * a list (n values; NULL, 0: none).  TAPER_EINVAL naming the setting for an
+ * unknown name (with the nearest one), a setting of the other spec, a value
+ * of the wrong type or out of range (the message states both bounds and
+ * why); the spec is then unchanged.  Relations between settings are
+ * checked later, as for the typed setters. */
+TAPER_API taper_status taper_chain_spec_set_option(taper_chain_spec *spec, const char *name,
+                                                   double value, taper_error *err);
+TAPER_API taper_status taper_chain_spec_set_option_text(taper_chain_spec *spec, const char *name,
+                                                        const char *value, taper_error *err);
+TAPER_API taper_status taper_chain_spec_set_option_list(taper_chain_spec *spec, const char *name,
+                                                        const double *values, size_t n,
+                                                        taper_error *err);
+TAPER_API taper_status taper_solver_spec_set_option(taper_solver_spec *spec, const char *name,
+                                                    double value, taper_error *err);
+TAPER_API taper_status taper_solver_spec_set_option_text(taper_solver_spec *spec,
+                                                         const char *name, const char *value,
+                                                         taper_error *err);
+/* The value of a setting by name: the real, integer, boolean or choice
+ * index; a list's values (owned by the spec) and their number.  A NULL spec
+ * reads as a fresh one: the default (the rule of every getter in this
+ * header).  NaN (list: NULL, 0) for an unknown name or a setting of the
+ * other spec. */
+TAPER_API double taper_chain_spec_option(const taper_chain_spec *spec, const char *name);
+TAPER_API const double *taper_chain_spec_option_list(const taper_chain_spec *spec,
+                                                     const char *name, size_t *n);
+TAPER_API double taper_solver_spec_option(const taper_solver_spec *spec, const char *name);
+
+/* Per-granule observables of a run (arrays of length N, NaN where unknown). */
+#define TAPER_OBSERVABLE_LIST(X)                                                       \
+    X(TAPER_T_PASS, "t_pass") /* first time v_{k+1} overtakes v_k (pulse passes k)    */ \
+    X(TAPER_T_RES, "T_res")   /* t_pass(k) - t_pass(k-1), t_pass(0) = 0; NaN where
+                                 k is passed before k-1 (never negative)             */ \
+    X(TAPER_V_PEAK, "v_peak") /* first maximum of v_k (v_peak(1) = 1 at t = 0; with a
+                                 striker a maximum found like the others)            */ \
+    X(TAPER_T_PEAK, "t_peak") /* its time                                             */ \
+    X(TAPER_X_PASS, "X_pass") /* X0(k) + x_k(t_pass(k)): pulse position               */
+typedef enum taper_observable { TAPER_OBSERVABLE_LIST(TAPER_ENUM_CONSTANT) } taper_observable;
+#define TAPER_N_OBSERVABLES (0 TAPER_OBSERVABLE_LIST(TAPER_ENUM_COUNT))
+
+/* The names above are the column names of granules.tsv (the driver and the
+ * bindings take them from here).  NULL
  * outside the enum, so that `for (i = 0; taper_observable_name(i); i++)`
  * walks them. */
 TAPER_API const char *taper_observable_name(taper_observable which);
 
 /* Statistics of a run, read one at a time with taper_sim_statistic (all
  * values are doubles; counts are exact integers). */
-typedef enum taper_statistic {
-    TAPER_STAT_STEPS = 0,          /* internal CVODE steps                      */
-    TAPER_STAT_RHS_EVALS = 1,      /* right-hand side evaluations               */
-    TAPER_STAT_ROOT_EVALS = 2,     /* root function evaluations                 */
-    TAPER_STAT_JAC_EVALS = 3,      /* Jacobian evaluations (BDF)                */
-    TAPER_STAT_NONLIN_ITERS = 4,   /* nonlinear solver iterations               */
-    TAPER_STAT_ERR_TEST_FAILS = 5, /* local error test failures                 */
-    TAPER_STAT_WINDOW_CHANGES = 6, /* times the active window grew or shrank    */
-    TAPER_STAT_RESTARTS = 7,       /* solver re-initialisations                 */
-    TAPER_STAT_MAX_WINDOW = 8,     /* most granules integrated at once          */
-    TAPER_STAT_GRANULE_REACHED = 9, /* highest k with t_pass(k) known            */
-    TAPER_STAT_T_FINAL = 10,       /* time the run ended                        */
-    TAPER_STAT_ENERGY_ERROR = 11,  /* |E(t_final) - E(0)| / E(0); with losses
-                                      |E + D - E(0)| / E(0), D dissipated; under
-                                      a load E from the equilibrium           */
-    TAPER_STAT_MOMENTUM_ERROR = 12, /* |P(t_final) - P(0)| / max(P(0),
-                                       sum m_k |v_k|): relative to the momentum
-                                       in motion; with walls, a load or drag
-                                       P(t) - P(0) is compared with the external
-                                       impulses J_left - J_right + F0 t (free
-                                       first body) - F0 t (free last body)
-                                       - drag sum x_k                          */
-    TAPER_STAT_COMPLETE = 13,      /* 1 when the run ended by itself: every
-                                       requested observable known, or NaN
-                                       because it does not exist (a peak that
-                                       never came; passes beyond a pulse that
-                                       drag absorbed, said in the log)       */
-    /* The energy budget at t_final (docs/physics.md): every granule carries
-     * its kinetic energy and half of each closed contact's (a wall's
-     * contact: all of it); with a static load, energies are measured from
-     * the precompressed equilibrium. */
-    TAPER_STAT_ENERGY_INITIAL = 14,     /* E(0)                                  */
-    TAPER_STAT_ENERGY_DISSIPATED = 15,  /* by damping and drag until t_final     */
-    TAPER_STAT_ENERGY_TRANSMITTED = 16, /* in the far group: granules from the
-                                           last open contact to N, when they
-                                           move away or press on a right wall  */
-    TAPER_STAT_ENERGY_REFLECTED = 17,   /* in the near group (striker, granule 1
-                                           up to the first open contact) when it
-                                           moves back                          */
-    TAPER_STAT_ENERGY_IN_CHAIN = 18,    /* the rest                              */
-    TAPER_STAT_WALL_PEAK_FORCE_LEFT = 19,  /* largest wall force (NaN: no wall)  */
-    TAPER_STAT_WALL_PEAK_TIME_LEFT = 20,   /* its time (a root of the wall
-                                              contact's rate: exact)             */
-    TAPER_STAT_WALL_IMPULSE_LEFT = 21,     /* integral of the wall force         */
-    TAPER_STAT_WALL_PEAK_FORCE_RIGHT = 22,
-    TAPER_STAT_WALL_PEAK_TIME_RIGHT = 23,
-    TAPER_STAT_WALL_IMPULSE_RIGHT = 24
-} taper_statistic;
-#define TAPER_N_STATISTICS 25
+/* The energy budget (energy_initial ... energy_in_chain) is at t_final
+ * (docs/physics.md): every granule carries its kinetic energy and half of
+ * each closed contact's (a wall's contact: all of it); with a static load,
+ * energies are measured from the precompressed equilibrium. */
+#define TAPER_STATISTIC_LIST(X)                                                        \
+    X(TAPER_STAT_STEPS, "steps")                   /* internal CVODE steps          */ \
+    X(TAPER_STAT_RHS_EVALS, "rhs_evals")           /* right-hand side evaluations   */ \
+    X(TAPER_STAT_ROOT_EVALS, "root_evals")         /* root function evaluations     */ \
+    X(TAPER_STAT_JAC_EVALS, "jac_evals")           /* Jacobian evaluations (BDF)    */ \
+    X(TAPER_STAT_NONLIN_ITERS, "nonlin_iters")     /* nonlinear solver iterations   */ \
+    X(TAPER_STAT_ERR_TEST_FAILS, "err_test_fails") /* local error test failures     */ \
+    X(TAPER_STAT_WINDOW_CHANGES, "window_changes") /* times the active window grew
+                                                      or shrank                     */ \
+    X(TAPER_STAT_RESTARTS, "restarts")             /* solver re-initialisations     */ \
+    X(TAPER_STAT_MAX_WINDOW, "max_window")         /* most granules integrated at
+                                                      once                          */ \
+    X(TAPER_STAT_GRANULE_REACHED, "granule_reached") /* highest k with t_pass(k)
+                                                        known                       */ \
+    X(TAPER_STAT_T_FINAL, "t_final")               /* time the run ended            */ \
+    X(TAPER_STAT_ENERGY_ERROR, "energy_error")     /* |E(t_final) - E(0)| / E(0);
+                                       with losses |E + D - E(0)| / E(0), D
+                                       dissipated; under a load E from the
+                                       equilibrium                                  */ \
+    X(TAPER_STAT_MOMENTUM_ERROR, "momentum_error") /* |P(t_final) - P(0)| /
+                                       max(P(0), sum m_k |v_k|): relative to the
+                                       momentum in motion; with walls, a load or
+                                       drag P(t) - P(0) is compared with the
+                                       external impulses J_left - J_right + F0 t
+                                       (free first body) - F0 t (free last body)
+                                       - drag sum x_k                               */ \
+    X(TAPER_STAT_COMPLETE, "complete")  /* 1 when the run ended by itself: every
+                                       requested observable known, or NaN because
+                                       it does not exist (a peak that never came;
+                                       passes beyond a pulse that drag absorbed,
+                                       said in the log)                             */ \
+    X(TAPER_STAT_ENERGY_INITIAL, "energy_initial")       /* E(0)                    */ \
+    X(TAPER_STAT_ENERGY_DISSIPATED, "energy_dissipated") /* by damping and drag
+                                                            until t_final           */ \
+    X(TAPER_STAT_ENERGY_TRANSMITTED, "energy_transmitted") /* in the far group:
+                                       granules from the last open contact to N,
+                                       when they move away or press on a right
+                                       wall                                         */ \
+    X(TAPER_STAT_ENERGY_REFLECTED, "energy_reflected") /* in the near group
+                                       (striker, granule 1 up to the first open
+                                       contact) when it moves back                  */ \
+    X(TAPER_STAT_ENERGY_IN_CHAIN, "energy_in_chain")   /* the rest                  */ \
+    X(TAPER_STAT_WALL_PEAK_FORCE_LEFT, "wall_peak_force_left") /* largest wall force
+                                                                  (NaN: no wall)    */ \
+    X(TAPER_STAT_WALL_PEAK_TIME_LEFT, "wall_peak_time_left") /* its time (a root of
+                                       the wall contact's rate: exact)              */ \
+    X(TAPER_STAT_WALL_IMPULSE_LEFT, "wall_impulse_left") /* integral of the wall
+                                                            force                   */ \
+    X(TAPER_STAT_WALL_PEAK_FORCE_RIGHT, "wall_peak_force_right")                      \
+    X(TAPER_STAT_WALL_PEAK_TIME_RIGHT, "wall_peak_time_right")                        \
+    X(TAPER_STAT_WALL_IMPULSE_RIGHT, "wall_impulse_right")
+typedef enum taper_statistic { TAPER_STATISTIC_LIST(TAPER_ENUM_CONSTANT) } taper_statistic;
+#define TAPER_N_STATISTICS (0 TAPER_STATISTIC_LIST(TAPER_ENUM_COUNT))
 
-/* "steps", "rhs_evals", ..., "complete" (the names of granules.tsv's
- * header); NULL outside the enum. */
+/* The names above (those of granules.tsv's header); NULL outside the enum. */
 TAPER_API const char *taper_statistic_name(taper_statistic which);
 
 /* Prepares a run of `chain` (which must outlive the sim), and computes its
@@ -716,26 +859,28 @@ TAPER_API taper_status taper_sim_forces(const taper_sim *sim, double *force, tap
 
 /* Power laws y ~ x^p of linear chains.  Backward linear (R_k = 1 + S(k-1),
  * S k >> 1, independent of S), with beta = 3/2 - 1/(2n):           n = 5/2 */
-typedef enum taper_law {
-    TAPER_LAW_V_OF_K = 0,     /* v_k ~ k^-3/2, eq. (22)       -3/2   */
-    TAPER_LAW_T_RES_OF_K = 1, /* T_k ~ k^beta, eq. (25)                   13/10 */
-    TAPER_LAW_T_OF_K = 2,     /* t_k ~ k^(beta+1), eq. (26)    23/10 */
-    TAPER_LAW_K_OF_T = 3,     /* k ~ t^(1/(beta+1)), Table I                   10/23 */
-    TAPER_LAW_V_OF_T = 4,     /* v ~ t^(-3/2/(beta+1)), eq. (27) -15/23 */
-    TAPER_LAW_X_OF_T = 5,     /* X ~ t^(2/(beta+1)), eq. (30)           20/23 */
-    TAPER_LAW_C_OF_T = 6,     /* c = dX/dt ~ t^(2/(beta+1) - 1), eq. (31)  -3/23
-                                 (the paper prints -3/20: wrong)                       */
-    /* Forward linear (R_k = 1 - S(k-1) = (1+S)(1 - b k), b = S/(1+S)): the
-     * divergence laws of Sec. IV A as powers of (1 - b k) or (1 - t/C). */
-    TAPER_LAW_FWD_V_OF_K = 7,  /* v_k ~ (1 - b k)^-3/2, eq. (50)          -3/2   */
-    TAPER_LAW_FWD_T_OF_K = 8,  /* C - t_k ~ (1 - b k)^(beta+1), eq. (51)   23/10 */
-    TAPER_LAW_FWD_V_OF_T = 9   /* v ~ (1 - t/C)^(-3/2/(beta+1)), eq. (53) -15/23 */
-} taper_law;
-#define TAPER_N_LAWS 10
+/* The last three are forward linear (R_k = 1 - S(k-1) = (1+S)(1 - b k),
+ * b = S/(1+S)): the divergence laws of Sec. IV A as powers of (1 - b k) or
+ * (1 - t/C). */
+#define TAPER_LAW_LIST(X)                                                              \
+    X(TAPER_LAW_V_OF_K, "v_of_k")         /* v_k ~ k^-3/2, eq. (22)          -3/2   */ \
+    X(TAPER_LAW_T_RES_OF_K, "t_res_of_k") /* T_k ~ k^beta, eq. (25)          13/10  */ \
+    X(TAPER_LAW_T_OF_K, "t_of_k")         /* t_k ~ k^(beta+1), eq. (26)      23/10  */ \
+    X(TAPER_LAW_K_OF_T, "k_of_t")         /* k ~ t^(1/(beta+1)), Table I     10/23  */ \
+    X(TAPER_LAW_V_OF_T, "v_of_t")         /* v ~ t^(-3/2/(beta+1)), eq. (27) -15/23 */ \
+    X(TAPER_LAW_X_OF_T, "x_of_t")         /* X ~ t^(2/(beta+1)), eq. (30)    20/23  */ \
+    X(TAPER_LAW_C_OF_T, "c_of_t")         /* c = dX/dt ~ t^(2/(beta+1) - 1), eq. (31)
+                                             -3/23 (the paper prints -3/20: wrong)  */ \
+    X(TAPER_LAW_FWD_V_OF_K, "fwd_v_of_k") /* v_k ~ (1 - b k)^-3/2, eq. (50)  -3/2   */ \
+    X(TAPER_LAW_FWD_T_OF_K, "fwd_t_of_k") /* C - t_k ~ (1 - b k)^(beta+1), eq. (51)
+                                             23/10                                  */ \
+    X(TAPER_LAW_FWD_V_OF_T, "fwd_v_of_t") /* v ~ (1 - t/C)^(-3/2/(beta+1)), eq. (53)
+                                             -15/23                                 */
+typedef enum taper_law { TAPER_LAW_LIST(TAPER_ENUM_CONSTANT) } taper_law;
+#define TAPER_N_LAWS (0 TAPER_LAW_LIST(TAPER_ENUM_COUNT))
 
-/* "v_of_k", "t_res_of_k", "t_of_k", "k_of_t", "v_of_t", "x_of_t", "c_of_t",
- * "fwd_v_of_k", "fwd_t_of_k", "fwd_v_of_t": each enum constant's suffix in
- * lower case.  NULL outside the enum, so that
+/* The names above: each enum constant's suffix in lower case.  NULL
+ * outside the enum, so that
  * `for (i = 0; taper_law_name(i); i++)` walks them. */
 TAPER_API const char *taper_law_name(taper_law law);
 
@@ -821,17 +966,16 @@ TAPER_API double taper_asymptotic_forward_linear_b(double S);
  * handler is never reached (inputs are validated first), so nothing prints
  * or aborts.
  */
-typedef enum taper_fit_model {
-    TAPER_FIT_POWER = 0,
-    TAPER_FIT_EXPONENTIAL = 1,
-    TAPER_FIT_DIVERGENCE_B = 2,
-    TAPER_FIT_DIVERGENCE_C = 3,
-    TAPER_FIT_DIVERGENCE_M = 4
-} taper_fit_model;
-#define TAPER_N_FIT_MODELS 5
+#define TAPER_FIT_MODEL_LIST(X)                                                        \
+    X(TAPER_FIT_POWER, "power")                                                        \
+    X(TAPER_FIT_EXPONENTIAL, "exponential")                                            \
+    X(TAPER_FIT_DIVERGENCE_B, "divergence_b")                                          \
+    X(TAPER_FIT_DIVERGENCE_C, "divergence_c")                                          \
+    X(TAPER_FIT_DIVERGENCE_M, "divergence_m")
+typedef enum taper_fit_model { TAPER_FIT_MODEL_LIST(TAPER_ENUM_CONSTANT) } taper_fit_model;
+#define TAPER_N_FIT_MODELS (0 TAPER_FIT_MODEL_LIST(TAPER_ENUM_COUNT))
 
-/* "power", "exponential", "divergence_b", "divergence_c", "divergence_m";
- * NULL outside the enum. */
+/* The names above; NULL outside the enum. */
 TAPER_API const char *taper_fit_model_name(taper_fit_model model);
 /* Case-insensitive inverse; TAPER_EINVAL if unknown (field "model"). */
 TAPER_API taper_status taper_fit_model_from_name(const char *name, taper_fit_model *model,

@@ -22,13 +22,8 @@ static int valid_n(double n) { return n > 1.0 && isfinite(n); }
  * (mu/r)^(1/n) ~ R^(5/(2n)) and v ~ R^(-3/2) give v^(2/n-1) ~ R^(3/2 - 3/n). */
 static double beta_of(double n) { return 1.5 - 0.5 / n; }
 
-static const char *const law_names[TAPER_N_LAWS] = {
-    [TAPER_LAW_V_OF_K] = "v_of_k",         [TAPER_LAW_T_RES_OF_K] = "t_res_of_k",
-    [TAPER_LAW_T_OF_K] = "t_of_k",         [TAPER_LAW_K_OF_T] = "k_of_t",
-    [TAPER_LAW_V_OF_T] = "v_of_t",         [TAPER_LAW_X_OF_T] = "x_of_t",
-    [TAPER_LAW_C_OF_T] = "c_of_t",         [TAPER_LAW_FWD_V_OF_K] = "fwd_v_of_k",
-    [TAPER_LAW_FWD_T_OF_K] = "fwd_t_of_k", [TAPER_LAW_FWD_V_OF_T] = "fwd_v_of_t",
-};
+#define LAW_NAME(constant, name) [constant] = name,
+static const char *const law_names[] = {TAPER_LAW_LIST(LAW_NAME)};
 
 const char *taper_law_name(taper_law law)
 {

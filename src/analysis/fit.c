@@ -47,13 +47,8 @@ struct taper_fit_result {
     size_t iterations;    /* nonlinear iterations (0 for linear fits)        */
 };
 
-static const char *const model_names[TAPER_N_FIT_MODELS] = {
-    [TAPER_FIT_POWER] = "power",
-    [TAPER_FIT_EXPONENTIAL] = "exponential",
-    [TAPER_FIT_DIVERGENCE_B] = "divergence_b",
-    [TAPER_FIT_DIVERGENCE_C] = "divergence_c",
-    [TAPER_FIT_DIVERGENCE_M] = "divergence_m",
-};
+#define MODEL_NAME(constant, name) [constant] = name,
+static const char *const model_names[] = {TAPER_FIT_MODEL_LIST(MODEL_NAME)};
 
 const char *taper_fit_model_name(taper_fit_model model)
 {
@@ -65,18 +60,11 @@ const char *taper_fit_model_name(taper_fit_model model)
 taper_status taper_fit_model_from_name(const char *name, taper_fit_model *model, taper_error *err)
 {
     if (!model) return taper_fail(err, TAPER_EINVAL, "taper_fit_model_from_name: model is NULL");
-    if (!name)
-        return taper_fail_field(err, TAPER_EINVAL, "model", "taper_fit_model_from_name: name is NULL");
-    for (unsigned i = 0; i < TAPER_N_FIT_MODELS; i++) {
-        if (strcasecmp(name, model_names[i]) == 0) {
-            *model = (taper_fit_model)i;
-            return taper_ok(err);
-        }
-    }
-    taper_fail_field(err, TAPER_EINVAL, "model", "unknown fit model '%s': use", name);
-    for (unsigned i = 0; i < TAPER_N_FIT_MODELS; i++)
-        taper_fail_append(err, "%s '%s'", i ? "," : "", model_names[i]);
-    return TAPER_EINVAL;
+    size_t i = 0;
+    taper_status st = taper_name_find(name, model_names, TAPER_N_FIT_MODELS, "model", "fit model",
+                                      &i, err);
+    if (st == TAPER_OK) *model = (taper_fit_model)i;
+    return st;
 }
 
 taper_fit_spec *taper_fit_spec_alloc(taper_fit_model model, taper_error *err)

@@ -223,7 +223,7 @@ static taper_status check_final_masses(const taper_chain *c, const taper_chain_s
     for (size_t k = 1; k <= c->n; k++) {
         double m = c->mass[k - 1];
         if (!(m >= MASS_MIN && m <= MASS_MAX))
-            return taper_fail_field(err, TAPER_ERANGE, spec->density ? "materials" : "disorder_amplitude",
+            return taper_fail_field(err, TAPER_ERANGE, spec->density ? "densities" : "disorder_amplitude",
                                     "granule %zu: mass %g is outside [%g, %g], beyond what double "
                                     "precision can integrate; change its density or the disorder",
                                     k, m, MASS_MIN, MASS_MAX);

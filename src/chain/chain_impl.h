@@ -1,41 +1,12 @@
 /*
- * chain_impl.h -- the layouts behind taper_chain_spec and taper_chain.
- * Private to src/chain (and its unit tests): every other part reads a chain
- * through the getters of taper.h.
+ * chain_impl.h -- the layout behind taper_chain (a spec's is
+ * settings/specs.h).  Private to src/chain (and its unit tests): every
+ * other part reads a chain through the getters of taper.h.
  */
 #ifndef TAPER_CHAIN_IMPL_H
 #define TAPER_CHAIN_IMPL_H
 
-#include "core/taper_internal.h"
-
-/* Settings of a chain; every value in its range (the setters see to it).
- * The options after `n_radii` are those of issue 15 (taper.h, "Beyond the
- * paper"); each default is the paper's idealisation. */
-struct taper_chain_spec {
-    taper_profile profile;
-    size_t n_granules;  /* N                                             */
-    double s, q;        /* tapering parameters                            */
-    double exponent;    /* contact exponent n                             */
-    double *radii;      /* owned copy, n_radii of them; NULL: none        */
-    size_t n_radii;
-    double *pattern;    /* decorated profile: one period; NULL: none      */
-    size_t n_pattern;
-    taper_disorder disorder;      /* what the disorder multiplies         */
-    double disorder_amplitude;    /* 0 <= a < 1; 0: none                  */
-    uint64_t disorder_seed;
-    double *density;    /* mixed chains, relative to granule 1's; NULL:   */
-    double *compliance; /* one material.  n_materials of each             */
-    size_t n_materials;
-    taper_boundary end[TAPER_N_ENDS];
-    double end_compliance[TAPER_N_ENDS]; /* of a wall, relative to c_1    */
-    double striker_radius;        /* 0: no striker, the impulse v_1 = 1   */
-    double striker_density, striker_compliance;
-    double load;        /* static force F0                                */
-    double damping;     /* Kuwabara-Kono time                             */
-    double drag;        /* hydrodynamic friction coefficient              */
-    double piston_duration;   /* 0: no piston; INFINITY: a steady push    */
-    double piston_compliance; /* of the piston's face, relative to c_1    */
-};
+#include "settings/specs.h"
 
 /* Room for the reason the theory does not apply (taper_chain_theory_note). */
 #define CHAIN_NOTE_SIZE 320
@@ -58,13 +29,10 @@ struct taper_chain {
     char theory_note[CHAIN_NOTE_SIZE];    /* "" when the theory applies */
 };
 
-/* chain_options.c: the relations between the settings of issue 15 (ends,
- * striker, pattern, materials), for taper_chain_spec_check. */
+/* chain_options.c: the relations between the settings beyond the paper
+ * (ends, striker, piston, pattern, materials, losses), for
+ * taper_chain_spec_check. */
 taper_status chain_options_check(const taper_chain_spec *spec, taper_error *err);
-/* chain_options.c: releases what the options own (pattern, materials). */
-void chain_options_free(taper_chain_spec *spec);
-/* chain_options.c: the defaults of the options (the paper's chain). */
-void chain_options_default(taper_chain_spec *spec);
 
 /* chain_options.c: the piston of a built chain (its duration and the
  * contact factor of its face with granule 1: a wall's, eq. (7) with the

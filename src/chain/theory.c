@@ -182,12 +182,8 @@ taper_status taper_theory_compute(const taper_chain *chain, double *v, double *m
     return taper_ok(err);
 }
 
-static const char *const quantity_names[TAPER_N_THEORY_QUANTITIES] = {
-    [TAPER_THEORY_V] = "v",
-    [TAPER_THEORY_MU] = "mu",
-    [TAPER_THEORY_T_RES] = "T",
-    [TAPER_THEORY_T] = "t",
-};
+#define QUANTITY_NAME(constant, name) [constant] = name,
+static const char *const quantity_names[] = {TAPER_THEORY_QUANTITY_LIST(QUANTITY_NAME)};
 
 const char *taper_theory_quantity_name(taper_theory_quantity which)
 {

@@ -12,24 +12,18 @@
  * r'_k = sqrt(2 R*), it gives a = (4/3) E* / sqrt(2) = sqrt(2) E / (3 (1 - nu^2)).
  * Eq. (5): y = R_1 alpha^(1/n) x and tau = (R_1/V) alpha^(1/n) t; the other
  * units follow: velocity V, mass M_1, force M_1 V^2 / (R_1 alpha^(1/n)),
- * energy M_1 V^2, impulse M_1 V.
+ * energy M_1 V^2, impulse M_1 V, a drag coefficient mass / time.  Densities
+ * and compliances are relative to granule 1's: their units are rho_1 and
+ * c_1 = (1 - nu^2)/E.
  */
 #include "core/taper_internal.h"
 
 #include <math.h>
 
-static const char *const dimension_names[TAPER_N_DIMENSIONS] = {
-    [TAPER_DIM_LENGTH] = "length",     [TAPER_DIM_TIME] = "time",
-    [TAPER_DIM_VELOCITY] = "velocity", [TAPER_DIM_MASS] = "mass",
-    [TAPER_DIM_FORCE] = "force",       [TAPER_DIM_ENERGY] = "energy",
-    [TAPER_DIM_IMPULSE] = "impulse",
-};
-
-static const char *const dimension_units[TAPER_N_DIMENSIONS] = {
-    [TAPER_DIM_LENGTH] = "m",     [TAPER_DIM_TIME] = "s",  [TAPER_DIM_VELOCITY] = "m/s",
-    [TAPER_DIM_MASS] = "kg",      [TAPER_DIM_FORCE] = "N", [TAPER_DIM_ENERGY] = "J",
-    [TAPER_DIM_IMPULSE] = "N s",
-};
+#define DIMENSION_NAME(constant, name, unit) [constant] = name,
+#define DIMENSION_UNIT(constant, name, unit) [constant] = unit,
+static const char *const dimension_names[] = {TAPER_DIMENSION_LIST(DIMENSION_NAME)};
+static const char *const dimension_units[] = {TAPER_DIMENSION_LIST(DIMENSION_UNIT)};
 
 const char *taper_dimension_name(taper_dimension dim)
 {
@@ -67,6 +61,10 @@ double taper_unit_scale(taper_dimension dim, double young, double poisson, doubl
     case TAPER_DIM_FORCE: return mass * velocity * velocity / length;
     case TAPER_DIM_ENERGY: return mass * velocity * velocity;
     case TAPER_DIM_IMPULSE: return mass * velocity;
+    case TAPER_DIM_DENSITY: return density;
+    case TAPER_DIM_COMPLIANCE: return (1.0 - poisson * poisson) / young;
+    case TAPER_DIM_DRAG: return mass * velocity / length; /* mass / time */
+    case TAPER_DIM_NUMBER: return 1.0;
     }
     return NAN;
 }

@@ -7,18 +7,21 @@
 
 const char *taper_version(void) { return TAPER_VERSION_STRING; }
 
+#define STATUS_NAME(constant, name, description) [constant] = name,
+#define STATUS_DESCRIPTION(constant, name, description) [constant] = description,
+static const char *const status_names[] = {TAPER_STATUS_LIST(STATUS_NAME)};
+static const char *const status_descriptions[] = {TAPER_STATUS_LIST(STATUS_DESCRIPTION)};
+#define N_STATUSES (sizeof status_names / sizeof status_names[0])
+
 const char *taper_strerror(taper_status status)
 {
-    switch (status) {
-    case TAPER_OK: return "success";
-    case TAPER_EINVAL: return "invalid argument";
-    case TAPER_ENOMEM: return "out of memory";
-    case TAPER_ERANGE: return "value out of double-precision range";
-    case TAPER_ESOLVER: return "integrator failure";
-    case TAPER_EINTERRUPTED: return "interrupted";
-    case TAPER_ELIMIT: return "time or step limit reached";
-    default: return "unknown status";
-    }
+    /* Unsigned: a negative value of an int-typed enum is out of range too. */
+    return (unsigned)status < N_STATUSES ? status_descriptions[status] : "unknown status";
+}
+
+const char *taper_status_name(taper_status status)
+{
+    return (unsigned)status < N_STATUSES ? status_names[status] : NULL;
 }
 
 /* Formats into err->message from offset `used`.  A message cut at the

@@ -31,4 +31,12 @@ void taper_fail_append(taper_error *err, const char *fmt, ...) TAPER_PRINTF(2, 3
 /* Clears err to TAPER_OK, field NULL, empty message; returns TAPER_OK. */
 taper_status taper_ok(taper_error *err);
 
+/* Finds `name` (case-insensitive) among names[0..n): *index and TAPER_OK,
+ * or TAPER_EINVAL naming `field` with "unknown WHAT 'NAME': did you mean
+ * 'NEAREST'? (use 'a', 'b', ...)" (names.c).  Every *_from_name of the
+ * library answers through it. */
+taper_status taper_name_find(const char *name, const char *const *names, size_t n,
+                             const char *field, const char *what, size_t *index,
+                             taper_error *err);
+
 #endif

@@ -648,38 +648,13 @@ const double *taper_sim_theory(const taper_sim *sim, taper_theory_quantity which
     return sim->theory[which];
 }
 
-static const char *const statistic_names[TAPER_N_STATISTICS] = {
-    [TAPER_STAT_STEPS] = "steps",
-    [TAPER_STAT_RHS_EVALS] = "rhs_evals",
-    [TAPER_STAT_ROOT_EVALS] = "root_evals",
-    [TAPER_STAT_JAC_EVALS] = "jac_evals",
-    [TAPER_STAT_NONLIN_ITERS] = "nonlin_iters",
-    [TAPER_STAT_ERR_TEST_FAILS] = "err_test_fails",
-    [TAPER_STAT_WINDOW_CHANGES] = "window_changes",
-    [TAPER_STAT_RESTARTS] = "restarts",
-    [TAPER_STAT_MAX_WINDOW] = "max_window",
-    [TAPER_STAT_GRANULE_REACHED] = "granule_reached",
-    [TAPER_STAT_T_FINAL] = "t_final",
-    [TAPER_STAT_ENERGY_ERROR] = "energy_error",
-    [TAPER_STAT_MOMENTUM_ERROR] = "momentum_error",
-    [TAPER_STAT_COMPLETE] = "complete",
-    [TAPER_STAT_ENERGY_INITIAL] = "energy_initial",
-    [TAPER_STAT_ENERGY_DISSIPATED] = "energy_dissipated",
-    [TAPER_STAT_ENERGY_TRANSMITTED] = "energy_transmitted",
-    [TAPER_STAT_ENERGY_REFLECTED] = "energy_reflected",
-    [TAPER_STAT_ENERGY_IN_CHAIN] = "energy_in_chain",
-    [TAPER_STAT_WALL_PEAK_FORCE_LEFT] = "wall_peak_force_left",
-    [TAPER_STAT_WALL_PEAK_TIME_LEFT] = "wall_peak_time_left",
-    [TAPER_STAT_WALL_IMPULSE_LEFT] = "wall_impulse_left",
-    [TAPER_STAT_WALL_PEAK_FORCE_RIGHT] = "wall_peak_force_right",
-    [TAPER_STAT_WALL_PEAK_TIME_RIGHT] = "wall_peak_time_right",
-    [TAPER_STAT_WALL_IMPULSE_RIGHT] = "wall_impulse_right",
-};
+#define STATISTIC_NAME(constant, name) [constant] = name,
+static const char *const statistic_names[] = {TAPER_STATISTIC_LIST(STATISTIC_NAME)};
 
 const char *taper_statistic_name(taper_statistic which)
 {
-    if ((int)which < 0 || (int)which >= TAPER_N_STATISTICS) return NULL;
-    return statistic_names[which];
+    /* Unsigned: a negative value of an int-typed enum is out of range too. */
+    return (unsigned)which < TAPER_N_STATISTICS ? statistic_names[which] : NULL;
 }
 
 double taper_sim_statistic(const taper_sim *sim, taper_statistic which)

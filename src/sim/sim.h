@@ -23,7 +23,7 @@
  *                  code that moves the window (taper_sim_move_window) and
  *                  that moves granules out of it and back.
  *     v
- *   solver_spec.c, dynamics.c, dynamics_api.c, nvector_window.c,
+ *   dynamics.c, dynamics_api.c, nvector_window.c,
  *   sundials_compat.c, extended.c  (leaves: they call nothing else in
  *   src/sim)
  *
@@ -40,7 +40,7 @@
 
 #include "dynamics.h"
 #include "nvector_window.h"
-#include "solver_spec.h"
+#include "settings/specs.h"
 #include "sundials_compat.h"
 
 #include <sundials/sundials_linearsolver.h>

@@ -1402,7 +1402,7 @@ static void physics_ranges(size_t n_max)
             {.what = "damping n=1.5", .n = n, .exponent = 1.5, .damping = 1, .refused = "damping"},
             {.what = "damping n=1.75", .n = n, .exponent = 1.75, .damping = 1e-3, .refused = "damping"},
             {.what = "striker + left wall", .n = n, .exponent = 2.5, .left_wall = 1, .striker_radius = 1,
-             .striker_density = 1, .refused = "left_end"},
+             .striker_density = 1, .refused = "left"},
             {.what = "piston + load", .n = n, .exponent = 2.5, .piston = 1, .load = 1, .refused = "piston_duration"},
         };
         for (size_t i = 0; i < sizeof cells / sizeof *cells; i++)
@@ -1436,7 +1436,7 @@ static void physics_quick(void)
         {.what = "decorated", .profile = TAPER_DECORATED, .param = 0.1, .n = n, .exponent = 2.5},
         {.what = "damping n=1.5", .n = n, .exponent = 1.5, .damping = 1, .refused = "damping"},
         {.what = "striker + left wall", .n = n, .exponent = 2.5, .left_wall = 1, .striker_radius = 1,
-         .striker_density = 1, .refused = "left_end"},
+         .striker_density = 1, .refused = "left"},
         {.what = "piston + load", .n = n, .exponent = 2.5, .piston = 1, .load = 1, .refused = "piston_duration"},
     };
     for (size_t i = 0; i < sizeof cells / sizeof *cells; i++) check_physics(&cells[i]);

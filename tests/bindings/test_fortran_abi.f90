@@ -195,7 +195,7 @@ program test_fortran_abi
   status = taper_chain_spec_set_damping(cs, -1.0_c_double, e)
   call refused(status, "damping")
   status = taper_chain_spec_set_end(cs, TAPER_LEFT, TAPER_END_FREE, -1.0_c_double, e)
-  call refused(status, "left_wall_compliance")
+  call refused(status, "left_compliance")
   ss = taper_solver_spec_alloc(e)
   if (taper_solver_spec_set_t_end(ss, 30.0_c_double, e) /= TAPER_OK) call fail("t_end")
   if (taper_solver_spec_set_sampler(ss, 1.0_c_double, c_funloc(count_samples), c_null_ptr, e) &

@@ -276,16 +276,21 @@ static void test_spec_defaults(void **state)
     assert_int_equal(taper_chain_spec_set_exponent(spec, TAPER_EXPONENT_MIN, &err), TAPER_OK);
     taper_chain_spec_free(spec);
     taper_chain_spec_free(NULL);
-    /* NULL specs: refused by every function that takes one, neutral getters. */
+    /* NULL specs: refused by every function that takes one; getters read a
+     * NULL spec as a fresh one (the defaults). */
     assert_int_equal(taper_chain_spec_set_s(NULL, 0.1, &err), TAPER_EINVAL);
     assert_null(err.field);
     assert_int_equal(taper_chain_spec_check(NULL, &err), TAPER_EINVAL);
     assert_null(taper_chain_alloc(NULL, &err));
     assert_int_equal(err.status, TAPER_EINVAL);
     assert_null(taper_chain_alloc(NULL, NULL));
-    assert_int_equal(taper_chain_spec_n_granules(NULL), 0);
-    assert_true(isnan(taper_chain_spec_s(NULL)));
-    assert_null(taper_profile_name(taper_chain_spec_profile(NULL)));
+    assert_int_equal(taper_chain_spec_n_granules(NULL), 100);
+    assert_true(taper_chain_spec_s(NULL) == 0.0);
+    assert_true(taper_chain_spec_exponent(NULL) == 2.5);
+    assert_int_equal(taper_chain_spec_profile(NULL), TAPER_MONODISPERSE);
+    size_t n_radii = 9;
+    assert_null(taper_chain_spec_radii(NULL, &n_radii));
+    assert_int_equal(n_radii, 0);
 }
 
 /* Every setting of a spec, to see that a refused value changed none. */
@@ -355,7 +360,7 @@ static void test_setters_refuse(void **state)
     EXPECT_REFUSED(taper_chain_spec_set_profile(spec, (taper_profile)99, &err), "profile", "99");
     EXPECT_REFUSED(taper_chain_spec_set_profile(spec, (taper_profile)-1, &err), "profile", "-1");
     EXPECT_REFUSED(taper_chain_spec_set_profile(spec, (taper_profile)TAPER_N_PROFILES, &err),
-                   "profile", "unknown profile");
+                   "profile", "no such profile");
     EXPECT_REFUSED(taper_chain_spec_set_s(spec, NAN, &err), "s", "s = nan");
     EXPECT_REFUSED(taper_chain_spec_set_s(spec, -0.1, &err), "s", "s = -0.1");
     EXPECT_REFUSED(taper_chain_spec_set_s(spec, INFINITY, &err), "s", "s = inf");
@@ -373,7 +378,7 @@ static void test_setters_refuse(void **state)
                        "exponent = ");
     EXPECT_REFUSED(taper_chain_spec_set_exponent(spec, 25, &err), "exponent", "[1.5, 20]");
     EXPECT_REFUSED(taper_chain_spec_set_exponent(spec, 1.2, &err), "exponent",
-                   ">= 1.5 (below, the force's slope is unbounded at contact onset");
+                   "below 3/2 the force's slope (n-1) z^(n-2) is unbounded at contact onset");
     const double zero[3] = {1, 0, 1}, neg[3] = {1, 2, -1}, nan3[3] = {1, NAN, 1},
                  inf3[3] = {1, INFINITY, 1};
     EXPECT_REFUSED(taper_chain_spec_set_radii(spec, zero, 3, &err), "radii", "radii(2)");
@@ -575,7 +580,7 @@ static void test_long_message(void **state)
     assert_int_equal(taper_profile_from_name("xx", &p, &err), TAPER_EINVAL);
     assert_null(strstr(err.message, "..."));
     /* The last profile of the list, in full. */
-    assert_string_equal(err.message + strlen(err.message) - 11, "'decorated'");
+    assert_string_equal(err.message + strlen(err.message) - 12, "'decorated')");
 }
 
 static void test_strerror(void **state)

@@ -97,10 +97,12 @@ static void test_defaults(void **state)
     assert_null(taper_chain_theory_note(c));
     taper_chain_free(c);
     taper_chain_spec_free(spec);
-    /* NULL objects: neutral values. */
+    /* NULL objects: neutral values; a NULL spec reads as a fresh one. */
     assert_true(isnan(taper_chain_end_contact(NULL, TAPER_LEFT)));
     assert_true(isnan(taper_chain_load(NULL)));
-    assert_true(isnan(taper_chain_spec_damping(NULL)));
+    assert_true(taper_chain_spec_damping(NULL) == 0.0);
+    assert_true(taper_chain_spec_striker_density(NULL) == 1.0);
+    assert_int_equal(taper_chain_spec_end(NULL, TAPER_RIGHT), TAPER_END_FREE);
     assert_null(taper_chain_theory_note(NULL));
     assert_int_equal(taper_chain_spec_materials(NULL, NULL, NULL), 0);
 }
@@ -126,9 +128,9 @@ static void test_setters_refuse(void **state)
         REFUSED(taper_chain_spec_set_damping(spec, bad[i], err), "damping", "damping = ");
         REFUSED(taper_chain_spec_set_drag(spec, bad[i], err), "drag", "drag = ");
         REFUSED(taper_chain_spec_set_end(spec, TAPER_LEFT, TAPER_END_WALL, bad[i], err),
-                "left_wall_compliance", "compliance");
+                "left_compliance", "compliance");
         REFUSED(taper_chain_spec_set_end(spec, TAPER_RIGHT, TAPER_END_WALL, bad[i], err),
-                "right_wall_compliance", "compliance");
+                "right_compliance", "compliance");
         REFUSED(taper_chain_spec_set_striker(spec, bad[i], 1, 1, err), "striker_radius",
                 "striker_radius = ");
         REFUSED(taper_chain_spec_set_striker(spec, 1, bad[i], 1, err), "striker_density",
@@ -140,20 +142,20 @@ static void test_setters_refuse(void **state)
     }
     REFUSED(taper_chain_spec_set_striker(spec, 1, 0, 1, err), "striker_density", "> 0");
     REFUSED(taper_chain_spec_set_disorder(spec, TAPER_DISORDER_RADIUS, 1.0, 1, err),
-            "disorder_amplitude", "1 + a u_k stays > 0");
+            "disorder_amplitude", "must stay > 0");
     REFUSED(taper_chain_spec_set_disorder(spec, (taper_disorder)2, 0.1, 1, err), "disorder",
-            "unknown kind");
+            "no such disorder");
     REFUSED(taper_chain_spec_set_end(spec, (taper_end)2, TAPER_END_WALL, 0, err), "end",
             "unknown end");
-    REFUSED(taper_chain_spec_set_end(spec, TAPER_RIGHT, (taper_boundary)5, 0, err), "right_end",
-            "unknown boundary");
+    REFUSED(taper_chain_spec_set_end(spec, TAPER_RIGHT, (taper_boundary)5, 0, err), "right",
+            "no such right");
     const double zero[2] = {1, 0}, nan2[2] = {1, NAN}, ok2[2] = {1, 0.5};
     REFUSED(taper_chain_spec_set_pattern(spec, zero, 2, err), "pattern", "pattern(2) = 0");
     REFUSED(taper_chain_spec_set_pattern(spec, NULL, 2, err), "pattern", "NULL");
-    REFUSED(taper_chain_spec_set_materials(spec, nan2, ok2, 2, err), "materials", "density(2)");
-    REFUSED(taper_chain_spec_set_materials(spec, ok2, zero, 2, err), "materials",
-            "compliance(2)");
-    REFUSED(taper_chain_spec_set_materials(spec, ok2, NULL, 2, err), "materials", "NULL");
+    REFUSED(taper_chain_spec_set_materials(spec, nan2, ok2, 2, err), "densities", "densities(2)");
+    REFUSED(taper_chain_spec_set_materials(spec, ok2, zero, 2, err), "compliances",
+            "compliances(2)");
+    REFUSED(taper_chain_spec_set_materials(spec, ok2, NULL, 2, err), "compliances", "NULL");
     /* Nothing was changed by the refusals. */
     assert_true(taper_chain_spec_load(spec) == 0.0);
     assert_true(taper_chain_spec_damping(spec) == 0.0);
@@ -199,11 +201,11 @@ static void test_relations(void **state)
     /* Materials for another N. */
     spec = new_spec(TAPER_MONODISPERSE, 4);
     test_chain_ok(taper_chain_spec_set_materials(spec, rho, rho, 3, &err), &err);
-    expect_relation(spec, "materials", "3 materials but n_granules = 4");
+    expect_relation(spec, "densities", "3 densities but n_granules = 4");
     /* A wall compliance on a free end. */
     spec = new_spec(TAPER_MONODISPERSE, 4);
     test_chain_ok(taper_chain_spec_set_end(spec, TAPER_RIGHT, TAPER_END_FREE, 0.5, &err), &err);
-    expect_relation(spec, "right_wall_compliance", "no effect on a free end");
+    expect_relation(spec, "right_compliance", "no effect on a free end");
     /* Striker density or compliance without a striker. */
     spec = new_spec(TAPER_MONODISPERSE, 4);
     test_chain_ok(taper_chain_spec_set_striker(spec, 0, 2, 1, &err), &err);
@@ -212,7 +214,7 @@ static void test_relations(void **state)
     spec = new_spec(TAPER_MONODISPERSE, 4);
     test_chain_ok(taper_chain_spec_set_striker(spec, 1, 1, 1, &err), &err);
     test_chain_ok(taper_chain_spec_set_end(spec, TAPER_LEFT, TAPER_END_WALL, 0, &err), &err);
-    expect_relation(spec, "left_end", "remove the striker");
+    expect_relation(spec, "left", "remove the striker");
     /* Kuwabara-Kono damping below n = 2 (its force diverges at contact);
      * n = 2 itself is allowed. */
     spec = new_spec(TAPER_MONODISPERSE, 4);
@@ -398,7 +400,7 @@ static void test_materials(void **state)
     const double heavy[4] = {1, 1, 1e301, 1};
     test_chain_ok(taper_chain_spec_set_materials(spec, heavy, ones, 4, &err), &err);
     assert_null(taper_chain_alloc(spec, &err));
-    assert_taper_error(err, TAPER_ERANGE, "materials", "granule 3");
+    assert_taper_error(err, TAPER_ERANGE, "densities", "granule 3");
     taper_chain_spec_free(spec);
 }
 

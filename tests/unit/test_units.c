@@ -63,8 +63,9 @@ static void test_dimensions(void **state)
 static void test_names_and_domain(void **state)
 {
     (void)state;
-    const char *names[] = {"length", "time", "velocity", "mass", "force", "energy", "impulse"};
-    const char *units[] = {"m", "s", "m/s", "kg", "N", "J", "N s"};
+    const char *names[] = {"length", "time", "velocity", "mass", "force", "energy", "impulse",
+                           "density", "compliance", "drag", "number"};
+    const char *units[] = {"m", "s", "m/s", "kg", "N", "J", "N s", "kg/m^3", "1/Pa", "kg/s", "1"};
     int i;
     for (i = 0; taper_dimension_name((taper_dimension)i); i++) {
         assert_true(i < TAPER_N_DIMENSIONS);
@@ -83,7 +84,17 @@ static void test_names_and_domain(void **state)
     assert_true(isnan(taper_unit_scale(TAPER_DIM_LENGTH, 1e9, 0.3, 8000, 1e-3, 0)));
     assert_true(isnan(taper_unit_scale(TAPER_DIM_LENGTH, INFINITY, 0.3, 8000, 1e-3, 1)));
     assert_true(isnan(taper_unit_scale(TAPER_DIM_LENGTH, 1e9, NAN, 8000, 1e-3, 1)));
-    assert_true(isnan(taper_unit_scale((taper_dimension)7, 1e9, 0.3, 8000, 1e-3, 1)));
+    assert_true(isnan(taper_unit_scale((taper_dimension)TAPER_N_DIMENSIONS, 1e9, 0.3, 8000, 1e-3, 1)));
+    /* The units of the settings' dimensions: granule 1's density and
+     * compliance (1 - nu^2)/E, a drag coefficient's mass / time, and 1. */
+    const double E = 193e9, nu = 0.3, rho = 8000, R = 4.76e-3, V = 0.5;
+    assert_true(taper_unit_scale(TAPER_DIM_DENSITY, E, nu, rho, R, V) == rho);
+    assert_true(taper_unit_scale(TAPER_DIM_COMPLIANCE, E, nu, rho, R, V) == (1 - nu * nu) / E);
+    assert_true(taper_unit_scale(TAPER_DIM_NUMBER, E, nu, rho, R, V) == 1.0);
+    double drag = taper_unit_scale(TAPER_DIM_DRAG, E, nu, rho, R, V);
+    double m_over_t = taper_unit_scale(TAPER_DIM_MASS, E, nu, rho, R, V) /
+                      taper_unit_scale(TAPER_DIM_TIME, E, nu, rho, R, V);
+    assert_true(fabs(drag - m_over_t) <= 4e-16 * m_over_t);
     /* Auxetic materials (nu < 0) are physical. */
     assert_true(taper_unit_scale(TAPER_DIM_LENGTH, 1e9, -0.5, 8000, 1e-3, 1) > 0.0);
 }

@@ -159,20 +159,20 @@ static const scene_var table[] = {
      "static compressive force F0 through the chain (precompression; rescaled force of eq. "
      "(5)): every contact starts at its static overlap; 0: the paper's just-touching chain"},
 
-    {"ends", "left", SCENE_CHOICE, SCENE_EXTRA, AT(ends.left), NULL, SCENE_LIB_CHAIN, "left_end", 0, 0,
+    {"ends", "left", SCENE_CHOICE, SCENE_EXTRA, AT(ends.left), NULL, SCENE_LIB_CHAIN, NULL, 0, 0,
      CHOICE(boundary_choice, 0),
      "granule 1's end: 'free', or 'wall' (a fixed flat wall touching granule 1; not with a "
      "striker)"},
-    {"ends", "right", SCENE_CHOICE, SCENE_EXTRA, AT(ends.right), NULL, SCENE_LIB_CHAIN, "right_end", 0,
+    {"ends", "right", SCENE_CHOICE, SCENE_EXTRA, AT(ends.right), NULL, SCENE_LIB_CHAIN, NULL, 0,
      0, CHOICE(boundary_choice, 0),
      "granule N's end: 'free', or 'wall' (the pulse reflects from it; its force is a sensor's "
      "reading)"},
     {"ends", "left_compliance", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(ends.left_compliance),
-     NULL, SCENE_LIB_CHAIN, "left_wall_compliance", 0, INFINITY, NO_CHOICE,
+     NULL, SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
      "compliance (1 - nu^2)/E of the left wall relative to granule 1's: 0 rigid, 1 granule 1's "
      "material (with &material: from &material wall)"},
     {"ends", "right_compliance", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA,
-     AT(ends.right_compliance), NULL, SCENE_LIB_CHAIN, "right_wall_compliance", 0, INFINITY, NO_CHOICE,
+     AT(ends.right_compliance), NULL, SCENE_LIB_CHAIN, NULL, 0, INFINITY, NO_CHOICE,
      "compliance of the right wall relative to granule 1's (as left_compliance)"},
 
     {"striker", "radius", SCENE_REAL, SCENE_SWEEP | SCENE_EXTRA, AT(striker.radius), NULL,

@@ -76,8 +76,9 @@ module taper
   integer, parameter, public :: TAPER_N_BOUNDARIES = 2
   integer(c_int), parameter, public :: TAPER_DIM_LENGTH = 0, TAPER_DIM_TIME = 1, &
        TAPER_DIM_VELOCITY = 2, TAPER_DIM_MASS = 3, TAPER_DIM_FORCE = 4, TAPER_DIM_ENERGY = 5, &
-       TAPER_DIM_IMPULSE = 6
-  integer, parameter, public :: TAPER_N_DIMENSIONS = 7
+       TAPER_DIM_IMPULSE = 6, TAPER_DIM_DENSITY = 7, TAPER_DIM_COMPLIANCE = 8, TAPER_DIM_DRAG = 9, &
+       TAPER_DIM_NUMBER = 10
+  integer, parameter, public :: TAPER_N_DIMENSIONS = 11
   integer(c_int), parameter, public :: TAPER_ADAMS = 0, TAPER_BDF = 1
   integer, parameter, public :: TAPER_N_METHODS = 2
   integer(c_int), parameter, public :: TAPER_T_PASS = 0, TAPER_T_RES = 1, TAPER_V_PEAK = 2, &
@@ -126,7 +127,16 @@ module taper
   public :: c_taper_version, c_taper_strerror, c_taper_profile_name, c_taper_method_name, &
             c_taper_fit_model_name, c_taper_statistic_name, c_taper_disorder_name, &
             c_taper_boundary_name, c_taper_dimension_name, c_taper_dimension_unit, &
-            c_taper_observable_name, c_taper_theory_quantity_name, c_taper_law_name
+            c_taper_observable_name, c_taper_theory_quantity_name, c_taper_law_name, &
+            c_taper_status_name, c_taper_nearest_name
+  ! The table of settings (taper.h, "Settings by name"): a row is read through
+  ! its C pointer (taper_setting_at, taper_setting_find); settings are set and
+  ! read by name.
+  public :: taper_setting_count, taper_setting_at, c_taper_setting_find, &
+            c_taper_chain_spec_set_option, c_taper_chain_spec_set_option_text, &
+            c_taper_chain_spec_set_option_list, c_taper_solver_spec_set_option, &
+            c_taper_solver_spec_set_option_text, c_taper_chain_spec_option, &
+            c_taper_chain_spec_option_list, c_taper_solver_spec_option
   public :: taper_chain_spec_alloc, taper_chain_spec_free, taper_chain_spec_set_profile, &
             taper_chain_spec_set_n_granules, taper_chain_spec_set_s, taper_chain_spec_set_q, &
             taper_chain_spec_set_exponent, taper_chain_spec_set_radii, taper_chain_spec_profile, &
@@ -1181,6 +1191,99 @@ module taper
        type(c_ptr), value :: res
        integer(c_size_t) :: n
      end function taper_fit_result_iterations
+     ! ---- the table of settings and settings by name ---------------------------
+     function c_taper_status_name(status) bind(C, name="taper_status_name") result(s)
+       import :: c_ptr, c_int
+       integer(c_int), value :: status
+       type(c_ptr) :: s
+     end function c_taper_status_name
+     function c_taper_nearest_name(name, names, n) bind(C, name="taper_nearest_name") result(s)
+       import :: c_ptr, c_char, c_size_t
+       character(kind=c_char), intent(in) :: name(*)
+       type(c_ptr), value :: names
+       integer(c_size_t), value :: n
+       type(c_ptr) :: s
+     end function c_taper_nearest_name
+     function taper_setting_count() bind(C, name="taper_setting_count") result(n)
+       import :: c_size_t
+       integer(c_size_t) :: n
+     end function taper_setting_count
+     function taper_setting_at(i) bind(C, name="taper_setting_at") result(row)
+       import :: c_ptr, c_size_t
+       integer(c_size_t), value :: i
+       type(c_ptr) :: row
+     end function taper_setting_at
+     function c_taper_setting_find(name, err) bind(C, name="taper_setting_find") result(row)
+       import :: c_ptr, c_char, taper_error
+       character(kind=c_char), intent(in) :: name(*)
+       type(taper_error), intent(inout) :: err
+       type(c_ptr) :: row
+     end function c_taper_setting_find
+     function c_taper_chain_spec_set_option(spec, name, value, err) &
+          bind(C, name="taper_chain_spec_set_option") result(status)
+       import :: c_ptr, c_char, c_double, c_int, taper_error
+       type(c_ptr), value :: spec
+       character(kind=c_char), intent(in) :: name(*)
+       real(c_double), value :: value
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function c_taper_chain_spec_set_option
+     function c_taper_chain_spec_set_option_text(spec, name, value, err) &
+          bind(C, name="taper_chain_spec_set_option_text") result(status)
+       import :: c_ptr, c_char, c_int, taper_error
+       type(c_ptr), value :: spec
+       character(kind=c_char), intent(in) :: name(*), value(*)
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function c_taper_chain_spec_set_option_text
+     function c_taper_chain_spec_set_option_list(spec, name, values, n, err) &
+          bind(C, name="taper_chain_spec_set_option_list") result(status)
+       import :: c_ptr, c_char, c_size_t, c_int, taper_error
+       type(c_ptr), value :: spec, values
+       character(kind=c_char), intent(in) :: name(*)
+       integer(c_size_t), value :: n
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function c_taper_chain_spec_set_option_list
+     function c_taper_solver_spec_set_option(spec, name, value, err) &
+          bind(C, name="taper_solver_spec_set_option") result(status)
+       import :: c_ptr, c_char, c_double, c_int, taper_error
+       type(c_ptr), value :: spec
+       character(kind=c_char), intent(in) :: name(*)
+       real(c_double), value :: value
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function c_taper_solver_spec_set_option
+     function c_taper_solver_spec_set_option_text(spec, name, value, err) &
+          bind(C, name="taper_solver_spec_set_option_text") result(status)
+       import :: c_ptr, c_char, c_int, taper_error
+       type(c_ptr), value :: spec
+       character(kind=c_char), intent(in) :: name(*), value(*)
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function c_taper_solver_spec_set_option_text
+     function c_taper_chain_spec_option(spec, name) bind(C, name="taper_chain_spec_option") &
+          result(value)
+       import :: c_ptr, c_char, c_double
+       type(c_ptr), value :: spec
+       character(kind=c_char), intent(in) :: name(*)
+       real(c_double) :: value
+     end function c_taper_chain_spec_option
+     function c_taper_chain_spec_option_list(spec, name, n) &
+          bind(C, name="taper_chain_spec_option_list") result(values)
+       import :: c_ptr, c_char, c_size_t
+       type(c_ptr), value :: spec
+       character(kind=c_char), intent(in) :: name(*)
+       integer(c_size_t), intent(out) :: n
+       type(c_ptr) :: values
+     end function c_taper_chain_spec_option_list
+     function c_taper_solver_spec_option(spec, name) bind(C, name="taper_solver_spec_option") &
+          result(value)
+       import :: c_ptr, c_char, c_double
+       type(c_ptr), value :: spec
+       character(kind=c_char), intent(in) :: name(*)
+       real(c_double) :: value
+     end function c_taper_solver_spec_option
   end interface
 
 contains
