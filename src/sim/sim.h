@@ -247,7 +247,7 @@ int taper_sim_move_window(taper_sim *sim, size_t lo, size_t hi, double v_left);
  * CVODE's internal time, the end of the step that held the root (>=
  * sim->t), up to which the quadratures hold the granule's drag loss; h_step:
  * that step's size (the handover's time scale).  0, or -1 when out of
- * memory (nothing changed then). */
+ * memory (the granule stays in the window then). */
 int taper_sim_release_granule(taper_sim *sim, double watch, int at_rest, double t_step, double h_step);
 
 /* The part of the drag loss of departed granules that the dissipation
