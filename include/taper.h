@@ -568,9 +568,10 @@ TAPER_API taper_status taper_solver_spec_set_atol(taper_solver_spec *spec, doubl
 TAPER_API taper_status taper_solver_spec_set_last_granule(taper_solver_spec *spec,
                                                           size_t last_granule, taper_error *err);
 /* Non-zero: integrate only the granules that can move (exact); zero: the
- * whole chain every step.  Under a static load, damping or drag no granule
- * leaves the window (none is in free flight); with damping every granule
- * is in it from the start. */
+ * whole chain every step.  Granules leave the window in free flight (with
+ * damping too) or in the closed-form flight under drag; under a static load
+ * none leaves.  Behind a pulse in a monodisperse chain with damping, drag or
+ * a load the chain keeps moving, and the window spans it (docs/window.md). */
 TAPER_API taper_status taper_solver_spec_set_window(taper_solver_spec *spec, int window,
                                                     taper_error *err);
 /* Highest method order, 1..TAPER_MAX_ORDER_ADAMS (or _BDF, checked by

@@ -4,6 +4,8 @@
  *   taper-bench [--quick] [-o DIR] [--reps R] [--chain NAME]
  *               [--no-scaling | --scaling-only] [--scaling-max N]
  *   taper-bench --single CHAIN METHOD TOL     (one run, for profiling)
+ *   taper-bench --options [-o DIR] [--chain NAME] [--options-max N]
+ *               [--options-limit S]     (the chains with options, below)
  *
  * For a fixed set of chains, runs each method over a sweep of tolerances
  * (step sizes for Verlet), measures the error of t_pass and v_peak against
@@ -25,6 +27,17 @@
  * rk8-window: rk8pd inside an active window, max-norm control with taper's
  * scaled tolerances (peers/peer_rk8_window.c).
  * Wall times are medians of R repetitions (default 3).
+ *
+ * --options: the cost of the chains experimenters build (a damping, a drag,
+ * a static load, walls) on the monodisperse chain (or --chain NAME), at the
+ * default settings: for each option and N = 2000, 16000 and 10^5 (up to
+ * --options-max) the CPU time per granule crossed, the steps per granule,
+ * the window's mean size (weighted by steps) and its largest, the energy
+ * error and whether the run completed; a run stops after S seconds of CPU
+ * (--options-limit, default 120), and the row says how far it got.  Then,
+ * at N = 500, the window against the whole chain: the largest relative
+ * difference of t_pass and v_peak over the granules.  Writes options.tsv and
+ * options-agreement.tsv.
  */
 #include "peers/peers.h"
 #include "reference.h"
@@ -672,12 +685,185 @@ static int run_scaling(const char *dir, int reps, size_t n_max, int quick)
     return 0;
 }
 
+/* ---- chains with options ------------------------------------------------- */
+static const chain_def *find_chain(const chain_def *chains, size_t n_chains, const char *name);
+
+/* An option of the study: a chain setting on top of the profile. */
+typedef struct option_def {
+    const char *name;
+    double damping, drag, load;
+    taper_boundary left, right;
+} option_def;
+
+static const option_def option_defs[] = {
+    {"none", 0, 0, 0, TAPER_END_FREE, TAPER_END_FREE},
+    {"damping=0.05", 0.05, 0, 0, TAPER_END_FREE, TAPER_END_FREE},
+    {"drag=0.001", 0, 0.001, 0, TAPER_END_FREE, TAPER_END_FREE},
+    {"load=1", 0, 0, 1.0, TAPER_END_FREE, TAPER_END_FREE},
+    {"left_wall", 0, 0, 0, TAPER_END_WALL, TAPER_END_FREE},
+    {"right_wall", 0, 0, 0, TAPER_END_FREE, TAPER_END_WALL},
+};
+
+/* The chain of c with n granules and option o; NULL after saying why. */
+static taper_chain *make_option_chain(const chain_def *c, const option_def *o, size_t n)
+{
+    taper_error err;
+    taper_chain *chain = NULL;
+    taper_chain_spec *spec = taper_chain_spec_alloc(&err);
+    if (spec && taper_chain_spec_set_profile(spec, c->profile, &err) == TAPER_OK &&
+        taper_chain_spec_set_n_granules(spec, n, &err) == TAPER_OK &&
+        taper_chain_spec_set_s(spec, c->s, &err) == TAPER_OK &&
+        taper_chain_spec_set_q(spec, c->q, &err) == TAPER_OK &&
+        taper_chain_spec_set_damping(spec, o->damping, &err) == TAPER_OK &&
+        taper_chain_spec_set_drag(spec, o->drag, &err) == TAPER_OK &&
+        taper_chain_spec_set_load(spec, o->load, &err) == TAPER_OK &&
+        taper_chain_spec_set_end(spec, TAPER_LEFT, o->left, 0.0, &err) == TAPER_OK &&
+        taper_chain_spec_set_end(spec, TAPER_RIGHT, o->right, 0.0, &err) == TAPER_OK)
+        chain = taper_chain_alloc(spec, &err);
+    taper_chain_spec_free(spec);
+    if (!chain) fprintf(stderr, "taper-bench: %s %s N=%zu: %s\n", chain_name(c), o->name, n, err.message);
+    return chain;
+}
+
+/* The monitor of an options run: the window's size weighted by the steps
+ * taken at it (the cost of a step grows with the window), and the CPU
+ * limit. */
+typedef struct window_watch {
+    double cpu_start, cpu_limit;
+    double weighted;    /* sum of window size x steps                    */
+    long steps;         /* steps at the last call                        */
+    int stopped;        /* the CPU limit ended the run                   */
+} window_watch;
+
+static int watch_window(const taper_progress *p, void *user)
+{
+    window_watch *w = user;
+    w->weighted += (double)(p->window_hi - p->window_lo + 1) * (double)(p->steps - w->steps);
+    w->steps = p->steps;
+    if (cpu_seconds() - w->cpu_start > w->cpu_limit) w->stopped = 1;
+    return w->stopped;
+}
+
+/* One run of the chain at the default settings (window: 0 for the whole
+ * chain); NULL when it could not start.  The caller frees the sim. */
+static taper_sim *options_run(const taper_chain *chain, int window, window_watch *w, double *cpu)
+{
+    taper_error err;
+    taper_solver_spec *spec = taper_solver_spec_alloc(&err);
+    if (!spec || taper_solver_spec_set_window(spec, window, &err) != TAPER_OK) {
+        fprintf(stderr, "taper-bench: %s\n", err.message);
+        taper_solver_spec_free(spec);
+        return NULL;
+    }
+    if (w) taper_solver_spec_set_monitor(spec, watch_window, w);
+    taper_sim *sim = taper_sim_alloc(chain, spec, &err);
+    taper_solver_spec_free(spec);
+    if (!sim) {
+        fprintf(stderr, "taper-bench: %s\n", err.message);
+        return NULL;
+    }
+    const double c0 = cpu_seconds();
+    if (w) w->cpu_start = c0;
+    taper_status status = taper_sim_run(sim, &err);
+    *cpu = cpu_seconds() - c0;
+    if (status != TAPER_OK && !(w && w->stopped)) fprintf(stderr, "taper-bench: %s\n", err.message);
+    return sim;
+}
+
+/* Largest relative difference of observable o between two runs, over the
+ * granules where both are finite (NaN in one run only: counted in *odd). */
+static double options_difference(const taper_sim *a, const taper_sim *b, taper_observable o, size_t n,
+                                 size_t *odd)
+{
+    const double *x = taper_sim_observable(a, o), *y = taper_sim_observable(b, o);
+    double e = 0.0;
+    for (size_t k = 0; k < n; k++) {
+        if (isnan(x[k]) != isnan(y[k])) ++*odd;
+        if (!isfinite(x[k]) || !isfinite(y[k]) || y[k] == 0.0) continue;
+        e = fmax(e, fabs(x[k] - y[k]) / fabs(y[k]));
+    }
+    return e;
+}
+
+static int run_options(const char *dir, const char *only, size_t n_max, double cpu_limit)
+{
+    const chain_def mono = {TAPER_MONODISPERSE, 0, 0, 0};
+    const chain_def *c = only ? find_chain(full_chains, sizeof full_chains / sizeof *full_chains, only) : &mono;
+    if (!c) {
+        fprintf(stderr, "taper-bench: no chain %s in this set\n", only);
+        return 2;
+    }
+    FILE *f = open_out(dir, "options.tsv");
+    if (!f) return 1;
+    fprintf(f, "chain\toption\tn_granules\tgranules_crossed\tcomplete\tcpu_seconds\tcpu_per_granule\t"
+               "steps_per_granule\tmean_window\tmax_window\tenergy_error\n");
+    static const size_t ns[] = {2000, 16000, 100000};
+    const size_t n_options = sizeof option_defs / sizeof *option_defs;
+    for (size_t o = 0; o < n_options; o++)
+        for (size_t i = 0; i < sizeof ns / sizeof *ns && ns[i] <= n_max; i++) {
+            taper_chain *chain = make_option_chain(c, &option_defs[o], ns[i]);
+            if (!chain) continue;
+            window_watch w = {.cpu_limit = cpu_limit};
+            double cpu = 0.0;
+            taper_sim *sim = options_run(chain, 1, &w, &cpu);
+            taper_chain_free(chain);
+            if (!sim) continue;
+            const double crossed = taper_sim_statistic(sim, TAPER_STAT_GRANULE_REACHED);
+            const double steps = taper_sim_statistic(sim, TAPER_STAT_STEPS);
+            const int complete = taper_sim_statistic(sim, TAPER_STAT_COMPLETE) != 0.0;
+            /* over the steps up to the last pass (the monitor's calls) */
+            const double mean_window = w.steps > 0 ? w.weighted / (double)w.steps : NAN;
+            fprintf(f, "%s\t%s\t%zu\t%.0f\t%d\t%.3f\t%.3e\t%.1f\t%.1f\t%.0f\t%.2e\n", chain_name(c),
+                    option_defs[o].name, ns[i], crossed, complete, cpu, cpu / fmax(crossed, 1.0),
+                    steps / fmax(crossed, 1.0), mean_window, taper_sim_statistic(sim, TAPER_STAT_MAX_WINDOW),
+                    taper_sim_statistic(sim, TAPER_STAT_ENERGY_ERROR));
+            fflush(f);
+            fprintf(stderr, "   options %-13s N=%-6zu %s%8.2f s cpu  %.2e s/granule  %.1f steps/granule  "
+                            "window mean %.1f max %.0f  energy error %.1e\n",
+                    option_defs[o].name, ns[i], w.stopped ? "STOPPED " : complete ? "" : "partial ", cpu,
+                    cpu / fmax(crossed, 1.0), steps / fmax(crossed, 1.0), mean_window,
+                    taper_sim_statistic(sim, TAPER_STAT_MAX_WINDOW), taper_sim_statistic(sim, TAPER_STAT_ENERGY_ERROR));
+            taper_sim_free(sim);
+        }
+    fclose(f);
+    /* The accuracy contract: window against whole chain at N = 500. */
+    f = open_out(dir, "options-agreement.tsv");
+    if (!f) return 1;
+    fprintf(f, "chain\toption\tn_granules\tt_pass_difference\tv_peak_difference\tnan_in_one_run\t"
+               "energy_error_window\tenergy_error_whole\n");
+    const size_t n = 500;
+    for (size_t o = 0; o < n_options; o++) {
+        taper_chain *chain = make_option_chain(c, &option_defs[o], n);
+        if (!chain) continue;
+        double cpu;
+        taper_sim *a = options_run(chain, 1, NULL, &cpu), *b = options_run(chain, 0, NULL, &cpu);
+        taper_chain_free(chain);
+        if (a && b) {
+            size_t odd = 0;
+            const double dt = options_difference(a, b, TAPER_T_PASS, n, &odd);
+            const double dv = options_difference(a, b, TAPER_V_PEAK, n, &odd);
+            fprintf(f, "%s\t%s\t%zu\t%.2e\t%.2e\t%zu\t%.2e\t%.2e\n", chain_name(c), option_defs[o].name, n,
+                    dt, dv, odd, taper_sim_statistic(a, TAPER_STAT_ENERGY_ERROR),
+                    taper_sim_statistic(b, TAPER_STAT_ENERGY_ERROR));
+            fprintf(stderr, "   agreement %-13s N=%zu  t_pass %.1e  v_peak %.1e  (nan in one run: %zu)  "
+                            "energy error window %.1e, whole chain %.1e\n",
+                    option_defs[o].name, n, dt, dv, odd, taper_sim_statistic(a, TAPER_STAT_ENERGY_ERROR),
+                    taper_sim_statistic(b, TAPER_STAT_ENERGY_ERROR));
+        }
+        taper_sim_free(a);
+        taper_sim_free(b);
+    }
+    fclose(f);
+    return 0;
+}
+
 /* ---- main ------------------------------------------------------------- */
 static void usage(FILE *out)
 {
     fputs("usage: taper-bench [--quick] [-o DIR] [--reps R] [--chain NAME] [--no-scaling | --scaling-only]\n"
           "                   [--scaling-max N] [--methods NAME,NAME,...]\n"
           "       taper-bench --single CHAIN METHOD TOL [N]\n"
+          "       taper-bench --options [-o DIR] [--chain NAME] [--options-max N] [--options-limit S]\n"
           "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
           "Methods:",
           out);
@@ -731,8 +917,10 @@ int main(int argc, char **argv)
     const char *dir = "bench-out";
     int quick = 0, reps = 3, scaling = 1;
     const char *only = NULL; /* --chain NAME: just that chain of the set */
-    size_t scaling_max = 10000;
     unsigned methods = (1u << N_METHODS) - 1;
+    size_t scaling_max = 10000, options_max = 100000;
+    int options = 0;
+    double options_limit = 120.0;
     gsl_set_error_handler_off();
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) quick = 1;
@@ -755,6 +943,9 @@ int main(int argc, char **argv)
                 methods |= 1u << m;
             }
         }
+        else if (!strcmp(argv[i], "--options")) options = 1;
+        else if (!strcmp(argv[i], "--options-max") && i + 1 < argc) options_max = (size_t)atol(argv[++i]);
+        else if (!strcmp(argv[i], "--options-limit") && i + 1 < argc) options_limit = atof(argv[++i]);
         else {
             usage(!strcmp(argv[i], "--help") ? stdout : stderr);
             return !strcmp(argv[i], "--help") ? 0 : 2;
@@ -764,6 +955,13 @@ int main(int argc, char **argv)
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
         fprintf(stderr, "taper-bench: cannot create %s: %s\n", dir, strerror(errno));
         return 2;
+    }
+    if (options) {
+        double t0 = wall_seconds();
+        int status = run_options(dir, only, options_max, options_limit);
+        if (!status) fprintf(stderr, "taper-bench: %.1f s; results in %s/options.tsv, options-agreement.tsv\n",
+                             wall_seconds() - t0, dir);
+        return status;
     }
     study s = {.quick = quick, .reps = reps, .methods = methods};
     s.chains = quick ? quick_chains : full_chains;

@@ -77,7 +77,9 @@ void taper_budget_compute(taper_sim *sim, const double *q)
     /* A piston has mass 0 (sim.h): E(0) = P(0) = 0 */
     const double e0 = 0.5 * sim->mass[i0 - 1], p0 = sim->mass[i0 - 1];
     s->energy_initial = e0;
-    s->energy_dissipated = q ? q[TAPER_QUAD_DISSIPATED] : 0.0;
+    /* the quadrature covers the window; bodies out of it lose to drag
+     * exactly what their flight says */
+    s->energy_dissipated = (q ? q[TAPER_QUAD_DISSIPATED] : 0.0) + taper_sim_dissipated_out(sim);
     /* the quadratures hold the walls' impulses beyond the static F0 t */
     const double static_impulse = m->load * sim->t;
     s->wall_impulse[TAPER_LEFT] = m->wall_left && q ? q[TAPER_QUAD_WALL_LEFT] + static_impulse : NAN;

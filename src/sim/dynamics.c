@@ -32,6 +32,7 @@ int taper_dyn_init(taper_dyn *d, size_t n, double exponent, const double *mass,
     d->lo = 1;
     d->hi = n;
     d->v_left = 0.0;
+    d->left_decay = d->left_since = 0.0;
     return 0;
 }
 
@@ -179,14 +180,19 @@ double taper_dyn_contact_force(const taper_dyn *d, size_t k, double z, double zd
     return excess_force(d, k, z, zdot) + d->load;
 }
 
-void taper_dyn_rhs_general(const taper_dyn *d, const double *y, double *ydot)
+double taper_dyn_v_left(const taper_dyn *d, double t)
+{
+    return d->left_decay > 0.0 ? d->v_left * exp(-d->left_decay * (t - d->left_since)) : d->v_left;
+}
+
+void taper_dyn_rhs_general(const taper_dyn *d, double t, const double *y, double *ydot)
 {
     const size_t lo = d->lo, hi = d->hi;
     size_t shift = 0;
     double force_left = 0.0; /* a free first body: its load F0, less F0 */
     if (lo > 1) { /* the gap slot: no force (F - F0 = -F0; no departures under a load) */
         force_left = -d->load;
-        ydot[0] = d->v_left - y[1];
+        ydot[0] = taper_dyn_v_left(d, t) - y[1];
         shift = 1;
     }
     const double *yv = y + shift;

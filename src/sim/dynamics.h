@@ -42,7 +42,11 @@ typedef struct taper_dyn {
     double *inv_mass;       /* 1 / m_k                                      */
     double *rho;            /* r_k^(1/(n-1)), rho_N = 0 (peak function)     */
     size_t lo, hi;          /* integrated granules                          */
-    double v_left;          /* frozen velocity of granule lo-1 (lo > 1)     */
+    double v_left;          /* velocity of granule lo-1 (lo > 1) at time
+                               left_since, frozen without drag             */
+    double left_decay;      /* its drag's rate drag / m_(lo-1) (0: none):
+                               v = v_left e^(-left_decay (t - left_since)) */
+    double left_since;
     /* Beyond the paper (taper.h, "Beyond the paper"; set by the sim after
      * taper_dyn_init, all zero for the paper's chain).  Bodies of zero mass
      * are walls: inverse mass 0, they never move.  general: some option is
@@ -89,7 +93,10 @@ void taper_dyn_rhs(const taper_dyn *d, const double *y, double *ydot);
 double taper_dyn_contact_force(const taper_dyn *d, size_t k, double z, double zdot);
 /* The elastic part alone, r_k s^(n-1) theta(s). */
 double taper_dyn_elastic_force(const taper_dyn *d, size_t k, double z);
-void taper_dyn_rhs_general(const taper_dyn *d, const double *y, double *ydot);
+void taper_dyn_rhs_general(const taper_dyn *d, double t, const double *y, double *ydot);
+/* Velocity of granule lo-1, out of the window, at time t: constant, or
+ * decaying under drag (free flight, sim.h). */
+double taper_dyn_v_left(const taper_dyn *d, double t);
 /* Energy of contact k measured from the equilibrium,
  * U(delta + z) - U(delta) - F0 z with U(s) = r s^n / n for s > 0: convex,
  * zero at rest; the sum over contacts includes the potential of the loads

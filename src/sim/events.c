@@ -165,7 +165,7 @@ static void ring_values(const taper_sim *sim, const double *y, double *g_pass, d
  * window, a window granule, or at rest ahead of it. */
 static double velocity_from_behind(const taper_sim *sim, const double *y, size_t j)
 {
-    return j + 1 == sim->dyn.lo ? sim->dyn.v_left : velocity(sim, y, j);
+    return j + 1 == sim->dyn.lo ? taper_dyn_v_left(&sim->dyn, sim->t) : velocity(sim, y, j);
 }
 
 /* Whether the peak function's value at a root is a genuine zero: small

@@ -46,7 +46,10 @@ int taper_model_init(taper_model *m, const taper_chain *chain)
     m->damping = damping > 0.0 ? damping : 0.0;
     m->drag = drag > 0.0 ? drag : 0.0;
     m->options = any_option(m);
-    m->free_flight = !(m->load > 0.0 || m->damping > 0.0 || m->drag > 0.0);
+    /* Kuwabara-Kono damping never pulls: a body whose contacts are open
+     * flies freely, as in the paper's chain; under drag it flies as
+     * m dv/dt = -drag v has it, in closed form (taper_sim_flight). */
+    m->free_flight = !(m->load > 0.0);
     m->quadratures = m->wall_left || m->wall_right || m->damping > 0.0 || m->drag > 0.0;
     m->off = (m->striker || m->wall_left) ? 1 : 0;
     m->bodies = m->off + N + (m->wall_right ? 1 : 0);

@@ -69,7 +69,7 @@ typedef struct taper_model {
                                scale of energies and impulses              */
     double load, damping, drag;
     int options;            /* any option: the general right-hand side      */
-    int free_flight;        /* no load, no losses: bodies that leave the
+    int free_flight;        /* no load, no drag: bodies that leave the
                                window fly freely (window.c)                 */
     int quadratures;        /* walls or losses: CVODE integrates the wall
                                impulses and the dissipated energy           */
@@ -150,13 +150,31 @@ typedef struct taper_pulse {
     int arm_all;
 } taper_pulse;
 
-/* Granules that left the window: x_j(t) = x_free[j] + v_free[j] t;
+/* Granules that left the window fly freely: x_j(t) = x_free[j] +
+ * v_free[j] t.  Under drag (t_free != NULL) they fly as m dv/dt = -drag v
+ * has it, from x_free[j] (the position then) at velocity v_free[j] at time
+ * t_free[j]: v_j(t) = v_free e^(-s / tau), x_j(t) = x_free + v_free tau
+ * (1 - e^(-s / tau)), s = t - t_free, tau = m_j / drag (taper_sim_flight).
  * gap_watch[j]: compression of the gap z_j above which granule j is taken
  * back while it is the last granule out (0: it left in exact free flight,
  * > 0: it left at rest within the tolerance, see window.c). */
 typedef struct taper_out {
     double *x_free, *v_free, *gap_watch;
-    double energy_free, momentum_free;
+    double *t_free;         /* departure times (drag only, else NULL)       */
+    /* Drag only: the dissipation quadrature hands a departed granule's
+     * drag loss over to its flight's closed form smoothly, from
+     * hand_start[j] (the end of the CVODE step it left in) over
+     * hand_length[j] (sim.c, "handover"); handing: the granules whose
+     * handover is under way, n_handing of them (room for handing_size). */
+    double *hand_start, *hand_length;
+    size_t *handing, n_handing, handing_size;
+    double energy_free, momentum_free; /* at departure                      */
+    double dissipated_recalled; /* drag's work on granules out of the window
+                               that the quadrature does not hold, for those
+                               taken back since (taper_sim_dissipated_out)  */
+    double quiet_after;     /* drag: from this time on every granule out
+                               moves slower than the absorbed pulse's bound
+                               (solve.c, absorbed_by_drag)                   */
     long left_resting;      /* granules that left at rest within tolerance  */
 } taper_out;
 
@@ -232,8 +250,17 @@ void taper_sim_log(const taper_sim *sim, int level, const char *fmt, ...) TAPER_
 int taper_sim_move_window(taper_sim *sim, size_t lo, size_t hi, double v_left);
 
 /* Granule lo leaves the window, flying freely at its velocity from now on;
- * `watch` is the gap compression that takes it back (window.c). */
-void taper_sim_release_granule(taper_sim *sim, double watch, int at_rest);
+ * `watch` is the gap compression that takes it back (window.c).  t_step:
+ * CVODE's internal time, the end of the step that held the root (>=
+ * sim->t), up to which the quadratures hold the granule's drag loss; h_step:
+ * that step's size (the handover's time scale).  0, or -1 when out of
+ * memory (the granule stays in the window then). */
+int taper_sim_release_granule(taper_sim *sim, double watch, int at_rest, double t_step, double h_step);
+
+/* The part of the drag loss of departed granules that the dissipation
+ * quadrature still integrates at time t (the handover, sim.c): the
+ * right-hand side's extra term, 0 without drag. */
+double taper_sim_handover_power(const taper_sim *sim, double t);
 
 /* Granule lo-1 returns with its ballistic state (its gap closed).  The
  * Nordsieck history is then wrong for that component: the caller restarts
@@ -243,6 +270,14 @@ int taper_sim_recall_granule(taper_sim *sim);
 /* The state of every body at sim->t (caller-owned arrays of sim->n, either
  * may be NULL): the window, free flight behind it, rest ahead of it. */
 void taper_sim_bodies(const taper_sim *sim, double *x, double *v);
+
+/* Position and velocity at time t of body j < lo, out of the window (see
+ * taper_out); either pointer may be NULL. */
+void taper_sim_flight(const taper_sim *sim, size_t j, double t, double *x, double *v);
+
+/* Energy the drag has taken from the bodies while they were out of the
+ * window, up to sim->t (0 without drag).  O(N): for the end of the run. */
+double taper_sim_dissipated_out(const taper_sim *sim);
 
 /* ---- extended.c: the chain the sim integrates (a leaf) ------------------------- */
 /* 0, or -1 when out of memory (taper_model_release frees what was made). */

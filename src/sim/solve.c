@@ -52,9 +52,8 @@ static int rhs(double t, N_Vector y, N_Vector ydot, void *user)
  * keeps the plain right-hand side above. */
 static int rhs_general(double t, N_Vector y, N_Vector ydot, void *user)
 {
-    (void)t;
     const taper_sim *sim = user;
-    taper_dyn_rhs_general(&sim->dyn, taper_sim_data(sim, y), taper_sim_data(sim, ydot));
+    taper_dyn_rhs_general(&sim->dyn, t, taper_sim_data(sim, y), taper_sim_data(sim, ydot));
     return 0;
 }
 
@@ -71,11 +70,13 @@ static double *quadrature_entries(const taper_sim *sim, N_Vector v)
 
 static int rhs_quadratures(double t, N_Vector y, N_Vector ydot, void *user)
 {
-    (void)t;
     const taper_sim *sim = user;
     const double *yy = taper_sim_data(sim, y);
-    taper_dyn_rhs_general(&sim->dyn, yy, taper_sim_data(sim, ydot));
-    taper_dyn_quadrature_rhs(&sim->dyn, yy, quadrature_entries(sim, ydot));
+    taper_dyn_rhs_general(&sim->dyn, t, yy, taper_sim_data(sim, ydot));
+    double *q = quadrature_entries(sim, ydot);
+    taper_dyn_quadrature_rhs(&sim->dyn, yy, q);
+    /* departed granules' drag loss, fading out of the quadrature (sim.c) */
+    if (sim->out.n_handing) q[TAPER_QUAD_DISSIPATED] += taper_sim_handover_power(sim, t);
     return 0;
 }
 
@@ -211,13 +212,7 @@ static int make_state(taper_sim *sim)
          * n = 2 at any rtol (the whole chain: 2.5e-9 and 1.6e-9 at rtol
          * 1e-12).  Under a load the same holds for the linear K h^2 / 2. */
         const size_t i0 = sim->model.impulse;
-        size_t hi = i0 < sim->n ? i0 + 1 : i0;
-        /* Damping: a contact starting to close pushes with r damping (n-1)
-         * z^(n-2) dz/dt, far above the r z^(n-1) the growth thresholds bound
-         * (at the first contact, the neglected impulse damping h^(n-1) was
-         * 1.5e-7 of a two-granule collision's restitution): every granule
-         * is in from the start (and none leaves: window.c). */
-        if (sim->model.damping > 0.0) hi = sim->n;
+        const size_t hi = i0 < sim->n ? i0 + 1 : i0;
         if (taper_sim_move_window(sim, 1, hi, 0.0) != 0) return -1;
     } else {
         cv->y = N_VNew_Serial((sunindextype)(2 * sim->n + extra), cv->ctx);
@@ -516,12 +511,18 @@ static taper_status grow(taper_sim *sim, taper_error *err)
     return TAPER_OK;
 }
 
-static void shrink(taper_sim *sim)
+static taper_status shrink(taper_sim *sim, taper_error *err)
 {
     const size_t lo = sim->dyn.lo;
-    for (taper_departure d; (d = taper_window_departure(sim)).kind != TAPER_STAYS;)
-        taper_sim_release_granule(sim, d.watch, d.kind == TAPER_LEAVES_AT_REST);
+    double tn = sim->t, h = 0.0;
+    CVodeGetCurrentTime(sim->cv.mem, &tn);
+    CVodeGetLastStep(sim->cv.mem, &h);
+    taper_status status = TAPER_OK;
+    for (taper_departure d; !status && (d = taper_window_departure(sim)).kind != TAPER_STAYS;)
+        if (taper_sim_release_granule(sim, d.watch, d.kind == TAPER_LEAVES_AT_REST, tn, h) != 0)
+            status = taper_fail(err, TAPER_ENOMEM, "cannot allocate the drag's handovers");
     if (sim->dyn.lo != lo) window_changed(sim);
+    return status;
 }
 
 /* ---- the piston's stop ------------------------------------------------------ */
@@ -642,8 +643,8 @@ static taper_status handle_roots(taper_sim *sim, taper_error *err)
     if (!status && plan.grow) status = grow(sim, err);
     if (!status && taper_events_fit_rings(sim)) status = (taper_status)init_roots(sim, err);
     if (!status && report.passed) {
-        if (plan.shrink) shrink(sim);
-        if (call_monitor(sim)) status = stop(sim, err, STOP_INTERRUPTED, 0);
+        if (plan.shrink) status = shrink(sim, err);
+        if (!status && call_monitor(sim)) status = stop(sim, err, STOP_INTERRUPTED, 0);
     }
     return status;
 }
@@ -743,10 +744,12 @@ static taper_status continue_to_end(taper_sim *sim, taper_error *err)
  * tolerance at the impulse's velocity, rtol v_1 + atol v_scale (v_1 = 1,
  * the impulse, striker or piston velocity of eq. (5)'s units): the run
  * ends there, complete, the passes it never reached NaN, and the log says
- * so.  Bodies outside the window never moved (under drag none leaves it). */
+ * so.  Bodies ahead of the window never moved; those behind it fly under
+ * drag and slow down on their own, and sim.c keeps the time after which
+ * every one of them is that slow (quiet_after). */
 static int absorbed_by_drag(const taper_sim *sim)
 {
-    if (!(sim->model.drag > 0.0) || sim->piston_moving) return 0;
+    if (!(sim->model.drag > 0.0) || sim->piston_moving || sim->t < sim->out.quiet_after) return 0;
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, sim->cv.y);
     /* from the front, where the pulse is: a moving run answers at once */
@@ -979,7 +982,9 @@ static void finish(taper_sim *sim, taper_status status)
     e += sim->out.energy_free;
     p += sim->out.momentum_free;
     for (size_t k = 1; y && k <= sim->n; k++) {
-        double v = k < d->lo ? sim->out.v_free[k - 1] : k <= d->hi ? taper_dyn_v(d, y, k) : 0.0;
+        double v = 0.0;
+        if (k < d->lo) taper_sim_flight(sim, k, sim->t, NULL, &v);
+        else if (k <= d->hi) v = taper_dyn_v(d, y, k);
         p_abs += sim->mass[k - 1] * fabs(v);
     }
     /* (a piston's run: budget.c replaces both with the work's balance) */

@@ -29,7 +29,11 @@
  * gaps on both sides of lo are open by more than z_eps and not closing
  * (v_{lo-1} <= v_lo <= v_{lo+1}).  Granule lo then moves at constant velocity
  * for ever unless the window pushes granule lo+1 back into it, which the gap
- * slot watches at compression 0 (gap_watch = 0): take-back is exact.
+ * slot watches at compression 0 (gap_watch = 0): take-back is exact.  Under
+ * drag it flies as m dv/dt = -drag v has it (sim.c, taper_sim_flight), and
+ * the gap behind must stay open for ever under both flights
+ * (drag_gap_stays_open); with Kuwabara-Kono damping open contacts push
+ * nothing, so the flight is free as without it.
  *
  * Criterion 2, at rest within the tolerance (monodisperse chains, the tails
  * of forward chains, the recoiling train of long backward chains): behind the
@@ -135,6 +139,37 @@ static void loaded_thresholds(const taper_sim *sim, double *grow_z)
     }
 }
 
+/* With Kuwabara-Kono damping a closing contact also pushes with r damping
+ * d(s^(n-1))/dt (s = delta + z), whose impulse integrates exactly: from
+ * rest to the time a compression z is reached it is r damping (s^(n-1) -
+ * delta^(n-1)), i.e. r damping z^(n-1) unloaded and damping K z to first
+ * order under a load (K the linear stiffness above; the clipping at zero
+ * force only lowers it).  The neglected contact's impulse is therefore
+ * bounded by bounding z: that impulse below 1e-40 of m v, the lighter
+ * granule's binary-collision momentum (eq. (9)).  The force itself is not
+ * small against the elastic one near contact onset (their ratio is damping
+ * (n-1) (dz/dt) / z, large while z grows from 0), but what the window
+ * neglects is the momentum it would have given granule hi+1, and that is
+ * this impulse plus the elastic one the other bounds hold.  Only ever
+ * lowers the thresholds; for damping below a unit time the per-unit-time
+ * bound is the lower one already. */
+static void damped_thresholds(const taper_sim *sim, double *grow_z)
+{
+    const double n = sim->exponent, damping = sim->model.damping;
+    for (size_t k = 1; k < sim->n; k++) {
+        const double r = sim->contact[k - 1];
+        const double momentum = 1e-40 * lighter(sim, k) * fmin(sim->v_scale[k - 1], sim->v_scale[k]);
+        double z;
+        if (sim->model.load > 0.0) {
+            const double delta = sim->model.delta[k - 1];
+            z = momentum / (damping * (n - 1.0) * r * pow(delta, n - 2.0));
+        } else {
+            z = pow(momentum / (damping * r), 1.0 / (n - 1.0));
+        }
+        if (z < grow_z[k - 1]) grow_z[k - 1] = fmax(z, GROW_FLOOR);
+    }
+}
+
 void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
 {
     const double power = 1.0 / (sim->exponent - 1.0);
@@ -156,6 +191,7 @@ void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
      * grew 10^4-fold) and CVODE failed there (flag -4).  A window of two
      * bodies has neither: its error estimate follows the first contact. */
     if (sim->model.load > 0.0) loaded_thresholds(sim, grow_z);
+    if (sim->model.damping > 0.0) damped_thresholds(sim, grow_z);
     grow_z[sim->n - 1] = INFINITY; /* nothing beyond the last granule */
 }
 
@@ -190,15 +226,43 @@ static double resting_compression(const taper_sim *sim, size_t j, double z_eps)
     return fmin(z_eps, fmax(unit, z_force));
 }
 
+/* How far body k still flies under drag at velocity v: v m_k / drag
+ * (taper_sim_flight); a wall (inverse mass 0) rests. */
+static double drag_reach(const taper_sim *sim, size_t k, double v)
+{
+    const double rate = sim->model.drag * sim->dyn.inv_mass[k - 1];
+    return v != 0.0 && rate > 0.0 ? v / rate : 0.0;
+}
+
+/* Under drag both granules of the gap behind j fly as v e^(-s/tau) once j
+ * leaves (tau = m / drag, different for different masses), so "not closing
+ * now" (v_back <= v) is not "never closing": the lighter one stops sooner.
+ * The gap is z_back + a tau_a (1 - e^(-s/tau_a)) - b tau_b (1 - e^(-s/tau_b))
+ * (a = v_back, b = v); its rate a e^(-s/tau_a) - b e^(-s/tau_b) changes
+ * sign at most once, and from a - b <= 0 only upward, so the gap is
+ * largest at s = 0 or s = oo: it stays open for ever iff its limit
+ * z_back + a tau_a - b tau_b is open too.  Exact free flight again, as
+ * criterion 1 needs.  Without drag: always (constant velocities). */
+static int drag_gap_stays_open(const taper_sim *sim, size_t j, double z_back, double v_back, double v,
+                               double z_eps_back)
+{
+    if (!(sim->model.drag > 0.0) || j == 1) return 1;
+    return z_back + drag_reach(sim, j - 1, v_back) - drag_reach(sim, j, v) < -z_eps_back;
+}
+
 /* Whether granule lo may leave now, and how (criteria 1 and 2 above). */
 taper_departure taper_window_departure(const taper_sim *sim)
 {
     const taper_departure stays = {TAPER_STAYS, 0.0};
-    /* Under a load, damping or drag a granule behind the pulse is neither
-     * in free flight nor at rest in a way the gap slot can follow (its
-     * contacts keep pushing, drag keeps slowing it): none leaves, the
-     * window only grows (exact, at the cost of integrating the chain
-     * behind the pulse). */
+    /* Under a load a granule behind the pulse is neither in free flight
+     * nor at rest in a way the gap slot can follow (its contacts keep
+     * pushing about the loaded equilibrium): none leaves, the window only
+     * grows (exact, at the cost of integrating the chain behind the
+     * pulse).  Kuwabara-Kono damping never pulls, so with open contacts a
+     * granule flies freely and both criteria hold as for the paper's
+     * chain; the damping part of a compression left at rest (criterion 2)
+     * has the impulse r damping z^(n-1) while it closes, a fixed multiple
+     * of the elastic force bound below. */
     if (!sim->cv.window || !sim->model.free_flight) return stays;
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, sim->cv.y);
@@ -210,14 +274,16 @@ taper_departure taper_window_departure(const taper_sim *sim)
     const double v = taper_dyn_v(d, y, j), v_next = taper_dyn_v(d, y, j + 1);
     const double z = taper_dyn_z(d, y, j);
     const double z_back = j > 1 ? y[0] : -INFINITY; /* gap z_{j-1} */
-    const double v_back = j > 1 ? d->v_left : -INFINITY;
+    const double v_back = j > 1 ? taper_dyn_v_left(d, sim->t) : -INFINITY;
     const double rtol = sim->spec.rtol, atol = sim->spec.atol;
     const double v_ref = sim->pulse.v_ref, z_ref = sim->pulse.z_ref;
     const double v_eps = REST_FACTOR * (rtol * fabs(v_ref) + atol * sim->v_scale[j - 1]);
     const double z_eps = REST_FACTOR * (rtol * fabs(z_ref) + atol * sim->z_scale[j - 1]);
     const double z_eps_back = j > 1 ? REST_FACTOR * (rtol * fabs(z_ref) + atol * sim->z_scale[j - 2]) : 0.0;
-    /* Criterion 1: gaps open beyond the tolerance's compression and not closing. */
-    if (z < -z_eps && v <= v_next && z_back < -z_eps_back && v_back <= v)
+    /* Criterion 1: gaps open beyond the tolerance's compression and not
+     * closing (under drag: not for ever, drag_gap_stays_open). */
+    if (z < -z_eps && v <= v_next && z_back < -z_eps_back && v_back <= v &&
+        drag_gap_stays_open(sim, j, z_back, v_back, v, z_eps_back))
         return (taper_departure){TAPER_LEAVES_FREE, 0.0};
     /* Criterion 2: at rest within the tolerance, relative to the granule
      * behind (which left before and flies freely; rest itself for j = 1),
