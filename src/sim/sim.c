@@ -276,6 +276,41 @@ static void advise_on_stiff_drag(const taper_sim *sim)
                       m->drag, m_min / m->drag, ratio, tau);
 }
 
+/* The pulse before the run: the body with the impulse (granule 1, or the
+ * striker) has its velocity peak at t = 0 and every body before it (a left
+ * wall) its events done; the walls have no impulse yet and no peak force
+ * (NaN until the pulse reaches one); the rings of pending events start at
+ * their fixed size. */
+static void pulse_init(taper_sim *sim)
+{
+    const taper_model *m = &sim->model;
+    taper_pulse *p = &sim->pulse;
+    const size_t i0 = m->impulse;
+    p->next_pass = i0;
+    p->next_peak = i0 + 1;
+    p->obs[TAPER_V_PEAK][i0 - 1] = 1.0; /* the impulse itself */
+    p->obs[TAPER_T_PEAK][i0 - 1] = 0.0;
+    p->v_ref = 1.0;
+    p->z_ref = 1.0;
+    for (size_t k = 1; k <= i0; k++) p->events[k - 1] |= TAPER_EV_PEAK | (k < i0 ? TAPER_EV_PASS : 0u);
+    for (int e = 0; e < TAPER_N_ENDS; e++) {
+        sim->walls.peak_force[e] = sim->walls.peak_time[e] = NAN;
+        sim->stats.wall_impulse[e] = NAN;
+    }
+    if (m->wall_left) sim->stats.wall_impulse[TAPER_LEFT] = 0.0;
+    if (m->wall_right) sim->stats.wall_impulse[TAPER_RIGHT] = 0.0;
+    p->pass_slots = TAPER_RING_SLOTS;
+    p->peak_slots = TAPER_RING_SLOTS;
+    /* Rings that grow need a precursor without crossings, as the Hertzian
+     * one (events.c); below n = 2 the force z^(n-1) is strong at tiny
+     * compressions and the precursor overtakes long before the pulse. */
+    p->arm_all = sim->exponent >= 2.0 && taper_sundials_roots_see_tiny_values();
+}
+
+/* The chain's own checks (taper_chain_alloc: damping needs n >= 2, ...) are
+ * done; here those of the solver settings against this chain, then the
+ * bodies, the result arrays, the theory and tolerance scales, and the
+ * time-resolution check, which needs the theory. */
 taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec, taper_error *err)
 {
     taper_solver_spec defaults;
@@ -289,79 +324,39 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
     }
     const size_t n = taper_chain_size(chain);
     if (check_spec(spec, n, err) != TAPER_OK) return NULL;
-    /* Kuwabara-Kono damping pushes with damping r (n-1) z^(n-2) dz/dt: for
-     * n < 2 that diverges as a contact closes (z -> 0 at dz/dt > 0), and
-     * CVODE cannot start (n = 3/2: flag -4 at t = 0). */
-    if (taper_chain_damping(chain) > 0.0 && taper_chain_exponent(chain) < 2.0) {
-        taper_fail_field(err, TAPER_EINVAL, "damping",
-                         "damping = %g with exponent n = %g: the Kuwabara-Kono force damping (n-1) "
-                         "z^(n-2) dz/dt diverges as a contact closes for n < 2; use n >= 2 or no "
-                         "damping",
-                         taper_chain_damping(chain), taper_chain_exponent(chain));
-        return NULL;
-    }
     taper_sim *sim = calloc(1, sizeof *sim);
     if (!sim) {
         taper_fail(err, TAPER_ENOMEM, "cannot allocate the simulation");
         return NULL;
     }
     sim->chain = chain;
+    sim->spec = *spec;
+    sim->exponent = taper_chain_exponent(chain);
     if (taper_model_init(&sim->model, chain) != 0) {
-        taper_sim_free(sim);
         taper_fail(err, TAPER_ENOMEM, "cannot allocate the bodies of %zu granules", n);
-        return NULL;
+        goto fail;
     }
     const taper_model *m = &sim->model;
     sim->n = m->bodies;
-    sim->exponent = taper_chain_exponent(chain);
     sim->mass = m->mass;
     sim->contact = m->contact;
     sim->rest = m->rest;
-    sim->spec = *spec;
     if (alloc_arrays(sim) != 0) {
-        taper_sim_free(sim);
         taper_fail(err, TAPER_ENOMEM, "cannot allocate results for %zu granules", n);
-        return NULL;
+        goto fail;
     }
-    if (theory_and_scales(sim, err) != TAPER_OK) {
-        taper_sim_free(sim);
-        return NULL;
-    }
+    if (theory_and_scales(sim, err) != TAPER_OK) goto fail;
     const size_t target = spec->last_granule ? spec->last_granule : n;
     sim->target = target + m->off;
     sim->pass_limit = (target < n ? target : n - 1) + m->off;
+    if (check_time_resolution(sim, err) != TAPER_OK) goto fail;
     advise_on_stiff_drag(sim);
-    if (check_time_resolution(sim, err) != TAPER_OK) {
-        taper_sim_free(sim);
-        return NULL;
-    }
-    taper_pulse *p = &sim->pulse;
-    /* The body with the impulse (granule 1, or the striker) peaks at t = 0;
-     * a left wall before it has no events. */
-    const size_t i0 = m->impulse;
-    p->next_pass = i0;
-    p->next_peak = i0 + 1;
-    p->obs[TAPER_V_PEAK][i0 - 1] = 1.0; /* the impulse itself */
-    p->obs[TAPER_T_PEAK][i0 - 1] = 0.0;
-    p->v_ref = 1.0;
-    p->z_ref = 1.0;
-    for (size_t k = 1; k <= i0; k++) p->events[k - 1] |= TAPER_EV_PEAK | (k < i0 ? TAPER_EV_PASS : 0u);
-    for (int e = 0; e < TAPER_N_ENDS; e++) {
-        sim->walls.peak_force[e] = sim->walls.peak_time[e] = NAN;
-        sim->stats.wall_impulse[e] = NAN;
-    }
-    /* a wall's impulse is 0 until the run; its peak force and time NaN
-     * until it has one (a wall the pulse never reached has none) */
-    if (m->wall_left) sim->stats.wall_impulse[TAPER_LEFT] = 0.0;
-    if (m->wall_right) sim->stats.wall_impulse[TAPER_RIGHT] = 0.0;
-    p->pass_slots = TAPER_RING_SLOTS;
-    p->peak_slots = TAPER_RING_SLOTS;
-    /* Rings that grow need a precursor without crossings, as the Hertzian
-     * one (events.c); below n = 2 the force z^(n-1) is strong at tiny
-     * compressions and the precursor overtakes long before the pulse. */
-    p->arm_all = sim->exponent >= 2.0 && taper_sundials_roots_see_tiny_values();
+    pulse_init(sim);
     taper_ok(err);
     return sim;
+fail:
+    taper_sim_free(sim);
+    return NULL;
 }
 
 void taper_sim_free(taper_sim *sim)
