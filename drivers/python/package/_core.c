@@ -2,7 +2,8 @@
  * _core.c -- the compiled half of the Python package `taper`: libtaper
  * through its public header (include/taper.h), written with the CPython C
  * API and the numpy C API.  The pure-Python half (__init__.py, result.py)
- * wraps what this returns into taper.Result objects.
+ * wraps what this returns into taper.Result objects; the module itself
+ * (its functions, exceptions and names) is defined in _module.c.
  *
  * simulate(), theory(), chain() and run_scene() are scenes of the driver's
  * scene module, built and read in _scene.c: the keyword arguments are the
@@ -30,10 +31,7 @@
  * Nothing is printed: the library's log messages (taper_solver_spec_set_log)
  * are collected and returned (level >= 1 as warnings).
  */
-#define TAPER_CORE_IMPORTS_NUMPY
 #include "_core.h"
-
-#include "_scene.h"
 
 #include <limits.h>
 #include <math.h>
@@ -648,46 +646,9 @@ fail:
     return NULL;
 }
 
-/* ---- module functions ------------------------------------------------------ */
+/* ---- module functions that are not scenes ------------------------------------ */
 
-static PyObject *py_simulate(PyObject *self, PyObject *args, PyObject *kwargs)
-{
-    (void)self;
-    return pyscene_call(PYSCENE_SIMULATE, args, kwargs);
-}
-
-static PyObject *py_theory(PyObject *self, PyObject *args, PyObject *kwargs)
-{
-    (void)self;
-    return pyscene_call(PYSCENE_THEORY, args, kwargs);
-}
-
-static PyObject *py_chain(PyObject *self, PyObject *args, PyObject *kwargs)
-{
-    (void)self;
-    return pyscene_call(PYSCENE_CHAIN, args, kwargs);
-}
-
-static PyObject *py_run_scene(PyObject *self, PyObject *arg)
-{
-    (void)self;
-    return pyscene_run_file(arg);
-}
-
-static PyObject *py_variables(PyObject *self, PyObject *unused)
-{
-    (void)self;
-    (void)unused;
-    return pyscene_variables();
-}
-
-static PyObject *py_scene_text(PyObject *self, PyObject *args)
-{
-    (void)self;
-    return pyscene_text(args);
-}
-
-static PyObject *py_collision_time(PyObject *self, PyObject *args, PyObject *kwargs)
+PyObject *core_collision_time(PyObject *self, PyObject *args, PyObject *kwargs)
 {
     (void)self;
     static char *kw[] = {"mu", "r", "zdot0", "n", NULL};
@@ -701,37 +662,7 @@ static PyObject *py_collision_time(PyObject *self, PyObject *args, PyObject *kwa
     return PyFloat_FromDouble(taper_theory_collision_time(x[0], x[1], x[2], x[3]));
 }
 
-static PyObject *names_tuple(const char *(*name)(int))
-{
-    PyObject *l = PyList_New(0);
-    if (!l) return NULL;
-    for (int i = 0; name(i); i++) {
-        PyObject *s = PyUnicode_FromString(name(i));
-        if (!s || PyList_Append(l, s) < 0) {
-            Py_XDECREF(s);
-            Py_DECREF(l);
-            return NULL;
-        }
-        Py_DECREF(s);
-    }
-    PyObject *t = PyList_AsTuple(l);
-    Py_DECREF(l);
-    return t;
-}
-
-static const char *profile_name_i(int i) { return taper_profile_name((taper_profile)i); }
-static const char *method_name_i(int i) { return taper_method_name((taper_method)i); }
-static const char *statistic_name_i(int i) { return taper_statistic_name((taper_statistic)i); }
-static const char *observable_name_i(int i) { return taper_observable_name((taper_observable)i); }
-static const char *quantity_name_i(int i)
-{
-    return taper_theory_quantity_name((taper_theory_quantity)i);
-}
-static const char *fit_model_name_i(int i) { return taper_fit_model_name((taper_fit_model)i); }
-static const char *boundary_name_i(int i) { return taper_boundary_name((taper_boundary)i); }
-static const char *disorder_name_i(int i) { return taper_disorder_name((taper_disorder)i); }
-
-static PyObject *py_version(PyObject *self, PyObject *unused)
+PyObject *core_version(PyObject *self, PyObject *unused)
 {
     (void)self;
     (void)unused;
@@ -739,7 +670,7 @@ static PyObject *py_version(PyObject *self, PyObject *unused)
 }
 
 /* status identifier -> (code, taper_strerror text), for read_granules. */
-static PyObject *py_statuses(PyObject *self, PyObject *unused)
+PyObject *core_statuses(PyObject *self, PyObject *unused)
 {
     (void)self;
     (void)unused;
@@ -778,7 +709,7 @@ static int enum_from_name(const char *(*name)(int), const char *what, PyObject *
     return -1;
 }
 
-static const char *law_name_i(int i) { return taper_law_name((taper_law)i); }
+const char *core_law_name_i(int i) { return taper_law_name((taper_law)i); }
 
 /* The functions of taper.h's "Asymptotic laws" by their suffix, with the
  * names of their arguments (for TypeErrors).  Each returns NaN outside its
@@ -805,7 +736,7 @@ static const asym_fn asym_fns[] = {
 };
 
 /* asymptotic(name, x[, n]) -> float: taper_asymptotic_<name>(x[, n]). */
-static PyObject *py_asymptotic(PyObject *self, PyObject *args)
+PyObject *core_asymptotic(PyObject *self, PyObject *args)
 {
     (void)self;
     const char *name;
@@ -829,14 +760,14 @@ static PyObject *py_asymptotic(PyObject *self, PyObject *args)
 
 /* asymptotic_exponent(law, n) -> float: taper_asymptotic_exponent, the law
  * given by its taper_law_name. */
-static PyObject *py_asymptotic_exponent(PyObject *self, PyObject *args)
+PyObject *core_asymptotic_exponent(PyObject *self, PyObject *args)
 {
     (void)self;
     PyObject *law, *n_obj;
     int code;
     double n;
     if (!PyArg_ParseTuple(args, "OO:exponent", &law, &n_obj)) return NULL;
-    if (enum_from_name(law_name_i, "law", law, &code) < 0) return NULL;
+    if (enum_from_name(core_law_name_i, "law", law, &code) < 0) return NULL;
     if (core_get_real("n", n_obj, &n) < 0) return NULL;
     return PyFloat_FromDouble(taper_asymptotic_exponent((taper_law)code, n));
 }
@@ -910,7 +841,7 @@ static int fit_settings(taper_fit_spec *spec, PyObject *exponent, PyObject *inde
 /* fit(x, y, *, model, exponent, index_window, x_window, skip_invalid,
  * max_iter, xtol) -> dict: taper_fit with each keyword passed to the fit
  * setter of its name. */
-static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kwargs)
+PyObject *core_fit(PyObject *self, PyObject *args, PyObject *kwargs)
 {
     (void)self;
     static char *kw[] = {"x", "y", "model", "exponent", "index_window", "x_window",
@@ -988,84 +919,4 @@ done:
     Py_DECREF(x);
     Py_DECREF(y);
     return out;
-}
-
-static PyMethodDef methods[] = {
-    {"simulate", (PyCFunction)(void (*)(void))py_simulate, METH_VARARGS | METH_KEYWORDS,
-     "simulate(**variables) -> dict: the scene of the keywords, validated; its chain "
-     "integrated (GIL released); columns, statistics, samples and status in its units."},
-    {"theory", (PyCFunction)(void (*)(void))py_theory, METH_VARARGS | METH_KEYWORDS,
-     "theory(**variables) -> dict: the scene with numerics = .false.: the binary collision "
-     "columns alone."},
-    {"chain", (PyCFunction)(void (*)(void))py_chain, METH_VARARGS | METH_KEYWORDS,
-     "chain(**variables) -> dict: the scene's chain: columns k R m X0 r mu, no theory times, "
-     "no integration."},
-    {"run_scene", py_run_scene, METH_O,
-     "run_scene(path) -> list of dict: the scene read by the driver's reader, one run per "
-     "point of its sweep."},
-    {"variables", py_variables, METH_NOARGS,
-     "variables() -> tuple of dict: every scene variable (the keywords), from the scene's "
-     "table."},
-    {"scene_text", py_scene_text, METH_VARARGS,
-     "scene_text(scene, point) -> str: the resolved scene of a result, as a namelist (the "
-     "driver's echo)."},
-    {"collision_time", (PyCFunction)(void (*)(void))py_collision_time, METH_VARARGS | METH_KEYWORDS,
-     "collision_time(mu, r, zdot0, n=2.5) -> float: residence time of one binary collision, "
-     "eq. (18)."},
-    {"asymptotic", py_asymptotic, METH_VARARGS,
-     "asymptotic(name, x[, n]) -> float: taper_asymptotic_<name>."},
-    {"asymptotic_exponent", py_asymptotic_exponent, METH_VARARGS,
-     "asymptotic_exponent(law, n) -> float: the exponent of a law named as in LAWS."},
-    {"fit", (PyCFunction)(void (*)(void))py_fit, METH_VARARGS | METH_KEYWORDS,
-     "fit(x, y, *, model, exponent, index_window, x_window, skip_invalid, max_iter, xtol) -> "
-     "dict: taper_fit, each keyword passed to the fit setter of its name."},
-    {"version", py_version, METH_NOARGS, "version() -> str: the version of libtaper linked in."},
-    {"statuses", py_statuses, METH_NOARGS, "{identifier: (code, description)} of taper_status."},
-    {NULL, NULL, 0, NULL}};
-
-static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "taper._core",
-                                    "libtaper, compiled in (see the package taper).", -1, methods,
-                                    NULL, NULL, NULL, NULL};
-
-PyMODINIT_FUNC PyInit__core(void)
-{
-    import_array();
-    PyObject *m = PyModule_Create(&module);
-    if (!m) return NULL;
-    core_TaperError = PyErr_NewExceptionWithDoc(
-        "taper.TaperError",
-        "A libtaper failure: .status (identifier), .field (the argument at fault, or None), "
-        ".message (the library's message).",
-        NULL, NULL);
-    PyObject *bases = core_TaperError ? PyTuple_Pack(2, core_TaperError, PyExc_ValueError) : NULL;
-    if (bases) {
-        core_InvalidArgumentError = PyErr_NewExceptionWithDoc(
-            "taper.InvalidArgumentError",
-            "A value the scene or the library refused; .field names the keyword (the scene "
-            "variable), .message is the scene's or the library's message.",
-            bases, NULL);
-        core_SceneError = PyErr_NewExceptionWithDoc(
-            "taper.SceneError", "A scene file the driver's reader rejects (its diagnostics).",
-            bases, NULL);
-        Py_DECREF(bases);
-    }
-    if (!core_TaperError || !core_InvalidArgumentError || !core_SceneError ||
-        PyModule_AddObject(m, "TaperError", Py_NewRef(core_TaperError)) < 0 ||
-        PyModule_AddObject(m, "InvalidArgumentError", Py_NewRef(core_InvalidArgumentError)) < 0 ||
-        PyModule_AddObject(m, "SceneError", Py_NewRef(core_SceneError)) < 0 ||
-        PyModule_AddObject(m, "PROFILES", names_tuple(profile_name_i)) < 0 ||
-        PyModule_AddObject(m, "METHODS", names_tuple(method_name_i)) < 0 ||
-        PyModule_AddObject(m, "STATISTICS", names_tuple(statistic_name_i)) < 0 ||
-        PyModule_AddObject(m, "OBSERVABLES", names_tuple(observable_name_i)) < 0 ||
-        PyModule_AddObject(m, "THEORY_QUANTITIES", names_tuple(quantity_name_i)) < 0 ||
-        PyModule_AddObject(m, "LAWS", names_tuple(law_name_i)) < 0 ||
-        PyModule_AddObject(m, "FIT_MODELS", names_tuple(fit_model_name_i)) < 0 ||
-        PyModule_AddObject(m, "BOUNDARIES", names_tuple(boundary_name_i)) < 0 ||
-        PyModule_AddObject(m, "DISORDERS", names_tuple(disorder_name_i)) < 0 ||
-        PyModule_AddObject(m, "COLUMNS", pyscene_columns(0)) < 0 ||
-        PyModule_AddObject(m, "THEORY_COLUMNS", pyscene_columns(1)) < 0) {
-        Py_DECREF(m);
-        return NULL;
-    }
-    return m;
 }

@@ -1,10 +1,11 @@
 /*
- * _core.h -- what the two C files of the extension share: _core.c (the
- * module, libtaper's runs, fits and laws) and _scene.c (the driver's scene
- * module: keywords, validation, units, settings).
+ * _core.h -- what _core.c (libtaper's runs, fits and laws; the exceptions;
+ * Python values in and out) gives the other C files of the extension:
+ * _scene.c (the driver's scene module: keywords, validation, units,
+ * settings) and _module.c (the module's table and init).
  *
- * Both use the numpy C API: one table of its functions, imported once by
- * PyInit__core (_core.c defines TAPER_CORE_IMPORTS_NUMPY).
+ * All use the numpy C API: one table of its functions, imported once by
+ * PyInit__core (_module.c defines TAPER_CORE_IMPORTS_NUMPY).
  */
 #ifndef TAPER_PY_CORE_H
 #define TAPER_PY_CORE_H
@@ -80,5 +81,14 @@ PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
 /* The chain of cs alone: "columns" {k R m X0 r mu}, "profile", "exponent",
  * "theory_note", "striker_mass", in the library's units. */
 PyObject *core_chain(const taper_chain_spec *cs);
+
+/* The module's functions that are not scenes (_module.c's table). */
+PyObject *core_collision_time(PyObject *self, PyObject *args, PyObject *kwargs);
+PyObject *core_version(PyObject *self, PyObject *unused);
+PyObject *core_statuses(PyObject *self, PyObject *unused);
+PyObject *core_asymptotic(PyObject *self, PyObject *args);
+PyObject *core_asymptotic_exponent(PyObject *self, PyObject *args);
+PyObject *core_fit(PyObject *self, PyObject *args, PyObject *kwargs);
+const char *core_law_name_i(int i); /* taper_law_name by int, for LAWS */
 
 #endif
