@@ -1,7 +1,7 @@
 /*
  * gen_namelists.c OUT -- writes the Fortran module taper_nml_scene
  * (taper_nml_scene.f90) for the variables of a scene, from the scene's
- * table (drivers/taper/scene/scene.c: scene_var_count, scene_var_*) and the
+ * table (drivers/scenes/scene/scene.c: scene_var_count, scene_var_*) and the
  * library's table of settings (taper_setting_find), so that the Fortran
  * scene driver taper_nml follows every variable the scene has without a
  * hand edit: the derived type scene_values, one component per variable

@@ -18,7 +18,7 @@
 ! NAMELIST and READ, the defaults of the scene's own variables, the checks
 ! of what READ gave, --dump and the calls that hand each chain and solver
 ! value to the library are generated at build time from the scene's table
-! (drivers/taper/scene/scene.c) and the library's table of settings by
+! (drivers/scenes/scene/scene.c) and the library's table of settings by
 ! gen_namelists.c, as the module taper_nml_scene: a new setting of the
 ! library is a new variable of taper_nml at the next build.  What is
 ! written here is the scene's own rules (a radii file, the piston's 'push'
@@ -176,7 +176,7 @@ contains
          was_given("radius") .or. was_given("velocity")
   end function material_on
 
-  ! &chain radii_file as the C parser reads it (drivers/taper/scene/
+  ! &chain radii_file as the C parser reads it (drivers/scenes/scene/
   ! scene_physics.c): custom profile only, not with inline radii; the path
   ! relative to the scene file's folder, made absolute; one radius per line,
   ! blank lines and '#' comments skipped, every radius finite and > 0, the

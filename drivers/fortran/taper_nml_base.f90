@@ -14,7 +14,7 @@ module taper_nml_base
   use taper
   implicit none
 
-  ! MAX_LIST: SCENE_MAX_LIST of the C parser (drivers/taper/scene/scene_impl.h),
+  ! MAX_LIST: SCENE_MAX_LIST of the C parser (drivers/scenes/scene/scene_impl.h),
   ! the values of one list; MAX_SWEEP: the values of one sweep here.
   integer, parameter :: MAX_SWEEP = 1000, MAX_LIST = 250000, LEN_STR = 1024
   ! SCENE_MAX_FILE of the C parser
@@ -361,7 +361,7 @@ contains
     end do
   end function lower
 
-  ! out/NAME for scene file .../NAME.nml (drivers/taper/scene/scene_new.c: derived_dir).
+  ! out/NAME for scene file .../NAME.nml (drivers/scenes/scene/scene_new.c: derived_dir).
   function default_dir(file) result(d)
     character(len=*), intent(in) :: file
     character(len=LEN_STR) :: d

@@ -18,7 +18,7 @@
  *
  * Sweeps: `--part I/N` computes part I of N of a sweep's runs (a job array;
  * the same command without it merges them), and `mpirun -np K taper ...`
- * spreads the runs over K ranks when taper is built with MPI (run/mpi.h,
+ * spreads the runs over K ranks when taper is built with MPI (sweep_mpi.h,
  * docs/cluster.md).
  */
 #include "run/run.h"
@@ -33,7 +33,7 @@
 #include <string.h>
 
 #ifdef TAPER_MPI
-#include "run/mpi.h" /* mpirun -np K taper SCENE.nml: a sweep's runs on K ranks */
+#include "sweep_mpi.h" /* mpirun -np K taper SCENE.nml: a sweep's runs on K ranks */
 #endif
 
 static const char usage[] =

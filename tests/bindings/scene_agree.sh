@@ -8,7 +8,7 @@
 # &chain's pattern, disorder, seed (a list: its first), load and radii_file
 # (resolved against the scene's folder, its radii read) of the physics scenes.
 # Also checks that both list the same variables, so a variable (or a group)
-# added to drivers/taper/scene/scene.c's table without the Fortran driver learning it fails
+# added to drivers/scenes/scene/scene.c's table without the Fortran driver learning it fails
 # here.
 set -eu
 fortran=$1

@@ -1,5 +1,5 @@
 /*
- * test_number.c -- number_shortest (drivers/taper/util/number.c) writes
+ * test_number.c -- number_shortest (drivers/scenes/util/number.c) writes
  * every double as the shortest text that reads back to it, the nearest of
  * that length, in %.17g's style.  Checked number by number against a slow
  * reference (printf with growing precision, strtod) over random bit

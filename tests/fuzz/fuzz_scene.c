@@ -1,6 +1,6 @@
 /*
  * fuzz_scene.c -- libFuzzer harness for the scene parser and validation
- * (drivers/taper/scene/scene*.c), and for what a valid scene feeds into the library.
+ * (drivers/scenes/scene/scene*.c), and for what a valid scene feeds into the library.
  *
  * For every input:
  *   1. scene_parse: any bytes; errors must come with a message.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""layering.py SOURCE_DIR -- the architecture rules of issue 12, checked on
+"""layering.py SOURCE_DIR -- the architecture rules, checked on
 every #include of the tree, so that a change that breaks them fails a test
 instead of waiting for a reviewer:
 
@@ -18,9 +18,12 @@ instead of waiting for a reviewer:
 6. No program under src/: the only C files there that define main are the
    bindings' build-time generators (gen_*.c, compiled for the build machine,
    never installed), and no Fortran file there is a PROGRAM.
+7. drivers/scenes, the scenes' library that the programs and the Python
+   package build on, includes nothing of theirs: only its own headers and
+   taper.h.
 
 Quoted includes are resolved as the build does: the including file's folder,
-then src/, drivers/taper, drivers/bench, tests/ (the include roots of the
+then src/, drivers/scenes, drivers/taper, drivers/bench, tests/ (the include roots of the
 meson.build files)."""
 
 import os
@@ -29,7 +32,7 @@ import sys
 
 root = sys.argv[1] if len(sys.argv) > 1 else "."
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
-ROOTS = ["src", "drivers/taper", "drivers/bench", "tests", "include"]
+ROOTS = ["src", "drivers/scenes", "drivers/taper", "drivers/bench", "tests", "include"]
 PARTS = ["src/core", "src/settings", "src/chain", "src/sim", "src/analysis"]
 SHARED = {"src/settings/specs.h"}
 PRIVATE = re.compile(r"(_impl\.h$|^src/sim/sim\.h$)")
@@ -76,6 +79,8 @@ for path in sorted(sources()):
             problems.append(f"{path}: includes {target}, private to {there}")
         if path.startswith("src/") and not target.startswith("src/"):
             problems.append(f"{path}: includes {target}, outside the library's tree")
+        if path.startswith("drivers/scenes/") and not target.startswith("drivers/scenes/"):
+            problems.append(f"{path}: includes {target}, a caller of the scenes' library")
 
 # Programs: none in the library's tree but the bindings' build-time generators.
 for path in sorted(sources((".c", ".f90", ".F90"), ("src",))):

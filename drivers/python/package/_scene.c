@@ -1,6 +1,6 @@
 /*
  * _scene.c -- every call of the package that runs a chain is a scene of the
- * driver's scene module (drivers/taper/scene/scene.h): the same variables,
+ * driver's scene module (drivers/scenes/scene/scene.h): the same variables,
  * defaults, validation and messages as `taper SCENE.nml`.
  *
  * Keywords: a keyword is a scene variable's one name (scene_var_keyword_at:

@@ -1,7 +1,7 @@
 /*
  * _scene.h -- the Python package's scenes (_scene.c): where the extension
- * meets the driver's scene module (drivers/taper/scene, linked in from the
- * static library taper_app).  simulate(), theory() and chain() build a
+ * meets the driver's scene module (drivers/scenes/scene, linked in from the
+ * static library taper_scenes).  simulate(), theory() and chain() build a
  * scene from their keywords, run_scene() reads one from a file; either is
  * validated by the driver's reader and its points run by core_run
  * (_core.c), the results converted to the scene's units.

@@ -10,7 +10,7 @@
  * Open MPI, it spins, keeping a core busy all the time it waits, and MPI
  * has no call that waits for a message and for anything else at once.  The bell carries no data: the messages stay MPI
  * messages, and a rank whose bell cannot be set up (no TCP route to rank
- * 0) is served by polling instead (run/mpi.c).
+ * 0) is served by polling instead (drivers/taper/sweep_mpi.c).
  *
  * Not part of libtaper: compiled into the taper executable with MPI only.
  */

@@ -1,5 +1,5 @@
 /*
- * mpi.h -- the runs of a sweep on MPI ranks (taper built with -Dmpi, run
+ * sweep_mpi.h -- the runs of a sweep on MPI ranks (taper built with -Dmpi, run
  * under mpirun).  Rank 0 reads the scene, echoes it, prepares the output
  * directory and hands out runs, the dearest first, as ranks ask for work;
  * every rank, rank 0 included, computes runs on its threads and writes
@@ -11,8 +11,8 @@
  *
  * Not part of libtaper: compiled into the taper executable only.
  */
-#ifndef TAPER_MPI_H
-#define TAPER_MPI_H
+#ifndef TAPER_SWEEP_MPI_H
+#define TAPER_SWEEP_MPI_H
 
 #include "scene/scene.h"
 

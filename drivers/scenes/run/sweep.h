@@ -1,7 +1,7 @@
 /*
  * sweep.h -- the runs of a sweep (a scene whose variables take lists):
  * one directory per run, DIR/NAME=VALUE[,NAME=VALUE...] (scene_point_name),
- * computed on threads and, under MPI, on other ranks (run/mpi.c), the
+ * computed on threads and, under MPI, on other ranks (drivers/taper/sweep_mpi.c), the
  * dearest first (run/sweep_queue.h); DIR/sweep.tsv, DIR/runs.tsv, fits,
  * table and figure from the runs' files (run/sweep_report.h).
  *

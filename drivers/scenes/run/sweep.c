@@ -6,7 +6,7 @@
  * chains holds one chain per worker in memory.  The main thread prints
  * each run's messages in the order of the sweep as soon as the runs before
  * it are done (run/sweep_print.c), sleeping in between until a run is done;
- * other ranks are served by a thread of their own (run/mpi.c).  At the end
+ * other ranks are served by a thread of their own (drivers/taper/sweep_mpi.c).  At the end
  * sweep.tsv and the reports are built from the runs' files
  * (run/sweep_report.c), so that the results do not depend on where a run
  * was computed, or when.

@@ -41,7 +41,7 @@ void run_install_signals(void);
 /* The number of the first such signal received, 0 if none. */
 int run_interrupted(void);
 /* Stops the runs as that signal does: signal sig received by MPI rank
- * `rank` (run/mpi.c), which stops the whole sweep. */
+ * `rank` (drivers/taper/sweep_mpi.c), which stops the whole sweep. */
 void run_interrupt(int sig, int rank);
 /* Process pid (named `name`) launched this one and stops it on the user's
  * behalf: mpirun sends SIGTERM to every rank when it gets Ctrl-C, SIGINT,

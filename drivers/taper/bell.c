@@ -8,7 +8,7 @@
  * rank that cannot reach rank 0 in time goes without a bell.
  */
 #define _DEFAULT_SOURCE /* getifaddrs' IFF_ flags, SOCK_CLOEXEC */
-#include "run/bell.h"
+#include "bell.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -1,5 +1,5 @@
 /*
- * mpi.c -- the runs of a sweep on MPI ranks (mpi.h).
+ * sweep_mpi.c -- the runs of a sweep on MPI ranks (sweep_mpi.h).
  *
  * Protocol (MPI_COMM_WORLD, rank 0 the master):
  *   worker -> 0  TAG_REQUEST  a thread of the worker is idle
@@ -23,7 +23,7 @@
  * exchange.
  *
  * Waiting: MPI has no call that sleeps until a message comes (Open MPI's
- * blocking calls spin), so each worker rings rank 0's bell (run/bell.h)
+ * blocking calls spin), so each worker rings rank 0's bell (bell.h)
  * before each message it sends, and rank 0's server sleeps in poll() until
  * one rings.  Rank 0 counts the rings and the messages of each rank: a
  * message rung for but not yet arrived is waited for in short naps.
@@ -37,9 +37,9 @@
  * (granules.tsv, scene.hash) and as the text the run printed; a rank that
  * dies loses its runs in progress, which the same command redoes (resume).
  */
-#include "run/mpi.h"
+#include "sweep_mpi.h"
 
-#include "run/bell.h"
+#include "bell.h"
 #include "run/run.h"
 #include "run/sweep.h"
 #include "run/sweep_resume.h"
