@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""goal.py -- issue 14's goal benchmark in one command.
+"""goal.py -- the speed goal's benchmark in one command.
 
     python3 drivers/bench/goal.py BUILD_DIR [--ref TAPER] [--repeats R] [--n N]
                                   [--accuracy] [--big] [--keep DIR]

@@ -16,7 +16,7 @@
  *   orders.tsv           observed order: slope of -log err against log steps
  *   pareto.tsv           the non-dominated (seconds, err_t_pass) points
  *   speed-ratios.tsv     time of each method to reach 1e-6, 1e-8, 1e-9, 1e-10, 1e-12
- *   scaling.tsv          default settings, N = 10^2 .. --scaling-max (10^4; 10^6 for issue 5)
+ *   scaling.tsv          default settings, N = 10^2 .. --scaling-max (10^4; 10^6 to check flat cost per granule)
  *   work-precision.gp    gnuplot script -> work-precision.png
  * Methods: adams (window, the default order; "default" is the shipped
  * setting of a fresh taper_solver_spec_alloc), adams-nowin (whole chain), adams-q4,
@@ -621,7 +621,7 @@ static double peak_rss_mb(void)
     return getrusage(RUSAGE_SELF, &ru) == 0 ? (double)ru.ru_maxrss / 1024.0 : NAN;
 }
 
-/* Time per granule against N (issue 5): the three chains whose cost per
+/* Time per granule against N: the three chains whose cost per
  * granule should be flat.  Wall and CPU time, medians of `reps` runs (runs
  * over 60 s: one).  The backward exponential chain stops where its masses
  * leave double precision (q = 0.05: granule 4490; the chain module says so). */

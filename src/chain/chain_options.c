@@ -122,8 +122,8 @@ taper_status chain_options_check(const taper_chain_spec *spec, taper_error *err)
                                 "remove the piston");
     /* The Kuwabara-Kono force damping r (n-1) z^(n-2) dz/dt diverges as a
      * contact closes when n < 2 (z^(n-2) -> oo at z -> 0+): no finite force
-     * law to integrate.  Refused here, before any run (issue 18: refuse
-     * before the run, naming what to change), as taper_sim_alloc does. */
+     * law to integrate.  Refused here, before any run, naming what to change, as
+     * taper_sim_alloc does. */
     if (spec->damping > 0.0 && spec->exponent < 2.0)
         return taper_fail_field(err, TAPER_EINVAL, "damping",
                                 "damping = %g with exponent n = %g: the Kuwabara-Kono force "

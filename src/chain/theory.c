@@ -10,7 +10,7 @@
  * Everything is computed in logarithms so that long exponential chains fail
  * with a named granule instead of overflowing in an intermediate product.
  *
- * The options of issue 15 (docs/physics.md, "Theory columns"): a striker is
+ * The options beyond the paper (docs/physics.md, "Theory columns"): a striker is
  * granule 0 of an extended chain, so the columns start from its collision
  * with granule 1 (v_1 = 2 m_s / (m_s + m_1), t_k includes that collision's
  * residence time); materials and disorder only change m_k and r_k, which

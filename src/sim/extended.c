@@ -1,6 +1,6 @@
 /*
  * extended.c -- the chain the sim integrates: the chain's N granules with the
- * bodies the options of issue 15 put at its ends (taper.h, "Beyond the
+ * bodies the options beyond the paper put at its ends (taper.h, "Beyond the
  * paper").  A leaf of src/sim (layering in sim.h).
  *
  * Why extra bodies rather than special cases in every formula: a striker

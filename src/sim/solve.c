@@ -893,7 +893,7 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
  * the chain's end as a block and its last granule may be passed first; the
  * light end of a steep forward taper, small granules of decorated and mixed
  * chains too).  A negative "residence" would
- * read as a measurement; issue 18 found it in a partial file.  The counts
+ * read as a measurement (it did, in a partial file).  The counts
  * go to the log (report_untimed). */
 typedef struct residence_report {
     size_t unresolved, out_of_order;

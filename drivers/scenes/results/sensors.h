@@ -1,6 +1,6 @@
 /*
  * sensors.h -- what an experimenter's instruments read during a run
- * (&sensors, issue 15): time series recorded by the library's sampler
+ * (&sensors): time series recorded by the library's sampler
  * (taper_solver_spec_set_sampler) and written after the run:
  *
  *   DIR/sensors.tsv    t, granule, x, v, f_left, f_right, force of every

@@ -301,7 +301,7 @@ static void out_of_memory(scene *sc)
 }
 
 /* Sweeps of several variables whose every run breaks the relations are an
- * error of the scene (issue 18: refused before any run): the runs are
+ * error of the scene, refused before any run: the runs are
  * walked until one satisfies them, at most this many (a grid this large
  * whose first runs all break the relations is refused too). */
 #define RELATION_SCAN_MAX 100000

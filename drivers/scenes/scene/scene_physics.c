@@ -1,6 +1,6 @@
 /*
  * scene_physics.c -- the scene's own rules for the variables beyond the
- * paper (issue 15): the radii file of a measured chain, &material (real
+ * paper: the radii file of a measured chain, &material (real
  * units, mixed chains), &sensors and &output units.  The library's
  * settings among them (ends, striker, load, losses, disorder, pattern) are
  * checked by the library's setters (scene_lib.c); what is here only the
