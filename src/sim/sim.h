@@ -16,6 +16,9 @@
  *     |              (taper_departure), whether one must come back.
  *     |-> sample.c   the sampler: the next sample time, the user's call.
  *     |-> budget.c   the energy budget and the balances at the end.
+ *     |-> clock.c    CVODE's time: its clock's rounding summed exactly, and
+ *     |              a root located again on the step's interpolant (for
+ *     |              solve.c and events.c alike).
  *     v
  *   sim.c          the state: allocation (with the bodies of extended.c),
  *                  free, the theory and tolerance scales, the results'
@@ -194,7 +197,7 @@ typedef struct taper_cvode {
     size_t roots_size;
     N_Vector at_root;       /* the state at a refined root (events.c)       */
     /* CVODE's time drifts: it advances tn += h rounded to double, and at a
-     * fixed h each step rounds the same way (solve.c, track_time).  The
+     * fixed h each step rounds the same way (clock.c, taper_clock_track).  The
      * rounding errors summed exactly: true time = CVODE's time + t_shift. */
     double t_shift;
     double tn_seen;         /* CVODE's tn and step count when last tracked  */
@@ -301,7 +304,12 @@ void taper_budget_compute(taper_sim *sim, const double *q);
 /* The piston's work W(sim->t) from the quadratures q (NaN: no piston). */
 double taper_budget_piston_work(const taper_sim *sim, const double *q);
 
-/* ---- solve.c: time and roots for events.c ------------------------------------- */
+/* ---- clock.c: CVODE's time for solve.c and events.c ----------------------------- */
+/* Sums the rounding of CVODE's clock over the steps taken since the last
+ * call into taper_cvode.t_shift (solve.c calls it before every step and at
+ * each root return). */
+void taper_clock_track(taper_sim *sim);
+
 /* The true time of CVODE's time t: t plus the rounding drift of CVODE's
  * own clock summed so far (taper_cvode.t_shift). */
 double taper_sim_true_time(const taper_sim *sim, double t);

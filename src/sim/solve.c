@@ -106,46 +106,12 @@ static int jacobian(double t, N_Vector yv, N_Vector fy, SUNMatrix J, void *user,
     return 0;
 }
 
-/* ---- CVODE's clock -------------------------------------------------------- */
-/* CVODE advances its time by tn += h, rounded to double at every step.  At
- * a fixed h (the step band keeps h for thousands of steps, docs/design.md
- * "Defaults") and within a binade of t every step rounds by the same
- * amount, so the errors add up instead of averaging out: monodisperse
- * N = 1000 at rtol 1e-14 drifted by -1.2e-9 (1.1e-12 of t) over 90 000
- * steps, the floor of its pass times (docs/benchmarks.md, "Accuracy at
- * tight tolerances").  The state is not affected (the Nordsieck array is
- * scaled by h itself, and the equations do not depend on t), only the
- * time it is labelled with.  Each step's rounding error is recovered
- * exactly (Knuth's TwoSum of the previous tn and h) and summed into
- * t_shift; the error-weight function, which CVODE calls before every step,
- * and the root return call this.  A step whose tn is not tn + h (CVODE
- * clipped it to a stop time) only re-synchronises. */
-static void track_time(taper_sim *sim)
-{
-    taper_cvode *cv = &sim->cv;
-    long nst = 0;
-    double tn = 0.0, h = 0.0;
-    if (CVodeGetNumSteps(cv->mem, &nst) != CV_SUCCESS || nst == cv->nst_seen) return;
-    CVodeGetCurrentTime(cv->mem, &tn);
-    if (nst == cv->nst_seen + 1 && CVodeGetLastStep(cv->mem, &h) == CV_SUCCESS) {
-        const double a = cv->tn_seen, sum = a + h;
-        if (sum == tn) {
-            const double h_part = sum - a;
-            cv->t_shift += (a - (sum - h_part)) + (h - h_part);
-        }
-    }
-    cv->tn_seen = tn;
-    cv->nst_seen = nst;
-}
-
-double taper_sim_true_time(const taper_sim *sim, double t) { return t + sim->cv.t_shift; }
-
 /* Error weights 1 / (rtol |y_i| + atol scale_i) over the window, the scale
  * being the granule's pulse velocity or maximum compression (see sim.h). */
 static int error_weights(N_Vector yv, N_Vector wv, void *user)
 {
     taper_sim *sim = user;
-    track_time(sim);
+    taper_clock_track(sim);
     const taper_dyn *d = &sim->dyn;
     const double *y = taper_sim_data(sim, yv);
     double *w = taper_sim_data(sim, wv);
@@ -577,65 +543,10 @@ static int call_monitor(const taper_sim *sim)
     return sim->spec.monitor(&p, sim->spec.monitor_data);
 }
 
-/* CVODE's root finder (cvRootfind) stops once its bracket is below
- * ttol = 100 uround (|t| + |h|) and returns the end past the zero: at
- * t ~ 1000 that is 2e-14 of t, above what rtol 1e-14 gives.  The step's
- * own interpolant (CVodeGetDky, the same polynomial CVODE searched) is
- * searched again from a bracket of twice CVODE's tolerance, by the
- * Illinois method, down to two ulps of t.  A bracket without a sign change
- * (the zero at the step's start, a function CVODE saw change sign
- * elsewhere) keeps CVODE's answer. */
-#define ROOT_BRACKET (200.0 * DBL_EPSILON)
-#define ROOT_ITERATIONS 60
-/* Above this rtol the integration error of an event time (~10-100 rtol)
- * dwarfs CVODE's root tolerance, and the search (~10 interpolations per
- * event, 8 % of a default monodisperse run's instructions) buys nothing. */
-#define REFINE_BELOW_RTOL 1e-11
-
-static int sign_of(double g) { return g > 0.0 ? 1 : g < 0.0 ? -1 : 0; }
-
-double taper_sim_refine_root(taper_sim *sim, taper_root_value g, size_t k, const double **y)
-{
-    void *mem = sim->cv.mem;
-    N_Vector at = sim->cv.at_root;
-    double tn = sim->t, hu = 0.0;
-    if (!at || !(sim->spec.rtol < REFINE_BELOW_RTOL) || CVodeGetCurrentTime(mem, &tn) != CV_SUCCESS || CVodeGetLastStep(mem, &hu) != CV_SUCCESS)
-        return sim->t;
-    const double *data = taper_sim_data(sim, at);
-    double b = sim->t, gb = g(sim, *y, k);
-    double a = fmax(b - ROOT_BRACKET * (fabs(b) + fabs(hu)), tn - fabs(hu));
-    if (!(a < b) || CVodeGetDky(mem, a, 0, at) != CV_SUCCESS) return sim->t;
-    double ga = g(sim, data, k);
-    if (sign_of(ga) * sign_of(gb) >= 0) return sim->t;
-    int side = 0;
-    for (int i = 0; i < ROOT_ITERATIONS && b - a > 2.0 * DBL_EPSILON * fabs(b); i++) {
-        double c = b - gb * (b - a) / (gb - ga);
-        if (!(c > a && c < b)) c = 0.5 * (a + b);
-        if (!(c > a && c < b) || CVodeGetDky(mem, c, 0, at) != CV_SUCCESS) break;
-        double gc = g(sim, data, k);
-        if (gc == 0.0) {
-            b = c; /* an exact zero: the root */
-            break;
-        }
-        if (sign_of(gc) == sign_of(gb)) {
-            b = c, gb = gc;
-            if (side == 1) ga *= 0.5;
-            side = 1;
-        } else {
-            a = c, ga = gc;
-            if (side == -1) gb *= 0.5;
-            side = -1;
-        }
-    }
-    if (CVodeGetDky(mem, b, 0, at) != CV_SUCCESS) return sim->t;
-    *y = data;
-    return b;
-}
-
 static taper_status handle_roots(taper_sim *sim, taper_error *err)
 {
     if (CVodeGetRootInfo(sim->cv.mem, sim->cv.roots) < 0) return stop(sim, err, STOP_ROOT_INFO, 0);
-    track_time(sim); /* the step holding the root */
+    taper_clock_track(sim); /* the step holding the root */
     const taper_root_report report = taper_events_record(sim, sim->cv.roots);
     const taper_window_plan plan = taper_window_plan_for(sim, report);
     taper_status status = TAPER_OK;
