@@ -182,9 +182,10 @@ grep -q "^set ylabel 't \[rescaled time, eq. (5)\]'" run/damped/spacetime.gp || 
 grep -q "^set cblabel 'v \[m/s\]'" run/mixed_si/spacetime.gp || fail "mixed_si/spacetime.gp: velocity unit"
 
 # a mixed chain: each granule's mass from its material (PTFE 2200 kg/m^3
-# between steel 8000), sizes in metres (R = R_1 = 4.76 mm)
+# between steel 8000), sizes in metres (R = R_1 = 2.38 mm, the beads'
+# 4.76 mm diameter)
 awk -F '\t' 'NR == 1 || /^#/ { next }
-    { m[$1] = $3; if ($2 != 0.0047600000000000003 && $2 != 0.00476) bad = 1 }
+    { m[$1] = $3; if ($2 != 0.00238) bad = 1 }
     END {
         r = m[30] / m[10]
         if (bad || (r - 2200 / 8000) ^ 2 > 1e-28 || m[50] != m[10]) { print "R or masses: m10 " m[10] " m30 " m[30] " m50 " m[50]; exit 1 } }' \
