@@ -546,7 +546,7 @@ static void write_doc_outro(FILE *fp)
           "progress line shows its rate (forward_exponential q = 0.1, 100 granules, n = 3/2: "
           "2.5e7 steps, 76 s at the default tolerances; rtol 2e-11: 1e8 steps reach t = 0.9 of "
           "~26).  No refusal can be exact: the steps that chain takes to t = 1 change 4.6x when rtol "
-          "changes by 10 % (docs/robustness.md, \"Issue 18, session 8\").\n",
+          "changes by 10 % (docs/robustness.md, \"Below n = 2 on steep forward tapers\").\n",
           fp);
 }
 
