@@ -64,7 +64,7 @@ case " ${MESON_ARGS:-} " in
         fi
         if [ "$sundials" != bundled ]; then
             sundials=system
-            echo "setup: $reason: using the system SUNDIALS, built without optimisation, so runs take ~1.9x as long (monodisperse N = 1e5: 5.8 s instead of 3.0 s of CPU, docs/benchmarks.md, goal benchmark at 69b1456); rm -r $build_dir/sundials to retry" >&2
+            echo "setup: $reason: using the system SUNDIALS, built without optimisation, so runs take ~1.8x as long (1.8x the instructions on monodisperse N = 2000: docs/benchmarks.md, \"Debian's SUNDIALS is built without optimisation\"); rm -r $build_dir/sundials to retry" >&2
         fi
         ;;
 esac
