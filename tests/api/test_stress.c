@@ -22,7 +22,11 @@
  * marked KNOWN: they may stop (cleanly) or lose accuracy without failing
  * the suite; a KNOWN case that crashes, hangs or passes off NaN still fails.
  *
- *   test_stress             the quick matrix (suite 'stress', < 60 s)
+ *   test_stress             the quick matrix (test stress)
+ *   test_stress --drift     the energy bound against runs at a 100x looser
+ *                           tolerance, chains of up to 1000 granules
+ *                           (bound_catches_drift; test stress_drift, in the
+ *                           suite 'slow' too)
  *   test_stress --full      the long matrix of docs/robustness.md
  *                           (N up to 1e5; add --nmax N to cap it): the
  *                           documented range of every variable first
@@ -62,7 +66,7 @@
  * rtol plus 1e-9 for n >= 5/2, 10^(-9 + 4 (5/2 - n)) below (1e-7 at n = 2,
  * 1e-5 at n = 3/2).  2 rtol per granule is 3x the largest drift measured;
  * a run at a 100x looser tolerance drifts by 2-70 rtol (of the tighter
- * tolerance) per granule and fails it (bound_catches_drift, quick suite).
+ * tolerance) per granule and fails it (bound_catches_drift, --drift).
  *
  * BDF drifts more, and more the stiffer the contact: its drift per granule
  * was measured separately (the 2 rtol above is Adams's, calibrated on Adams
@@ -833,7 +837,6 @@ static void physics_quick(void);
 
 static void quick_matrix(void)
 {
-    bound_catches_drift();
     const taper_method A = TAPER_ADAMS;
     /* Parameter ranges at moderate N and the default tolerance. */
     const double S_values[] = {1e-4, 0.1, 1.0, 10.0};
@@ -1535,7 +1538,7 @@ static void full_matrix(size_t n_max)
 
 int main(int argc, char **argv)
 {
-    int full = 0, ranges_only = 0, physics_only = 0;
+    int full = 0, ranges_only = 0, physics_only = 0, drift = 0;
     size_t n_max = 100000;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--full") == 0) {
@@ -1548,10 +1551,12 @@ int main(int argc, char **argv)
             ranges_only = 1;
         } else if (strcmp(argv[i], "--physics-only") == 0) {
             physics_only = 1;
+        } else if (strcmp(argv[i], "--drift") == 0) {
+            drift = 1;
         } else if (strcmp(argv[i], "--quiet") == 0) {
             g_verbose = 0;
         } else {
-            fprintf(stderr, "usage: test_stress [--full [--ranges-only | --physics-only] [--nmin N] [--nmax N]] [--quiet]\n");
+            fprintf(stderr, "usage: test_stress [--drift | --full [--ranges-only | --physics-only] [--nmin N] [--nmax N]] [--quiet]\n");
             return 2;
         }
     }
@@ -1571,6 +1576,8 @@ int main(int argc, char **argv)
             full_ranges(n_max);
         else
             full_matrix(n_max);
+    } else if (drift) {
+        bound_catches_drift();
     } else {
         quick_matrix();
     }

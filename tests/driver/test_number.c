@@ -159,13 +159,25 @@ static void examples(void **unused)
     }
 }
 
-int main(void)
+/* `test_number` runs the examples, the edges and the fast path's range;
+ * `test_number --long` the 60000 random bit patterns against the slow
+ * reference (test number_long, in the suite 'slow' too:
+ * tests/driver/meson.build). */
+int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(examples),
         cmocka_unit_test(edges),
         cmocka_unit_test(fast_range),
+    };
+    const struct CMUnitTest long_tests[] = {
         cmocka_unit_test(random_doubles),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    if (argc == 2 && strcmp(argv[1], "--long") == 0)
+        return cmocka_run_group_tests_name("number_long", long_tests, NULL, NULL);
+    if (argc != 1) {
+        print_error("usage: test_number [--long]\n");
+        return 2;
+    }
+    return cmocka_run_group_tests_name("number", tests, NULL, NULL);
 }

@@ -163,14 +163,26 @@ static void pulse_leaves(void **state)
     taper_chain_spec_free(cs);
 }
 
-int main(void)
+/* `test_budget` runs the quick cases, `test_budget --long` the pulse that
+ * leaves a chain of radii 1e-3 to 1e3 (its mass ratios of 1e18 make the
+ * stiffest run here; test budget_long, in the suite 'slow' too:
+ * tests/physics/meson.build). */
+int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(two_spheres_lighter),
         cmocka_unit_test(two_spheres_heavier),
         cmocka_unit_test(wall_reflection),
         cmocka_unit_test(under_load),
+    };
+    const struct CMUnitTest long_tests[] = {
         cmocka_unit_test(pulse_leaves),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    if (argc == 2 && strcmp(argv[1], "--long") == 0)
+        return cmocka_run_group_tests_name("budget_long", long_tests, NULL, NULL);
+    if (argc != 1) {
+        print_error("usage: test_budget [--long]\n");
+        return 2;
+    }
+    return cmocka_run_group_tests_name("budget", tests, NULL, NULL);
 }

@@ -1072,7 +1072,9 @@ static void loaded_contact_law(void **state)
     }
 }
 
-int main(void)
+/* `test_dynamics` runs the quick cases, `test_dynamics --long` the chain of
+ * 1e5 granules (the 'slow' suite, tests/unit/meson.build). */
+int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(two_body_equal),
@@ -1085,7 +1087,6 @@ int main(void)
         cmocka_unit_test(methods_agree),
         cmocka_unit_test(monodisperse_solitary_wave),
         cmocka_unit_test(residence_times_of_long_chains),
-        cmocka_unit_test(last_peak_of_long_chain),
         cmocka_unit_test(every_root_armed_from_the_start),
         cmocka_unit_test(no_peaks_in_the_precursor_noise),
         cmocka_unit_test(precursor_crossings_are_no_pass),
@@ -1110,5 +1111,14 @@ int main(void)
         cmocka_unit_test(damping_needs_exponent_two),
         cmocka_unit_test(residence_times_never_negative),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    const struct CMUnitTest long_tests[] = {
+        cmocka_unit_test(last_peak_of_long_chain),
+    };
+    if (argc == 2 && strcmp(argv[1], "--long") == 0)
+        return cmocka_run_group_tests_name("dynamics_long", long_tests, NULL, NULL);
+    if (argc != 1) {
+        print_error("usage: test_dynamics [--long]\n");
+        return 2;
+    }
+    return cmocka_run_group_tests_name("dynamics", tests, NULL, NULL);
 }

@@ -855,7 +855,10 @@ static void cradle_reflection_takes_back_every_closed_gap(void **state)
     taper_chain_free(c);
 }
 
-int main(void)
+/* `test_window` runs the quick cases, `test_window --long` the long chains
+ * and the options on 500 granules (test window_long, in the suite 'slow'
+ * too: tests/unit/meson.build). */
+int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(monodisperse),
@@ -876,11 +879,19 @@ int main(void)
         cmocka_unit_test(damping_window),
         cmocka_unit_test(drag_flight),
         cmocka_unit_test(drag_handover),
-        cmocka_unit_test(options_agree),
         cmocka_unit_test(window_tail),
         cmocka_unit_test(reflection_takes_granules_back),
+    };
+    const struct CMUnitTest long_tests[] = {
+        cmocka_unit_test(options_agree),
         cmocka_unit_test(dimer_beyond_the_theory),
         cmocka_unit_test(cradle_reflection_takes_back_every_closed_gap),
     };
+    if (argc == 2 && strcmp(argv[1], "--long") == 0)
+        return cmocka_run_group_tests_name("window_long", long_tests, NULL, NULL);
+    if (argc != 1) {
+        print_error("usage: test_window [--long]\n");
+        return 2;
+    }
     return cmocka_run_group_tests_name("window", tests, NULL, NULL);
 }

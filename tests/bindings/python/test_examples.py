@@ -1,7 +1,9 @@
 """The Python examples of share/examples/python, run as a user runs them:
 each script with this interpreter (the package installed), in a fresh
 folder.  Each checks its own physics and exits non-zero when a check fails;
-each must also run without matplotlib, skipping only its figure."""
+each must also run without matplotlib, skipping only its figure.  The runs
+with matplotlib (figures drawn) are marked slow: the runs without it check
+the same physics in a third of the time."""
 
 import subprocess
 import sys
@@ -20,6 +22,7 @@ def run(args, cwd):
                           timeout=600)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_example_runs_and_its_checks_hold(name, source, tmp_path):
     script = (source / "share" / "examples" / "python" / name).resolve()

@@ -5,6 +5,8 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
+import pytest
+
 import taper
 
 CHAINS = [
@@ -15,6 +17,7 @@ CHAINS = [
 ]
 
 
+@pytest.mark.slow
 def test_threads_give_identical_results():
     alone = [taper.simulate(**kw) for kw in CHAINS]
     with ThreadPoolExecutor(max_workers=4) as pool:
