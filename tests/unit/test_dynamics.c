@@ -900,6 +900,40 @@ static void sublinear_precursor_keeps_every_pass(void **state)
     taper_chain_free(c);
 }
 
+static void count_slow_light_end(int level, const char *message, void *user)
+{
+    if (level == 1 && strstr(message, "bound it with t_max or max_steps")) ++*(int *)user;
+}
+
+/* Below n = 2 a chain whose mass drops by 1e5 or more toward its end is
+ * warned about before the run (sim.c, advise_on_slow_light_end): forward
+ * exponential q = 0.1, N = 100 (granule 100 2e12 times lighter than
+ * granule 1) at n = 3/2, whose run takes 2.5e7 steps, but not the same
+ * chain at n = 5/2, nor q = 0.05, N = 60 at n = 3/2 (a drop
+ * of 7e3, 4e5 steps), nor a monodisperse chain at n = 3/2. */
+static void slow_light_end_is_announced(void **state)
+{
+    (void)state;
+    const struct { taper_profile profile; size_t n; double q, exponent; int warned; } cases[] = {
+        {TAPER_FORWARD_EXPONENTIAL, 100, 0.1, 1.5, 1},
+        {TAPER_FORWARD_EXPONENTIAL, 100, 0.1, 2.5, 0},
+        {TAPER_FORWARD_EXPONENTIAL, 60, 0.05, 1.5, 0},
+        {TAPER_MONODISPERSE, 100, 0.0, 1.5, 0},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        taper_chain *c = test_chain(cases[i].profile, cases[i].n, cases[i].q, cases[i].q, cases[i].exponent, NULL);
+        taper_solver_spec *spec = new_spec();
+        int warned = 0;
+        taper_solver_spec_set_log(spec, count_slow_light_end, &warned);
+        taper_sim *sim = taper_sim_alloc(c, spec, NULL);
+        taper_solver_spec_free(spec);
+        assert_non_null(sim);
+        assert_int_equal(warned, cases[i].warned);
+        taper_sim_free(sim);
+        taper_chain_free(c);
+    }
+}
+
 /* Issue 14, item 4: at most 35 steps per granule on a monodisperse chain at
  * the default settings, and the default accuracy (pass times within 1e-8
  * of rtol 1e-14).  Adams' max order 8 with a step that changes once it may
@@ -1090,6 +1124,7 @@ int main(void)
         cmocka_unit_test(no_peaks_in_the_precursor_noise),
         cmocka_unit_test(precursor_crossings_are_no_pass),
         cmocka_unit_test(sublinear_precursor_keeps_every_pass),
+        cmocka_unit_test(slow_light_end_is_announced),
         cmocka_unit_test(steps_per_granule),
         cmocka_unit_test(pulse_position_advances),
         cmocka_unit_test(stops_at_last_granule),
