@@ -344,8 +344,11 @@ static void pulse_init(taper_sim *sim)
     p->peak_slots = TAPER_RING_SLOTS;
     /* Rings that grow need a precursor without crossings, as the Hertzian
      * one (events.c); below n = 2 the force z^(n-1) is strong at tiny
-     * compressions and the precursor overtakes long before the pulse. */
+     * compressions and the precursor overtakes long before the pulse: there
+     * a pass is a crossing of the granule that leads (events.c, "leading
+     * passes"), which the precursor's crossings are not. */
     p->arm_all = sim->exponent >= 2.0 && taper_sundials_roots_see_tiny_values();
+    p->lead = sim->exponent < 2.0 && taper_sundials_roots_see_tiny_values();
 }
 
 /* The chain's own checks (taper_chain_alloc: damping needs n >= 2, ...) are
