@@ -42,9 +42,27 @@
  * compressions, and the precursor far ahead overtakes (v_{k+1} > v_k at
  * velocities above ARM_FRACTION v_ref) and reverses long before the pulse
  * arrives; a grown ring took that for passes (backward linear S = 0.5,
- * N = 1000, n = 3/2: 7-9 pass times nan), and the pass time of such chains
- * is defined by the ring of 3 (the first crossing once the granule is
- * within 3 of the lowest unknown).
+ * N = 1000, n = 3/2: 7-9 pass times nan).  With Debian's 6.4.1 the pass
+ * time of such chains is the first crossing once the granule is within 3
+ * of the lowest unknown; with a root finder that compares signs it is a
+ * leading pass (below).
+ *
+ * Leading passes (n < 2, pulse.lead).  The paper's pass, v_{k+1}
+ * surpassing v_k, is the pulse moving on from k to k+1: at that moment k
+ * carries the pulse's front, no granule behind it moves faster.  The
+ * precursor's crossings are far ahead of the pulse, at velocities 1e-17 to
+ * 1e-11 of it (forward exponential q = 0.05, N = 60, n = 3/2: 19 to 14 000
+ * crossings per contact before the pulse arrives).  So below n = 2 the pass
+ * of k is the first time that v_{k+1} >= v_k >= v_j for every window
+ * granule j < k, the zero crossing upward of
+ *     g = min(v_{k+1} - v_k, v_k - max_{lo <= j < k} v_j),
+ * continuous, never identically zero, and equal to v_{k+1} - v_k near the
+ * root wherever the pulse moves granule by granule (its second term is then
+ * of the pulse's size).  No arming threshold is needed: every window
+ * granule whose pass is unknown has a slot.  On the light end of a steep
+ * forward taper, which the precursor has set moving as a block, these are
+ * the granules the front crosses (passes out of order by up to 1e-3 of t
+ * there), where the first crossing within a ring of 3 had left 5 of 59 nan.
  *
  * Either way a granule at rest is unarmed: its functions would be exactly
  * zero, which CVODE takes for a root at every step.
@@ -97,13 +115,36 @@ static int known(const taper_sim *sim, size_t k, unsigned bit) { return sim->pul
 static int pass_armed(const taper_sim *sim, const double *y, size_t k)
 {
     if (k > sim->pass_limit || k > sim->dyn.hi || known(sim, k, TAPER_EV_PASS)) return 0;
-    return k == sim->pulse.next_pass || velocity(sim, y, k) > arm_velocity(sim);
+    return sim->pulse.lead || k == sim->pulse.next_pass || velocity(sim, y, k) > arm_velocity(sim);
+}
+
+/* Leading passes: the fastest window granule behind k, lo..k-1 (*which:
+ * its index; -INFINITY and 0 for k = lo). */
+static double fastest_behind(const taper_sim *sim, const double *y, size_t k, size_t *which)
+{
+    const taper_dyn *d = &sim->dyn;
+    double v = -INFINITY;
+    *which = 0;
+    for (size_t j = d->lo; j < k && j <= d->hi; j++)
+        if (taper_dyn_v(d, y, j) > v) v = taper_dyn_v(d, y, j), *which = j;
+    return v;
+}
+
+/* The leading pass function of k, given the fastest velocity behind it. */
+static double lead_value(double v, double v_next, double behind) { return fmin(v_next - v, v - behind); }
+
+/* The pass function's value: v_{k+1} - v_k, or the leading pass's. */
+static double pass_value(const taper_sim *sim, const double *y, size_t k)
+{
+    if (!sim->pulse.lead) return velocity(sim, y, k + 1) - velocity(sim, y, k);
+    size_t j;
+    return lead_value(velocity(sim, y, k), velocity(sim, y, k + 1), fastest_behind(sim, y, k, &j));
 }
 
 static double pass_function(const taper_sim *sim, const double *y, size_t k)
 {
     if (!pass_armed(sim, y, k)) return -1.0;
-    return velocity(sim, y, k + 1) - velocity(sim, y, k);
+    return pass_value(sim, y, k);
 }
 
 static int peak_armed(const taper_sim *sim, const double *y, size_t k)
@@ -130,7 +171,22 @@ static void ring_values(const taper_sim *sim, const double *y, double *g_pass, d
     const size_t begin = taper_dyn_begin(d), hi = d->hi;
     const double v_pass = arm_velocity(sim), v_peak = v_pass;
     const size_t np = p->pass_slots, last_pass = hi < sim->pass_limit ? hi : sim->pass_limit;
-    for (size_t j = 0, k = p->next_pass, slot = (k - 1) % np; j < np; j++, k++) {
+    if (p->lead) { /* one sweep: the fastest behind each slot's granule */
+        double behind = -INFINITY;
+        for (size_t k = d->lo; k < p->next_pass && k <= hi; k++) behind = fmax(behind, y[taper_idx_v(k) - begin]);
+        for (size_t j = 0, k = p->next_pass, slot = (k - 1) % np; j < np; j++, k++) {
+            double g = -1.0;
+            if (k <= last_pass) {
+                const double v = y[taper_idx_v(k) - begin];
+                if (!(p->events[k - 1] & TAPER_EV_PASS))
+                    g = lead_value(v, k < hi ? y[taper_idx_v(k + 1) - begin] : 0.0, behind);
+                behind = fmax(behind, v);
+            }
+            g_pass[slot] = g;
+            if (++slot == np) slot = 0;
+        }
+    }
+    for (size_t j = 0, k = p->next_pass, slot = (k - 1) % np; !p->lead && j < np; j++, k++) {
         double g = -1.0;
         if (k <= last_pass && !(p->events[k - 1] & TAPER_EV_PASS)) {
             const double v = y[taper_idx_v(k) - begin];
@@ -301,13 +357,14 @@ static int fit_ring(size_t *slots, size_t needed)
 int taper_events_fit_rings(taper_sim *sim)
 {
     taper_pulse *p = &sim->pulse;
-    if (!p->arm_all) return 0;
+    if (!p->arm_all && !p->lead) return 0; /* leading passes: the pass ring only */
     /* Granules ahead of hi are at rest: no event until a root return grows
      * the window.  Granule hi keeps its slots (its back contact may open
      * before the front reaches hi+1: a peak as the contact opens). */
     const size_t hi = sim->dyn.hi;
     int changed = fit_ring(&p->pass_slots, ring_needed(p->next_pass, hi < sim->pass_limit ? hi : sim->pass_limit));
-    changed |= fit_ring(&p->peak_slots, ring_needed(p->next_peak, hi < sim->target ? hi : sim->target));
+    if (p->arm_all)
+        changed |= fit_ring(&p->peak_slots, ring_needed(p->next_peak, hi < sim->target ? hi : sim->target));
     return changed;
 }
 
@@ -330,17 +387,18 @@ static double acceleration(const taper_sim *sim, const double *y, size_t k)
  * dg/dt ~ 1e11. */
 static int genuine_pass_root(const taper_sim *sim, const double *y, size_t k)
 {
-    double g = fabs(velocity(sim, y, k + 1) - velocity(sim, y, k));
+    double g = fabs(pass_value(sim, y, k));
     if (g <= GENUINE_ROOT * fmax(fabs(velocity(sim, y, k)), fabs(velocity(sim, y, k + 1)))) return 1;
-    double rate = acceleration(sim, y, k + 1) - acceleration(sim, y, k);
-    return sim->pulse.arm_all && g <= ROOT_TIME_RESOLUTION * fabs(rate) * fabs(sim->t);
+    double rate = fabs(acceleration(sim, y, k + 1) - acceleration(sim, y, k));
+    if (sim->pulse.lead) { /* or the rate of the second term, v_k - v_j */
+        size_t j;
+        fastest_behind(sim, y, k, &j);
+        if (j) rate = fmax(rate, fabs(acceleration(sim, y, k) - acceleration(sim, y, j)));
+    }
+    return (sim->pulse.arm_all || sim->pulse.lead) && g <= ROOT_TIME_RESOLUTION * rate * fabs(sim->t);
 }
 
-/* The root functions' values for taper_sim_refine_root. */
-static double pass_value(const taper_sim *sim, const double *y, size_t k)
-{
-    return velocity(sim, y, k + 1) - velocity(sim, y, k);
-}
+/* The root functions' values for taper_sim_refine_root: pass_value above. */
 
 static double peak_value(const taper_sim *sim, const double *y, size_t k)
 {
@@ -395,12 +453,22 @@ static void advance_rings(taper_sim *sim, const double *y)
             sim->pulse.next_pass++;
         while (sim->pulse.next_peak <= sim->target && known(sim, sim->pulse.next_peak, TAPER_EV_PEAK))
             sim->pulse.next_peak++;
-        for (size_t k = sim->pulse.next_pass; k < sim->pulse.next_pass + sim->pulse.pass_slots; k++)
-            if (pass_armed(sim, y, k) && pass_function(sim, y, k) > 0.0) {
+        /* (leading passes: the fastest behind, swept along, not searched
+         * again for each granule) */
+        size_t j;
+        double behind = sim->pulse.lead ? fastest_behind(sim, y, sim->pulse.next_pass, &j) : 0.0;
+        for (size_t k = sim->pulse.next_pass; k < sim->pulse.next_pass + sim->pulse.pass_slots; k++) {
+            const int armed = pass_armed(sim, y, k);
+            const double g = !armed ? -1.0
+                             : sim->pulse.lead ? lead_value(velocity(sim, y, k), velocity(sim, y, k + 1), behind)
+                                               : pass_function(sim, y, k);
+            if (sim->pulse.lead && k >= sim->dyn.lo && k <= sim->dyn.hi) behind = fmax(behind, velocity(sim, y, k));
+            if (armed && g > 0.0) {
                 sim->pulse.events[k - 1] |= TAPER_EV_PASS;
                 sim->pulse.untimed_passes++;
                 moved = 1;
             }
+        }
         for (size_t k = sim->pulse.next_peak; k < sim->pulse.next_peak + sim->pulse.peak_slots; k++)
             if (peak_armed(sim, y, k) && peak_function(sim, y, k) < 0.0) {
                 sim->pulse.events[k - 1] |= TAPER_EV_PEAK;

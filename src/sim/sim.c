@@ -276,6 +276,47 @@ static void advise_on_stiff_drag(const taper_sim *sim)
                       m->drag, m_min / m->drag, ratio, tau);
 }
 
+/* Below n = 2 on a chain that gets much lighter toward its end (a steep
+ * forward taper), the precursor sets the light end moving long before the
+ * pulse arrives, as a block: its weakly compressed contacts, whose force
+ * r z^(n-1) is stiff without bound as z -> 0, vibrate at Adams' stability
+ * limit and rattle like a gas, and the chatter of compressions below what
+ * atol resolves decides the step (docs/robustness.md, "Below n = 2 on steep
+ * forward tapers").  The cost is not a property of the chain alone (the
+ * steps to t = 1 of forward exponential q = 0.1, N = 100, n = 3/2 change
+ * 4.6x when rtol changes by 10 %), so the run is not refused; the caller is
+ * told how to bound it.  The rule is inexact on purpose: the largest drop
+ * of mass from a granule to a lighter one anywhere ahead of it, at least
+ * LIGHT_END_DROP (measured with taper at the default tolerances: forward
+ * exponential q = 0.05, N = 60, n = 3/2, a drop of 7e3: 4e5 steps, 3 s;
+ * q = 0.1, N = 30: 6e3, 8e4 steps; q = 0.1, N = 50: 2.4e6, 7.3e6 steps,
+ * 18 s; q = 0.1, N = 100: 7e12, 2.5e7 steps and more). */
+#define LIGHT_END_DROP 1e5
+
+static void advise_on_slow_light_end(const taper_sim *sim)
+{
+    const taper_model *m = &sim->model;
+    if (!(sim->exponent < 2.0)) return;
+    const double *mass = sim->mass + m->off;
+    double heaviest = 0.0, drop = 1.0;
+    size_t at = 0;
+    for (size_t k = 0; k < m->granules; k++) {
+        heaviest = fmax(heaviest, mass[k]);
+        if (heaviest / mass[k] > drop) drop = heaviest / mass[k], at = k + 1;
+    }
+    if (drop >= LIGHT_END_DROP)
+        taper_sim_log(sim, 1,
+                      "contact exponent n = %g below 2 on a chain whose granule %zu is %.2g times "
+                      "lighter than a granule before it: the precursor sets the light end moving "
+                      "long before the pulse arrives, and its weakly compressed contacts (force "
+                      "r z^(n-1), stiff without bound as z -> 0) vibrate and rattle, which can cost "
+                      "millions of steps per unit time (forward exponential q = 0.1, 100 granules, "
+                      "n = 3/2: 2.5e7 steps at the default tolerances).  The run is slow, not "
+                      "wrong: bound it with t_max or max_steps, which stop it with the "
+                      "observables found so far",
+                      sim->exponent, at, drop);
+}
+
 /* The pulse before the run: the body with the impulse (granule 1, or the
  * striker) has its velocity peak at t = 0 and every body before it (a left
  * wall) its events done; the walls have no impulse yet and no peak force
@@ -303,8 +344,11 @@ static void pulse_init(taper_sim *sim)
     p->peak_slots = TAPER_RING_SLOTS;
     /* Rings that grow need a precursor without crossings, as the Hertzian
      * one (events.c); below n = 2 the force z^(n-1) is strong at tiny
-     * compressions and the precursor overtakes long before the pulse. */
+     * compressions and the precursor overtakes long before the pulse: there
+     * a pass is a crossing of the granule that leads (events.c, "leading
+     * passes"), which the precursor's crossings are not. */
     p->arm_all = sim->exponent >= 2.0 && taper_sundials_roots_see_tiny_values();
+    p->lead = sim->exponent < 2.0 && taper_sundials_roots_see_tiny_values();
 }
 
 /* The chain's own checks (taper_chain_alloc: damping needs n >= 2, ...) are
@@ -351,6 +395,7 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
     sim->pass_limit = (target < n ? target : n - 1) + m->off;
     if (check_time_resolution(sim, err) != TAPER_OK) goto fail;
     advise_on_stiff_drag(sim);
+    advise_on_slow_light_end(sim);
     pulse_init(sim);
     taper_ok(err);
     return sim;

@@ -151,6 +151,11 @@ typedef struct taper_pulse {
      * otherwise fixed rings of TAPER_RING_SLOTS armed near the front. */
     size_t pass_slots, peak_slots;
     int arm_all;
+    /* Below n = 2 (with a root finder that compares signs): the pass of k
+     * is k+1 overtaking k while k is the fastest of the window's granules
+     * up to k (events.c, "leading passes"); the pass ring covers every
+     * window granule whose pass is unknown. */
+    int lead;
 } taper_pulse;
 
 /* Granules that left the window fly freely: x_j(t) = x_free[j] +

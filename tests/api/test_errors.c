@@ -368,6 +368,31 @@ static void relation_refusals(void)
     taper_chain_free(steep);
     taper_chain_free(cut);
 
+    /* The other chains of that kind at the edges of the taper ranges, which
+     * stopped with CVODE flag -4 after "t + h = t" whatever the method:
+     * forward linear at its last valid S for 10 granules (R_10 = 2 ulps of
+     * 1: T_9 = 1.9e-16 at t_9 = 4.8, 0.18 eps t_9) and forward exponential
+     * q = 1000 for 10 granules (each granule 1e9 times lighter than the one
+     * before: T_7 = 6.1e-22 at t_7 = 1.4e-3, 2e-3 eps t_7), refused naming
+     * the first contact below the resolution and the count that resolves. */
+    taper_chain *steep10 = chain_of(TAPER_FORWARD_LINEAR, 10, nextafter(1.0 / 9.0, 0.0));
+    CHECK(steep10 && taper_sim_alloc(steep10, NULL, &err) == NULL &&
+              refused(err.status, &err, TAPER_ERANGE, "n_granules") &&
+              strstr(err.message, "T_9 = ") && strstr(err.message, "use at most 9 granules, or a smaller s"),
+          "forward linear N = 10 at the last valid S: %d field %s '%s'", err.status, FIELD(err), err.message);
+    taper_chain_free(steep10);
+    taper_chain_spec *fe = taper_chain_spec_alloc(NULL);
+    taper_chain *fe1000 = NULL;
+    if (fe && taper_chain_spec_set_profile(fe, TAPER_FORWARD_EXPONENTIAL, NULL) == TAPER_OK &&
+        taper_chain_spec_set_n_granules(fe, 10, NULL) == TAPER_OK && taper_chain_spec_set_q(fe, 1000.0, NULL) == TAPER_OK)
+        fe1000 = taper_chain_alloc(fe, NULL);
+    CHECK(fe1000 && taper_sim_alloc(fe1000, NULL, &err) == NULL &&
+              refused(err.status, &err, TAPER_ERANGE, "n_granules") &&
+              strstr(err.message, "T_7 = ") && strstr(err.message, "use at most 7 granules, or a smaller q"),
+          "forward exponential q = 1000, N = 10: %d field %s '%s'", err.status, FIELD(err), err.message);
+    taper_chain_free(fe1000);
+    taper_chain_spec_free(fe);
+
     /* Not refused on that account: a chain the theory does not describe.
      * On the dimer 1, 0.7 of 1000 granules at n = 3/2, eq. (9) loses a
      * quarter of the velocity per pair, and eq. (18)'s T ~ v^((2-n)/n)

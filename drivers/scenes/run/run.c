@@ -136,6 +136,8 @@ typedef struct progress_state {
     int show;           /* stderr is a terminal and progress = .true.   */
     int printed;        /* a progress line is on screen                 */
     double start, last; /* wall-clock seconds                           */
+    const double *theory_t; /* the theory's t_k (eq. (19)), or NULL     */
+    size_t granules;        /* its length                               */
 } progress_state;
 
 static double wall_seconds(void)
@@ -146,19 +148,32 @@ static double wall_seconds(void)
 }
 
 /* "granule 1234/100000  t = 567.8  2.3e+04 granules/s  4.3 s left": the
- * time left only once there is a rate to estimate it from. */
+ * time left from the granules still to pass at the rate so far, and from
+ * the time still to go to the theory's pass time of the target (eq. (19))
+ * at the rate t has advanced so far, the longer of the two.  The second is
+ * what a run has before its first passes, or while the pulse hardly moves
+ * (below n = 2 on a steep forward taper the pulse can take 1e8 steps to
+ * leave granule 1: sim.c, advise_on_slow_light_end); the theory's time is
+ * within a factor of about 2 of the dynamics' on every profile. */
 static int monitor(const taper_progress *p, void *user)
 {
     progress_state *ps = user;
     if (ps->show) {
-        double now = wall_seconds();
+        double now = wall_seconds(), elapsed = fmax(now - ps->start, 1e-9);
         if (now - ps->last >= 0.2 || p->granule >= p->target) {
-            double rate = (double)p->granule / fmax(now - ps->start, 1e-9);
+            double rate = (double)p->granule / elapsed;
             size_t todo = p->granule < p->target ? p->target - p->granule : 0;
             fprintf(stderr, "\rtaper: granule %zu/%zu  t = %.6g  %.3g granules/s", p->granule,
                     p->target, p->t, rate);
-            if (rate > 0 && isfinite(rate))
-                fprintf(stderr, "  %.1f s left   ", (double)todo / rate);
+            double left = rate > 0 && isfinite(rate) ? (double)todo / rate : NAN;
+            const double t_target = ps->theory_t && p->target >= 1 && p->target <= ps->granules
+                                        ? ps->theory_t[p->target - 1] : NAN;
+            if (todo && isfinite(t_target) && t_target > p->t && p->t > 0.0) {
+                double by_time = (t_target - p->t) * elapsed / p->t;
+                if (!(left >= by_time)) left = by_time;
+            }
+            if (isfinite(left))
+                fprintf(stderr, "  %.1f s left   ", left);
             else
                 fputs("                ", stderr);
             ps->last = now;
@@ -465,6 +480,8 @@ static int simulate(run *r)
     progress_state *ps = &r->progress;
     ps->show = r->show_progress && r->cfg->output.progress && isatty(STDERR_FILENO);
     ps->start = ps->last = wall_seconds();
+    ps->theory_t = r->theory[TAPER_THEORY_T];
+    ps->granules = taper_chain_size(r->chain);
     r->status = taper_sim_run(r->sim, &r->err);
     progress_done(ps);
     if (r->status == TAPER_EINTERRUPTED && interrupted) {
