@@ -2,8 +2,8 @@
  * chain.c -- geometry of a granular chain (paper, Sec. II and the tapering
  * protocols of Secs. III-IV): radii, masses m_k = R_k^3 (uniform density,
  * unit first granule), contact factors r_k (eq. (7)) and the centres X0(k)
- * of the uncompressed, just-touching chain; and what the options of issue
- * 15 make of them (docs/physics.md): the decorated profile, disorder,
+ * of the uncompressed, just-touching chain; and what the options beyond
+ * the paper make of them (docs/physics.md): the decorated profile, disorder,
  * mixed materials (m_k = rho_k R_k^3, r_k 2 c_1 / (c_k + c_{k+1})), the
  * contact factors of walls and of a striker.  With every option at its
  * default the arithmetic is exactly the paper chain's.  The settings are

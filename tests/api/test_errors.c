@@ -468,7 +468,7 @@ static void names(void)
     CHECK(i == TAPER_N_FIT_MODELS, "%d fit model names", i);
     for (i = 0; taper_statistic_name((taper_statistic)i); i++) continue;
     CHECK(i == TAPER_N_STATISTICS, "%d statistic names", i);
-    /* The enums of issue 15: boundaries and disorders round-trip, the
+    /* The enums of the options beyond the paper: boundaries and disorders round-trip, the
      * dimensions each have a name and an SI unit. */
     for (i = 0; taper_boundary_name((taper_boundary)i); i++) {
         taper_boundary b = (taper_boundary)-1;

@@ -1,5 +1,5 @@
 /*
- * test_stress.c -- the stability stress matrix (issue 7, docs/robustness.md).
+ * test_stress.c -- the stability stress matrix (docs/robustness.md).
  *
  * Every run of taper_sim_run over profiles, tapering parameters, chain
  * lengths, contact exponents and tolerances must end in one of two ways:
@@ -30,7 +30,7 @@
  *   test_stress --full      the long matrix of docs/robustness.md
  *                           (N up to 1e5; add --nmax N to cap it): the
  *                           documented range of every variable first
- *                           (full_ranges, ending with issue 15's chain
+ *                           (full_ranges, ending with the chain
  *                           options: physics_ranges), then the older
  *                           matrix; --ranges-only: full_ranges alone;
  *                           --physics-only: physics_ranges alone; --nmin
@@ -52,8 +52,8 @@
 /* Relative energy error allowed for a complete run whose pulse crossed
  * `granules` granules at tolerance rtol and contact exponent n
  * (docs/robustness.md).  The error of a long run is a drift per granule
- * crossed, not per internal step: halving the steps per granule (issue 14,
- * Adams order 8) left the error per granule where it was, so a bound in
+ * crossed, not per internal step: halving the steps per granule
+ * (Adams order 8) left the error per granule where it was, so a bound in
  * steps would measure the integrator's step choice, not conservation.
  * Measured per granule crossed, in units of rtol: monodisperse 0.02 (N = 1e5,
  * rtol 2e-11) to 0.035-0.19 (N = 1e5, rtol 1e-6 to 1e-5); backward linear
@@ -82,8 +82,8 @@
  * n = 20, 2x), which still fails a BDF run at a 100x looser tolerance
  * (bound_catches_drift).
  *
- * Adams drifts more at high exponents too (issue 18, the exponent sweep at
- * N = 1000, first run in session 5): monodisperse n = 12 loses 4.8 rtol per
+ * Adams drifts more at high exponents too (the exponent sweep at
+ * N = 1000): monodisperse n = 12 loses 4.8 rtol per
  * granule at N = 300, 1000 and 3000 alike (2.8e-8, 9.6e-8, 2.9e-7 at rtol
  * 2e-11: a drift), forward linear S = 5e-4, N = 1000: 3.1, 3.6, 5.0, 4.1
  * rtol per granule at n = 10, 12, 16, 18; monodisperse n = 5 and 8: 0.06
@@ -92,12 +92,12 @@
  * tolerance still exceeds (monodisperse n = 12, N = 1000, rtol 2e-9: 5.8e-6
  * against 2.6e-7; bound_catches_drift).
  *
- * Backward exponential chains have an error constant of their own (issue
- * 18): q = 0.05, N = 100, n = 5/2, whole chain, atol 1e-14, rtol 2e-9 ...
+ * Backward exponential chains have an error constant of their own:
+ * q = 0.05, N = 100, n = 5/2, whole chain, atol 1e-14, rtol 2e-9 ...
  * 2e-13: energy errors 1.8e-6, 2.7e-7, 2.8e-8, 1.0e-9, 4.5e-10, i.e. 900,
  * 1330, 1400, 500, 2200 rtol (the window: 370, 530, 350, 160, 890), and the
  * same at atol 1e-17 (1.3e-6 ... 4.3e-10).  So it follows rtol, not atol:
- * not a floor, nor known issue 1 (the velocity scale), but a larger drift
+ * not a floor, nor the known limit of the velocity scale, but a larger drift
  * per granule, up to 14 rtol at N = 100 (the previous measurement: 3.7-5.7
  * at N = 50-100, 1.8-3.8 at N = 200-400, window and whole chain alike; the
  * heavier granules meet each collision from a recoiling train, more
@@ -129,7 +129,7 @@ static double energy_bound(double rtol, double n, size_t granules, taper_method 
  * tolerance is below (CONV_FACTOR + 2 N) rtol.  A pass time t_k is a sum
  * of k residence times, each with an error of order rtol: the error grows
  * with the granules crossed, as the energy's does (2 rtol per granule, the
- * energy bound's coefficient).  Measured (issue 18) on backward exponential
+ * energy bound's coefficient).  Measured on backward exponential
  * q = 0.1, N = 100 (atol = 1e-3 rtol, against rtol 1e-14): 73, 41, 35, 199,
  * 199, 175-243 rtol at rtol 1e-8 ... 1e-13: the error follows rtol with
  * slope 1 (2.4e-11, 2.0e-10, 2.0e-9 at 1e-13, 1e-12, 1e-11), so it
@@ -832,7 +832,7 @@ static void bound_catches_drift(void)
     }
 }
 
-/* issue 15's options, a few cells (defined with the others below) */
+/* the options beyond the paper, a few cells (defined with the others below) */
 static void physics_quick(void);
 
 static void quick_matrix(void)
@@ -878,7 +878,7 @@ static void quick_matrix(void)
         check_case(&(stress_case){TAPER_BACKWARD_EXPONENTIAL, 0.1, 50, exps[i], 2e-11, 1e-14, A, NULL, 0});
     }
     /* The exponent's range on every profile: its lowest allowed value,
-     * and 12 to 20 (issue 18, item 1: CVODE failed at t = 1.0001 on every
+     * and 12 to 20 (CVODE failed at t = 1.0001 on every
      * profile with the window); refusals at the edges. */
     every_profile(50, lowest_exponent(), A, 0);
     every_profile(50, 12.0, A, 0);
@@ -906,7 +906,7 @@ static void quick_matrix(void)
     physics_quick();
 }
 
-/* ---- issue 15's chain options at the edges of their ranges ------------------
+/* ---- the chain options at the edges of their ranges --------------------------
  *
  * Walls (rigid or compliant), a striker, a piston, a static load, damping,
  * drag, mixed materials, decorated and disordered chains (include/taper.h,
@@ -1316,7 +1316,7 @@ static double physics_crossed(const physics_case *c, size_t granules)
 /* Energy balances (TAPER_STAT_ENERGY_ERROR, the budget's parts, the energy
  * recomputed from the state): the matrix's energy_bound over the granules
  * crossed, (1e3 + 2 crossed) rtol + floor(n), with 10 rtol per granule
- * under a static load.  Measured at rtol 2e-11 (issue 18, session 6), the
+ * under a static load.  Measured at rtol 2e-11, the
  * three balances agreeing to two digits in every cell: walls, rigid or
  * compliant, three crossing times: up to 8.1e-9 at N = 100 (both walls
  * c = 1e3; bound 3.3e-8) and 7.5e-8 at N = 1000 (both walls c = 1e3;
@@ -1355,7 +1355,7 @@ static double physics_momentum_bound(const physics_case *c, size_t granules, dou
  * the decorated pattern's second radius 0.01 to 100, the disorder's
  * amplitude to the largest double below 1), at N = 10 and 100, and at
  * N = 1000 the cells that cost less than about 15 s there (costly: N <= 100
- * only; measured in session 6, docs/robustness.md).  The refusals: damping
+ * only; docs/robustness.md).  The refusals: damping
  * with n < 2, a striker with a left wall, a piston under a load. */
 static void physics_ranges(size_t n_max)
 {

@@ -82,7 +82,7 @@ static void test_rk8pd_binary_collision(void **state)
 
 /* The CVODE run every peer is compared with: at rtol 1e-12, atol 1e-15,
  * as accurate as the peers' 1e-12..1e-13 (the defaults' v_peak error, up to
- * 1.7e-8 since issue 14 changed Adams' order and step band, is above the
+ * 1.7e-8 with Adams' order 8 and step band, is above the
  * 1e-8 these comparisons ask). */
 static taper_sim *cvode_reference(const taper_chain *c)
 {

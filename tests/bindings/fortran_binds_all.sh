@@ -1,7 +1,7 @@
 #!/bin/sh
 # fortran_binds_all.sh TAPER.h TAPER.f90 -- the Fortran module binds every
 # function the public header declares (an interface with bind(C,
-# name="taper_...")), so that taper.h cannot grow (as issue 15 grew it)
+# name="taper_...")), so that taper.h cannot grow (as the options beyond the paper grew it)
 # without the module following.  The header's declarations are listed by the
 # C compiler (-aux-info, as tests/api/check_exports.sh does).
 set -eu

@@ -52,7 +52,7 @@ printf "&chain profile = 'backward_linear', s = nan, n_granules = 10 /\n" > "$tm
 refuse nan "&chain s: .*not a finite number"
 printf "&solver rtol = inf /\n" > "$tmp/inf.nml"
 refuse inf "&solver rtol: .*not a finite number"
-# A misspelt key: the C driver's FILE:LINE: &group key: form (issue 18),
+# A misspelt key: the C driver's FILE:LINE: &group key: form,
 # whichever group and line; gfortran alone names neither file line nor key.
 same_place() { # NAME: both drivers' messages start with the same FILE:LINE: &group key:
     for prog in "$driver" "$fortran"; do

@@ -4,7 +4,7 @@
 # C parser (scene_dump) resolve it to the same values, bit for bit (see the
 # canonical form in tests/bindings/scene_dump.c), in every group: &chain, &solver,
 # &output, the analysis groups &fit, &table, &figure of the paper scenes, and
-# the groups of issue 15 (&ends, &striker, &losses, &material, &sensors) and
+# the groups beyond the paper (&ends, &striker, &losses, &material, &sensors) and
 # &chain's pattern, disorder, seed (a list: its first), load and radii_file
 # (resolved against the scene's folder, its radii read) of the physics scenes.
 # Also checks that both list the same variables, so a variable (or a group)

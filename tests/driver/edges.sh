@@ -1,5 +1,5 @@
 #!/bin/sh
-# edges.sh TAPER SECTION -- the driver at the edges of issue 18, one
+# edges.sh TAPER SECTION -- the driver at the edges of its ranges, one
 # section per item (each registered as its own test in meson.build):
 #   signals    SIGTERM/SIGHUP/SIGXCPU keep the partial result (exit 3, the
 #              signal named); a second signal while the partial file is

@@ -1,5 +1,5 @@
 #!/bin/sh
-# physics_scenes.sh TAPER SOURCE_DIR -- the scenes of issue 15 end to end
+# physics_scenes.sh TAPER SOURCE_DIR -- the scenes beyond the paper end to end
 # (share/scenes/physics, one per capability), each checked for what it is
 # about, not only for files:
 #   wall_reflection    the wave comes back: most of the energy reflected,

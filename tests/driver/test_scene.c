@@ -691,7 +691,7 @@ static void test_validation_reports_all(void **state)
     scene_free(sc);
 }
 
-/* Issue 17: lists of several variables make a grid (or zipped runs);
+/* Lists of several variables make a grid (or zipped runs);
  * zipped lists of unequal lengths are refused at the later one. */
 static void test_two_sweeps_rejected(void **state)
 {

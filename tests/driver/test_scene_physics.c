@@ -1,5 +1,5 @@
 /*
- * test_scene_physics.c -- the scene side of issue 15: the new variables
+ * test_scene_physics.c -- the scene side of the models beyond the paper: the new variables
  * stay out of the echo of a scene that does not give them (the paper's
  * scenes echo as before) and read back from the echo of one that does;
  * &material's relative densities, compliances and unit scales against the

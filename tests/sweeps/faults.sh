@@ -1,5 +1,5 @@
 #!/bin/sh
-# faults.sh TAPER -- a failing run does not end a sweep (issue 17, item 4):
+# faults.sh TAPER -- a failing run does not end a sweep:
 # a grid with points the library refuses (forward_linear needs N < 1 + 1/s)
 # and runs that stop at max_steps (partial).  Every other run completes;
 # sweep.tsv has their rows and a comment line per failed run, runs.tsv a

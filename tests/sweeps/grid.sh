@@ -1,5 +1,5 @@
 #!/bin/sh
-# grid.sh TAPER -- sweeps over any variable (issue 17, item 2): a grid of
+# grid.sh TAPER -- sweeps over any variable: a grid of
 # 2 x 3 values over two variables, zipped lists, an integer sweep; one
 # directory per run named by its values, sweep.tsv with one column per swept
 # variable, and each run's numbers those of the same point run alone.

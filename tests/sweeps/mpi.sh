@@ -1,5 +1,5 @@
 #!/bin/sh
-# mpi.sh TAPER MPIRUN -- a sweep on MPI ranks (issue 17, item 1): a grid of
+# mpi.sh TAPER MPIRUN -- a sweep on MPI ranks: a grid of
 # 2 x 3 runs (q x exponent) with fits, on 2 and 3 ranks (3 oversubscribe
 # this 2-core machine), every file byte-identical to the serial sweep's;
 # then the launcher killed (SIGKILL) halfway and the sweep resumed under

@@ -1,5 +1,5 @@
 #!/bin/sh
-# part.sh TAPER -- a sweep split without MPI (issue 17, item 6): parts
+# part.sh TAPER -- a sweep split without MPI: parts
 # 1/3, 2/3, 3/3 (a job array) each compute their share of the runs into the
 # same directory, then the command without --part merges them (reuses all,
 # computes none) into results byte-identical to the whole sweep in one go.

@@ -1,5 +1,5 @@
 #!/bin/sh
-# progress.sh TAPER -- what a sweep shows (issue 17, item 5): on a terminal
+# progress.sh TAPER -- what a sweep shows: on a terminal
 # (script(1) gives it one), a progress line with runs done / total, the
 # rate, the time left and the threads; none when stderr is a file; the
 # library's warnings name the run they come from.

@@ -1,5 +1,5 @@
 #!/bin/sh
-# resume.sh TAPER -- an interrupted sweep resumes (issue 17, item 3).
+# resume.sh TAPER -- an interrupted sweep resumes.
 #  - A sweep killed halfway (SIGKILL: no handler runs) and run again with the
 #    same command reuses the runs it completed, redoes the others, and ends
 #    with results byte-identical to an uninterrupted sweep: every file of

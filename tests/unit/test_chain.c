@@ -369,8 +369,8 @@ static void test_setters_refuse(void **state)
     const double badq[] = {-0.1, -INFINITY, INFINITY, NAN, 1001.0};
     for (size_t i = 0; i < sizeof badq / sizeof badq[0]; i++)
         EXPECT_REFUSED(taper_chain_spec_set_q(spec, badq[i], &err), "q", "q = ");
-    /* 1.01 to 1.4: the integration stalled or took hours (issue 18, item
-     * 2: n = 1.01 hung, 1.1 ran to t = 1e300, 1.2 took 7 million steps);
+    /* 1.01 to 1.4: the integration stalled or took hours
+     * (n = 1.01 hung, 1.1 ran to t = 1e300, 1.2 took 7 million steps);
      * refused before the run, saying why and what to give. */
     const double badexp[] = {1.0, 1.01, 1.1, 1.2, 1.4, nextafter(1.5, 0.0), 0.5, -2, NAN, INFINITY, 20.5};
     for (size_t i = 0; i < sizeof badexp / sizeof badexp[0]; i++)
@@ -441,8 +441,8 @@ static void test_relations(void **state)
     assert_non_null(c);
     taper_chain_free(c);
     taper_chain_spec_free(sp);
-    /* s belongs to the linear profiles, q to the exponential ones (issue
-     * 18, item 5): a tapered profile without its parameter ran a
+    /* s belongs to the linear profiles, q to the exponential ones: a
+     * tapered profile without its parameter ran a
      * monodisperse chain with no word (profile = 'backward_linear' and no
      * s), and a parameter on a profile that does not read it was silently
      * ignored.  Both refused, naming the parameter; 0 means "not given". */

@@ -1,5 +1,5 @@
 /*
- * test_chain_options.c -- the chain options of issue 15 (suite 'chain'):
+ * test_chain_options.c -- the chain options beyond the paper (suite 'chain'):
  * ends, striker, static load, damping, drag, mixed materials, the
  * decorated profile and disorder (taper.h, "Beyond the paper";
  * docs/physics.md).  Values are computed here from the documented

@@ -769,7 +769,7 @@ static void log_warns_of_drift(void **state)
     taper_chain_free(c);
 }
 
-/* Issue 18, item 2: a residence time is never negative.  Forward
+/* A residence time is never negative.  Forward
  * exponential q = 0.1 at n = 3/2, N = 30: the precursor moves the light end
  * as a block and granule 25 is passed before granule 24 (T_res was
  * -2.3e-4).  Such residence times are NaN, the pass times kept, and the log
@@ -808,7 +808,7 @@ static void residence_times_never_negative(void **state)
     taper_chain_free(c);
 }
 
-/* Issue 14, item 3: where CVODE's root finder compares signs (the bundled
+/* Where CVODE's root finder compares signs (the bundled
  * SUNDIALS with our backport, or >= 6.5) every root function is armed from
  * the start.  Forward exponential q = 0.3, N = 100: the last, lightest
  * granules are passed within 1e-12 t of each other, out of order; with
@@ -1006,7 +1006,7 @@ static void leading_passes_below_two(void **state)
     }
 }
 
-/* Issue 14, item 4: at most 35 steps per granule on a monodisperse chain at
+/* At most 35 steps per granule on a monodisperse chain at
  * the default settings, and the default accuracy (pass times within 1e-8
  * of rtol 1e-14).  Adams' max order 8 with a step that changes once it may
  * grow by 1.2 takes ~31 (63 with order 6 and CVODE's 1.5).  The count is
@@ -1078,8 +1078,8 @@ static void no_peaks_in_the_precursor_noise(void **state)
     taper_chain_free(c);
 }
 
-/* taper_dynamics is the paper's eq. (6): a chain with an option of issue
- * 15 is refused, naming it. */
+/* taper_dynamics is the paper's eq. (6): a chain with an option beyond
+ * the paper is refused, naming it. */
 static void dynamics_refuses_options(void **state)
 {
     (void)state;

@@ -6,7 +6,7 @@
  * against eq. (18) evaluated independently and against GSL
  * quadrature of the integral that precedes it, the monodisperse constant,
  * several contact exponents, and the formula-only theory columns of the
- * paper's Tables II (ln A(q)) and III (f(q)).  The options of issue 15
+ * paper's Tables II (ln A(q)) and III (f(q)).  The options beyond the paper
  * (docs/physics.md, "Theory columns"): a striker as granule 0 of an
  * extended chain, materials and disorder through m_k and r_k, the effective
  * chain of a decorated chain, and NaN columns with a note for a static

@@ -353,7 +353,7 @@ static void criteria(void **state)
     taper_chain_free(c);
 }
 
-/* ---- chains with the options of issue 15 ------------------------------------------ */
+/* ---- chains with the options beyond the paper --------------------------------------- */
 static taper_chain *option_chain(taper_profile profile, double param, size_t n, double load,
                                  double striker_radius)
 {

@@ -1,4 +1,4 @@
-"""granules.tsv loads as it is in numpy and pandas (issue 18, item 8): the
+"""granules.tsv loads as it is in numpy and pandas: the
 column names are the first line, the '#' block follows, then the rows; a run
 without numerics has no columns of the dynamics; &output columns and every
 choose columns and thin rows; read_granules reads all of these."""
