@@ -64,7 +64,7 @@ case " ${MESON_ARGS:-} " in
         fi
         if [ "$sundials" != bundled ]; then
             sundials=system
-            echo "setup: $reason: using the system SUNDIALS, built without optimisation, so runs take ~1.8x as long (1.8x the instructions on monodisperse N = 2000: docs/benchmarks.md, \"Debian's SUNDIALS is built without optimisation\"); rm -r $build_dir/sundials to retry" >&2
+            echo "setup: $reason: using the system SUNDIALS, built without optimisation, so runs take ~1.8x as long (1.8x the instructions on monodisperse N = 2000, docs/benchmarks.md); rm -r $build_dir/sundials to retry" >&2
         fi
         ;;
 esac
