@@ -151,8 +151,8 @@ TAPER_API const char *taper_nearest_name(const char *name, const char *const *na
                                               contact onset stalls CVODE:
                                               chain_spec.c)                    */
 #define TAPER_EXPONENT_MAX 20.0
-#define TAPER_RTOL_MIN 1e-14               /* double precision cannot follow
-                                              tighter tolerances               */
+#define TAPER_RTOL_MIN 3e-16               /* 1.35 rounding units of double:
+                                              CVODE's error test fails below   */
 #define TAPER_RTOL_MAX 0.1
 #define TAPER_ATOL_MAX 0.1                 /* 0 < atol <= TAPER_ATOL_MAX       */
 #define TAPER_MAX_ORDER_ADAMS 12

@@ -201,8 +201,9 @@ const setting_row taper_setting_rows[] = {
     {.info.name = "rtol", .info.group = "solver", DIM(NUMBER),
               RANGE(TAPER_RTOL_MIN, TAPER_RTOL_MAX), .info.default_value = 1e-10,
               .info.description = "relative tolerance of the integrator",
-              .info.bounds_reason = "below 1e-14 double precision cannot follow; above 0.1 no "
-                                    "digit of a result would be right",
+              .info.bounds_reason = "below 3e-16 (1.35 rounding units of double precision) "
+                                    "CVODE's error test cannot be met; above 0.1 no digit of a "
+                                    "result would be right",
      REAL, SOLVER_AT(rtol)},
     {.info.name = "atol", .info.group = "solver", DIM(NUMBER), RANGE(0.0, TAPER_ATOL_MAX),
               .info.min_open = 1, .info.default_value = 1e-13,

@@ -191,8 +191,9 @@ static void test_messages(void **state)
     taper_chain_spec *c = taper_chain_spec_alloc(NULL);
     taper_error err;
     assert_int_equal(taper_solver_spec_set_rtol(s, 0.5, &err), TAPER_EINVAL);
-    assert_string_equal(err.message, "rtol = 0.5 is out of range [1e-14, 0.1]: below 1e-14 double "
-                        "precision cannot follow; above 0.1 no digit of a result would be right");
+    assert_string_equal(err.message, "rtol = 0.5 is out of range [3e-16, 0.1]: below 3e-16 (1.35 "
+                        "rounding units of double precision) CVODE's error test cannot be met; "
+                        "above 0.1 no digit of a result would be right");
     assert_int_equal(taper_chain_spec_set_option(c, "n_granules", -5, &err), TAPER_EINVAL);
     assert_non_null(strstr(err.message, "n_granules = -5 is out of range [2, 1e+07]: a chain "
                                         "needs two granules"));

@@ -476,7 +476,7 @@ static const bad_case bad_cases[] = {
     {"&chain exponent = 1 /", 1, "chain", "exponent", "[1.5, 20]"},
     {"&chain\n profile = 'backward_linear'\n s = -0.5 /", 3, "chain", "s", "out of range"},
     {"&chain profile='backward_linear' s = 0.1, 1e9 /", 1, "chain", "s", "1e+09 is out of range"},
-    {"&solver rtol = 1 /", 1, "solver", "rtol", "rtol = 1 is out of range [1e-14, 0.1]: below 1e-14 double precision cannot follow; above 0.1"},
+    {"&solver rtol = 1 /", 1, "solver", "rtol", "rtol = 1 is out of range [3e-16, 0.1]: below 3e-16 (1.35 rounding units of double precision) CVODE's error test cannot be met; above 0.1"},
     {"&solver atol = 0 /", 1, "solver", "atol", "(0, 0.1]"},
     {"&solver t_max = -1 /", 1, "solver", "t_max", ">= 0"},
     {"&chain profile = 'conical' /", 1, "chain", "profile", "'backward_linear'"},
