@@ -38,7 +38,7 @@ REFUSED = {
     "s": [-0.1, math.nan, math.inf, 1e300],
     "q": [-1.0, math.nan, 1e9],
     "exponent": [1.0, 0.5, -2.0, 21.0, math.nan, math.inf],
-    "rtol": [0.0, -1e-8, 1e-15, 0.5, math.nan],
+    "rtol": [0.0, -1e-8, 1e-16, 0.5, math.nan],
     "atol": [0.0, -1.0, 1.0, math.nan, math.inf],
     "t_max": [-1.0, math.nan],
     "n_granules": [0, 1, 10**7 + 1, 10**30, -1, -10**30],
