@@ -1,4 +1,4 @@
-! test_fortran_abi -- the Fortran module src/bindings/fortran/taper.f90
+! test_fortran_abi -- the Fortran module drivers/fortran/module/taper.f90
 ! against the library: the three bind(C) derived types it declares
 ! (taper_error, taper_progress, taper_setting) have the size and field
 ! offsets of the C structs (asked of the C compiler in fortran_abi.c); every

@@ -13,11 +13,11 @@ instead of waiting for a reviewer:
    included only by files of its own folder and by unit tests.
 4. No two files include each other, directly or through others (no circle
    in the include graph).
-5. Nothing under src/ includes a file outside src/: the library and its
-   bindings never reach up into the programs (drivers/) or the tests.
-6. No program under src/: the only C files there that define main are the
-   bindings' build-time generators (gen_*.c, compiled for the build machine,
-   never installed), and no Fortran file there is a PROGRAM.
+5. Nothing under src/ includes a file outside src/: the library never
+   reaches up into its callers (drivers/) or the tests.
+6. No program under src/: no C file there defines main (build-time
+   generators live with what they generate for, in drivers/), and no
+   Fortran file is a PROGRAM.
 7. drivers/scenes, the scenes' library that the programs and the Python
    package build on, includes nothing of theirs: only its own headers and
    taper.h.
@@ -82,12 +82,11 @@ for path in sorted(sources()):
         if path.startswith("drivers/scenes/") and not target.startswith("drivers/scenes/"):
             problems.append(f"{path}: includes {target}, a caller of the scenes' library")
 
-# Programs: none in the library's tree but the bindings' build-time generators.
+# Programs: none in the library's tree.
 for path in sorted(sources((".c", ".f90", ".F90"), ("src",))):
     with open(os.path.join(root, path), encoding="utf-8", errors="replace") as f:
         text = f.read()
-    generator = os.path.basename(path).startswith("gen_") and path.endswith(".c")
-    if path.endswith(".c") and MAIN.search(text) and not generator:
+    if path.endswith(".c") and MAIN.search(text):
         problems.append(f"{path}: a program's main in the library's tree (programs go to drivers/)")
     if not path.endswith(".c") and FORTRAN_PROGRAM.search(text):
         problems.append(f"{path}: a Fortran PROGRAM in the library's tree (programs go to drivers/)")

@@ -68,7 +68,7 @@ int main(int argc, char **argv)
         return 1;
     }
     fprintf(out, "! %s -- the constants of taper.h, written at build time by\n"
-                 "! src/bindings/fortran/gen_constants.c from the header's own lists: do not\n"
+                 "! drivers/fortran/module/gen_constants.c from the header's own lists: do not\n"
                  "! edit.  The module taper (taper.f90) re-exports them: `use taper`.\n"
                  "module taper_constants\n"
                  "  use, intrinsic :: iso_c_binding, only: c_int, c_size_t, c_double\n"
