@@ -51,8 +51,8 @@
  * surpassing v_k, is the pulse moving on from k to k+1: at that moment k
  * carries the pulse's front, no granule behind it moves faster.  The
  * precursor's crossings are far ahead of the pulse, at velocities 1e-17 to
- * 1e-11 of it (forward exponential q = 0.05, N = 60, n = 3/2: 19 to 14 000
- * crossings per contact before the pulse arrives).  So below n = 2 the pass
+ * 1e-11 of it (forward exponential q = 0.05, N = 60, n = 3/2: from t = 4e-8
+ * on, where the pulse arrives at t ~ 10; docs/design.md).  So below n = 2 the pass
  * of k is the first time that v_{k+1} >= v_k >= v_j for every window
  * granule j < k, the zero crossing upward of
  *     g = min(v_{k+1} - v_k, v_k - max_{lo <= j < k} v_j),

@@ -6,8 +6,8 @@
  * tolerance to 1e-14 or better, stated in its header).
  *
  * The bounds are docs/design.md's "Accuracy at tight tolerances": 5e-14
- * on monodisperse N = 1000 (2.1e-15 measured; between 2e-15 and 4.4e-14
- * at rtol 2.5e-16 to 5e-16, with the step level a tolerance lands on) and
+ * on monodisperse N = 1000 (2.1e-15 measured; 1e-15 to 2.2e-14 at rtol
+ * 3e-16 to 1e-15, with the step level a tolerance lands on) and
  * the forward exponential chains (6.8e-16, 1.1e-15), 1e-13 on forward
  * linear (7.8e-16) and on the backward chains (3.3e-14, 4.4e-14: CVODE's
  * weighted RMS norm averages the error of the few granules that carry the
