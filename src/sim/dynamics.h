@@ -61,6 +61,10 @@ typedef struct taper_dyn {
     double damping;         /* Kuwabara-Kono time (rescaled)               */
     double drag;            /* force -drag v on every body                  */
     int wall_left, wall_right; /* body 1 / body n is a wall                 */
+    /* The last body, carried by the one before it (0: none; sim.c,
+     * "A light end carried"): it moves with its carrier, v_n = v_(n-1),
+     * their contact held at z_(n-1) = 0, once both are in the window. */
+    size_t carried;
 } taper_dyn;
 
 static inline size_t taper_idx_v(size_t k) { return 2 * (k - 1); }
@@ -82,6 +86,19 @@ double taper_dyn_force_slope(const taper_dyn *d, size_t k, double z);
 
 /* y and ydot point at absolute index taper_dyn_begin(d). */
 void taper_dyn_rhs(const taper_dyn *d, const double *y, double *ydot);
+
+/* A carried body (d->carried) takes its carrier's acceleration, and their
+ * contact stays where it is (at 0), applied to a right-hand side computed
+ * by either function: the carrier feels no force from it (z = 0), so
+ * nothing else changes.  Only while both are integrated (the carrier may
+ * have left the window behind: then both fly freely, side by side). */
+static inline void taper_dyn_carry(const taper_dyn *d, double *ydot)
+{
+    const size_t c = d->carried, begin = taper_dyn_begin(d);
+    if (!c || d->hi != c || d->lo >= c) return;
+    ydot[taper_idx_v(c) - begin] = ydot[taper_idx_v(c - 1) - begin];
+    ydot[taper_idx_z(c - 1) - begin] = 0.0;
+}
 
 /* ---- chains with options (d->general) ------------------------------------
  * Contact k pushes with r_k (s^(n-1) + damping d(s^(n-1))/dt), s = delta_k +

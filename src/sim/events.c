@@ -112,9 +112,15 @@ static double velocity(const taper_sim *sim, const double *y, size_t k)
 
 static int known(const taper_sim *sim, size_t k, unsigned bit) { return sim->pulse.events[k - 1] & bit; }
 
+/* A carried body and its carrier (sim.c, "A light end carried") move as
+ * one: v_c - v_(c-1) and the rider's peak function are identically zero.
+ * Their events are those of the granules the limit gives them
+ * (carry_events). */
+static int carrier(const taper_sim *sim, size_t k) { return sim->dyn.carried && k + 1 == sim->dyn.carried; }
+
 static int pass_armed(const taper_sim *sim, const double *y, size_t k)
 {
-    if (k > sim->pass_limit || k > sim->dyn.hi || known(sim, k, TAPER_EV_PASS)) return 0;
+    if (k > sim->pass_limit || k > sim->dyn.hi || known(sim, k, TAPER_EV_PASS) || carrier(sim, k)) return 0;
     return sim->pulse.lead || k == sim->pulse.next_pass || velocity(sim, y, k) > arm_velocity(sim);
 }
 
@@ -149,7 +155,7 @@ static double pass_function(const taper_sim *sim, const double *y, size_t k)
 
 static int peak_armed(const taper_sim *sim, const double *y, size_t k)
 {
-    if (k > sim->target || k > sim->dyn.hi || known(sim, k, TAPER_EV_PEAK)) return 0;
+    if (k > sim->target || k > sim->dyn.hi || known(sim, k, TAPER_EV_PEAK) || k == sim->dyn.carried) return 0;
     return velocity(sim, y, k) > arm_velocity(sim);
 }
 
@@ -188,7 +194,7 @@ static void ring_values(const taper_sim *sim, const double *y, double *g_pass, d
     }
     for (size_t j = 0, k = p->next_pass, slot = (k - 1) % np; !p->lead && j < np; j++, k++) {
         double g = -1.0;
-        if (k <= last_pass && !(p->events[k - 1] & TAPER_EV_PASS)) {
+        if (k <= last_pass && !(p->events[k - 1] & TAPER_EV_PASS) && k + 1 != d->carried) {
             const double v = y[taper_idx_v(k) - begin];
             if (k == p->next_pass || v > v_pass) g = (k < hi ? y[taper_idx_v(k + 1) - begin] : 0.0) - v;
         }
@@ -198,7 +204,7 @@ static void ring_values(const taper_sim *sim, const double *y, double *g_pass, d
     const size_t nk = p->peak_slots, last_peak = hi < sim->target ? hi : sim->target;
     for (size_t j = 0, k = p->next_peak, slot = (k - 1) % nk; j < nk; j++, k++) {
         double g = 1.0;
-        if (k <= last_peak && !(p->events[k - 1] & TAPER_EV_PEAK) &&
+        if (k <= last_peak && !(p->events[k - 1] & TAPER_EV_PEAK) && k != d->carried &&
             y[taper_idx_v(k) - begin] > v_peak) {
             if (d->dissipative) {
                 g = taper_dyn_peak_function(d, y, k);
@@ -409,6 +415,17 @@ static double peak_value(const taper_sim *sim, const double *y, size_t k)
  * to a few ulps of t on CVODE's interpolant (taper_sim_refine_root), at
  * the true time (taper_sim_true_time); y, the state CVODE returned, decides
  * only whether the root is genuine. */
+/* The carrier's pass is granule c-2's (sim.c, "A light end carried"),
+ * at the same time, where the carrier is in y. */
+static void carry_pass(taper_sim *sim, const double *y, size_t k)
+{
+    const size_t c = k + 1;
+    if (!carrier(sim, c) || c > sim->pass_limit || known(sim, c, TAPER_EV_PASS)) return;
+    sim->pulse.events[c - 1] |= TAPER_EV_PASS;
+    sim->pulse.obs[TAPER_T_PASS][c - 1] = sim->pulse.obs[TAPER_T_PASS][k - 1];
+    sim->pulse.obs[TAPER_X_PASS][c - 1] = sim->rest[c - 1] + taper_dyn_position(&sim->dyn, y, c);
+}
+
 static void record_pass(taper_sim *sim, const double *y, size_t k)
 {
     const taper_dyn *d = &sim->dyn;
@@ -420,6 +437,7 @@ static void record_pass(taper_sim *sim, const double *y, size_t k)
     const double t = taper_sim_refine_root(sim, pass_value, k, &y);
     sim->pulse.obs[TAPER_T_PASS][k - 1] = taper_sim_true_time(sim, t);
     sim->pulse.obs[TAPER_X_PASS][k - 1] = sim->rest[k - 1] + taper_dyn_position(d, y, k);
+    carry_pass(sim, y, k);
     double v = velocity(sim, y, k + 1);
     if (v > 0.0) sim->pulse.v_ref = v;
     double z = taper_dyn_z(d, y, k);
@@ -438,6 +456,32 @@ static void record_peak(taper_sim *sim, const double *y, size_t k)
     const double t = taper_sim_refine_root(sim, peak_value, k, &y);
     sim->pulse.obs[TAPER_V_PEAK][k - 1] = velocity(sim, y, k);
     sim->pulse.obs[TAPER_T_PEAK][k - 1] = taper_sim_true_time(sim, t);
+    if (carrier(sim, k) && k + 1 <= sim->target && !known(sim, k + 1, TAPER_EV_PEAK)) {
+        /* the rider peaks with its carrier */
+        sim->pulse.events[k] |= TAPER_EV_PEAK;
+        sim->pulse.obs[TAPER_V_PEAK][k] = sim->pulse.obs[TAPER_V_PEAK][k - 1];
+        sim->pulse.obs[TAPER_T_PEAK][k] = sim->pulse.obs[TAPER_T_PEAK][k - 1];
+    }
+}
+
+/* A carried pair's events follow those they are given (above) when these
+ * were found untimed: untimed too, so that the run does not wait for them. */
+static int carry_untimed(taper_sim *sim)
+{
+    const size_t c = sim->dyn.carried;
+    int moved = 0;
+    if (!c) return 0;
+    if (c - 1 <= sim->pass_limit && known(sim, c - 2, TAPER_EV_PASS) && !known(sim, c - 1, TAPER_EV_PASS)) {
+        sim->pulse.events[c - 2] |= TAPER_EV_PASS;
+        sim->pulse.untimed_passes++;
+        moved = 1;
+    }
+    if (c <= sim->target && known(sim, c - 1, TAPER_EV_PEAK) && !known(sim, c, TAPER_EV_PEAK)) {
+        sim->pulse.events[c - 1] |= TAPER_EV_PEAK;
+        sim->pulse.untimed_peaks++;
+        moved = 1;
+    }
+    return moved;
 }
 
 /* Moves the rings past known events.  A granule that enters a ring with its
@@ -448,7 +492,7 @@ static void record_peak(taper_sim *sim, const double *y, size_t k)
 static void advance_rings(taper_sim *sim, const double *y)
 {
     for (int moved = 1; moved;) {
-        moved = 0;
+        moved = carry_untimed(sim);
         while (sim->pulse.next_pass <= sim->pass_limit && known(sim, sim->pulse.next_pass, TAPER_EV_PASS))
             sim->pulse.next_pass++;
         while (sim->pulse.next_peak <= sim->target && known(sim, sim->pulse.next_peak, TAPER_EV_PEAK))
@@ -510,6 +554,7 @@ void taper_events_piston_stopped(taper_sim *sim)
         sim->pulse.obs[TAPER_X_PASS][0] = sim->rest[0] + taper_dyn_position(&sim->dyn, y, 1);
         if (velocity(sim, y, 2) > 0.0) sim->pulse.v_ref = velocity(sim, y, 2);
         if (taper_dyn_z(&sim->dyn, y, 1) > 0.0) sim->pulse.z_ref = taper_dyn_z(&sim->dyn, y, 1);
+        carry_pass(sim, y, 1);
     }
     record_wall(sim, y, TAPER_LEFT); /* its force stops growing here */
     advance_rings(sim, y);

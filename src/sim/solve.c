@@ -44,7 +44,9 @@ static int rhs(double t, N_Vector y, N_Vector ydot, void *user)
 {
     (void)t;
     const taper_sim *sim = user;
-    taper_dyn_rhs(&sim->dyn, taper_sim_data(sim, y), taper_sim_data(sim, ydot));
+    double *f = taper_sim_data(sim, ydot);
+    taper_dyn_rhs(&sim->dyn, taper_sim_data(sim, y), f);
+    taper_dyn_carry(&sim->dyn, f);
     return 0;
 }
 
@@ -53,7 +55,9 @@ static int rhs(double t, N_Vector y, N_Vector ydot, void *user)
 static int rhs_general(double t, N_Vector y, N_Vector ydot, void *user)
 {
     const taper_sim *sim = user;
-    taper_dyn_rhs_general(&sim->dyn, t, taper_sim_data(sim, y), taper_sim_data(sim, ydot));
+    double *f = taper_sim_data(sim, ydot);
+    taper_dyn_rhs_general(&sim->dyn, t, taper_sim_data(sim, y), f);
+    taper_dyn_carry(&sim->dyn, f);
     return 0;
 }
 
@@ -73,6 +77,7 @@ static int rhs_quadratures(double t, N_Vector y, N_Vector ydot, void *user)
     const taper_sim *sim = user;
     const double *yy = taper_sim_data(sim, y);
     taper_dyn_rhs_general(&sim->dyn, t, yy, taper_sim_data(sim, ydot));
+    taper_dyn_carry(&sim->dyn, taper_sim_data(sim, ydot));
     double *q = quadrature_entries(sim, ydot);
     taper_dyn_quadrature_rhs(&sim->dyn, yy, q);
     /* departed granules' drag loss, fading out of the quadrature (sim.c) */
@@ -102,6 +107,15 @@ static int jacobian(double t, N_Vector yv, N_Vector fy, SUNMatrix J, void *user,
             SM_ELEMENT_B(J, iz, iv + 2) = -1.0;
         }
         SM_ELEMENT_B(J, iz, iv) = 1.0;
+    }
+    const size_t c = d->carried; /* whole chain: hi = n; as taper_dyn_carry */
+    if (c) {
+        sunindextype iv = (sunindextype)taper_idx_v(c), iz = (sunindextype)taper_idx_z(c - 1);
+        /* v_c' = v_(c-1)': its dependence on z_(c-1) (the carrier's on
+         * z_(c-2) is outside the band and left out: Newton's matrix need
+         * not be exact) */
+        SM_ELEMENT_B(J, iv, iz) = SM_ELEMENT_B(J, iv - 2, iz);
+        SM_ELEMENT_B(J, iz, iv) = SM_ELEMENT_B(J, iz, iv - 2) = 0.0;
     }
     return 0;
 }

@@ -1006,6 +1006,122 @@ static void leading_passes_below_two(void **state)
     }
 }
 
+static void count_carried(int level, const char *message, void *user)
+{
+    if (level == 0 && strstr(message, "is carried")) ++*(int *)user;
+}
+
+/* 11 equal granules and a 12th of radius r (mass r^3 of the 11th). */
+static taper_chain *light_end_chain(double r)
+{
+    double radii[12];
+    for (int k = 0; k < 11; k++) radii[k] = 1.0;
+    radii[11] = r;
+    return test_chain(TAPER_CUSTOM, 12, 0.0, 0.0, 2.5, radii);
+}
+
+static taper_sim *run_counting_carried(const taper_chain *c, double rtol, double atol,
+                                       taper_method method, int window, int *carried)
+{
+    taper_solver_spec *spec = new_spec();
+    SET(taper_solver_spec_set_rtol(spec, rtol, &e_));
+    SET(taper_solver_spec_set_atol(spec, atol, &e_));
+    SET(taper_solver_spec_set_method(spec, method, &e_));
+    SET(taper_solver_spec_set_window(spec, window, &e_));
+    *carried = 0;
+    taper_solver_spec_set_log(spec, count_carried, carried);
+    taper_error err;
+    taper_sim *sim = taper_sim_alloc(c, spec, &err);
+    taper_solver_spec_free(spec);
+    assert_non_null(sim);
+    taper_status status = taper_sim_run(sim, &err);
+    if (status != TAPER_OK) print_error("run: %s\n", err.message);
+    assert_int_equal(status, TAPER_OK);
+    return sim;
+}
+
+/* A light end carried (sim.c): the last granule of a free end, far lighter
+ * than the one before it, rides on it.  Three checks.
+ * 1. The scaling that decides when: integrated, a light 12th granule
+ *    leaves the 11th faster than the 11th's velocity peak by about
+ *    (m_12 / m_11)^(4/7) of it (n = 5/2), at mass ratios 1e-9, 1e-12 and
+ *    1e-15 (each above rtol by that measure: not carried; run at rtol
+ *    1e-12, below the smallest excess, 2.7e-9).
+ * 2. The limit: at a ratio of 1e-18 (5.2e-11 by that measure, below the
+ *    default rtol) the 12th is carried; granules 1..11 then move as the
+ *    chain of 11 alone (an independent run: t_pass of 1..10 and v_peak of
+ *    1..11 within 1e-9), the 11th is passed when the 10th is and the 12th
+ *    peaks with the 11th, in the window, the whole chain and BDF alike.
+ * 3. Forward linear s = 0.0101010101, N = 100 (its last granule 1e-24 of
+ *    the 99th): uncarried, granule 100 chattered on granule 99 for 1.45e6
+ *    steps in 0.005 time units, and the run never ended; carried, every
+ *    pass time, energy within 1e-6, pass times within 1e-9 of rtol 1e-13. */
+static void light_end_carried(void **state)
+{
+    (void)state;
+    const double rtol = 1e-10, atol = 1e-13;
+    int carried;
+    taper_chain *alone = make_chain(TAPER_MONODISPERSE, 11, 0.0, NULL);
+    taper_sim *ref = run(alone, rtol, atol, TAPER_ADAMS, 1, TAPER_OK);
+    taper_sim *tight_ref = run(alone, 1e-12, 1e-15, TAPER_ADAMS, 1, TAPER_OK);
+    const double v11 = taper_sim_observable(tight_ref, TAPER_V_PEAK)[10];
+    taper_sim_free(tight_ref);
+    const double ratios[] = {1e-9, 1e-12, 1e-15};
+    for (size_t i = 0; i < sizeof ratios / sizeof *ratios; i++) { /* at rtol 1e-12: below the excess */
+        taper_chain *c = light_end_chain(cbrt(ratios[i]));
+        taper_sim *sim = run_counting_carried(c, 1e-12, 1e-15, TAPER_ADAMS, 1, &carried);
+        const double excess = taper_sim_observable(sim, TAPER_V_PEAK)[11] / v11 - 1.0;
+        const double scale = pow(ratios[i], 4.0 / 7.0);
+        print_message("light end, mass ratio %.0e: not carried, v_peak(12) / v_peak(11) - 1 = %.3e, "
+                      "%.2f times (m_12/m_11)^(4/7)\n", ratios[i], excess, excess / scale);
+        assert_int_equal(carried, 0);
+        assert_true(excess >= 0.5 * scale && excess <= 2.0 * scale);
+        taper_sim_free(sim);
+        taper_chain_free(c);
+    }
+    taper_chain *c = light_end_chain(1e-6);
+    const struct { taper_method method; int window; double bound; } ways[] = {
+        {TAPER_ADAMS, 1, 1e-9}, {TAPER_ADAMS, 0, 1e-9}, {TAPER_BDF, 0, 1e-6},
+    };
+    for (size_t i = 0; i < sizeof ways / sizeof *ways; i++) {
+        taper_sim *sim = run_counting_carried(c, rtol, atol, ways[i].method, ways[i].window, &carried);
+        const double *tp = taper_sim_observable(sim, TAPER_T_PASS);
+        const double *vp = taper_sim_observable(sim, TAPER_V_PEAK), *tk = taper_sim_observable(sim, TAPER_T_PEAK);
+        const double t_err = max_rel_diff(tp, taper_sim_observable(ref, TAPER_T_PASS), 10);
+        const double v_err = max_rel_diff(vp, taper_sim_observable(ref, TAPER_V_PEAK), 11);
+        print_message("light end, mass ratio 1e-18, %s%s: carried, against 11 granules alone t_pass "
+                      "%.1e, v_peak %.1e, energy error %.1e, %.0f steps\n",
+                      ways[i].method == TAPER_BDF ? "BDF" : "Adams", ways[i].window ? ", window" : "",
+                      t_err, v_err, stat(sim, TAPER_STAT_ENERGY_ERROR), stat(sim, TAPER_STAT_STEPS));
+        assert_int_equal(carried, 1);
+        assert_true(t_err <= ways[i].bound && v_err <= ways[i].bound);
+        assert_true(tp[10] == tp[9]);
+        assert_true(vp[11] == vp[10] && tk[11] == tk[10]);
+        assert_true(stat(sim, TAPER_STAT_ENERGY_ERROR) <= 1e-8);
+        taper_sim_free(sim);
+    }
+    taper_chain_free(c);
+    taper_sim_free(ref);
+    taper_chain_free(alone);
+
+    const size_t n = 100;
+    taper_chain *fl = test_chain(TAPER_FORWARD_LINEAR, n, 0.0101010101, 0.0, 2.5, NULL);
+    taper_sim *sim = run_counting_carried(fl, rtol, atol, TAPER_ADAMS, 1, &carried);
+    taper_sim *tight = run_counting_carried(fl, 1e-13, 1e-16, TAPER_ADAMS, 1, &carried);
+    const double *tp = taper_sim_observable(sim, TAPER_T_PASS);
+    for (size_t k = 0; k + 1 < n; k++) assert_true(isfinite(tp[k]) && tp[k] > 0.0);
+    const double err = max_rel_diff(tp, taper_sim_observable(tight, TAPER_T_PASS), n - 1);
+    print_message("forward linear s = 0.0101010101, N = 100: every pass time, energy error %.1e, "
+                  "%.0f steps, t_pass within %.1e of rtol 1e-13\n",
+                  stat(sim, TAPER_STAT_ENERGY_ERROR), stat(sim, TAPER_STAT_STEPS), err);
+    assert_int_equal(carried, 1);
+    assert_true(stat(sim, TAPER_STAT_ENERGY_ERROR) <= 1e-6);
+    assert_true(err <= 1e-9);
+    taper_sim_free(tight);
+    taper_sim_free(sim);
+    taper_chain_free(fl);
+}
+
 /* At most 35 steps per granule on a monodisperse chain at
  * the default settings, and the default accuracy (pass times within 1e-8
  * of rtol 1e-14).  Adams' max order 8 with a step that changes once it may
@@ -1199,6 +1315,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(sublinear_precursor_keeps_every_pass),
         cmocka_unit_test(slow_light_end_is_announced),
         cmocka_unit_test(leading_passes_below_two),
+        cmocka_unit_test(light_end_carried),
         cmocka_unit_test(steps_per_granule),
         cmocka_unit_test(pulse_position_advances),
         cmocka_unit_test(stops_at_last_granule),
