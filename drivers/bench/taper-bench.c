@@ -329,6 +329,10 @@ static size_t sweep(int m, int quick, const taper_chain *chain, double *tol)
     if (m == M_BDF && !quick) lo = 1e-10;
     if (quick) lo = fmax(lo, 1e-11);
     for (double t = hi; t >= lo * 0.99; t /= quick ? 100.0 : 10.0) tol[k++] = t;
+    /* CVODE Adams on to the tightest rtol taper accepts: the backward
+     * chains need it below 1e-14 (docs/design.md, "Accuracy at tight
+     * tolerances") */
+    if (m == M_ADAMS && !quick) tol[k++] = 1e-15, tol[k++] = TAPER_RTOL_MIN;
     return k;
 }
 
