@@ -433,8 +433,8 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
     sim->pass_limit = (target < n ? target : n - 1) + m->off;
     sim->dyn.carried = light_end_carried(sim);
     if (check_time_resolution(sim, err) != TAPER_OK) goto fail;
-    if (sim->dyn.carried)
-        taper_sim_log(sim, 0,
+    if (sim->dyn.carried) /* a warning: two observables are the limit's */
+        taper_sim_log(sim, 1,
                       "granule %zu, %.3g times the mass of granule %zu, rides on it and is "
                       "carried, as in the limit of a vanishing mass: granule %zu is passed when "
                       "granule %zu is, granule %zu peaks with %zu (docs/design.md, \"A light end "

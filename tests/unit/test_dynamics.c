@@ -1008,7 +1008,7 @@ static void leading_passes_below_two(void **state)
 
 static void count_carried(int level, const char *message, void *user)
 {
-    if (level == 0 && strstr(message, "is carried")) ++*(int *)user;
+    if (level == 1 && strstr(message, "is carried")) ++*(int *)user;
 }
 
 /* 11 equal granules and a 12th of radius r (mass r^3 of the 11th). */
