@@ -114,6 +114,7 @@ def run(m, r, tol, eps, cpu_limit):
     u = [sv[iu(k)] for k in range(n)]
     w = [sv[iw(k)] for k in range(n - 1)]
     p = [hy.par[k] for k in range(n - 1)]
+    f = [hy.par[n - 1 + k] for k in range(n - 1)]  # 0: the gap is frozen (below)
     # contact forces in physical units
     F = [r[k] * Z[k] ** 1.5 * p[k] * (p[k] * w[k] + (1.0 - p[k])) ** 1.5 for k in range(n - 1)]
     sys_eq = []
@@ -125,10 +126,10 @@ def run(m, r, tol, eps, cpu_limit):
             acc = acc - F[k]
         sys_eq.append((u[k], acc / (m[k] * V[k])))
         if k < n - 1:
-            sys_eq.append((w[k], (V[k] * u[k] - V[k + 1] * u[k + 1]) / Z[k]))
+            sys_eq.append((w[k], f[k] * (V[k] * u[k] - V[k + 1] * u[k + 1]) / Z[k]))
     state = np.zeros(dim)
     state[iu(0)] = 1.0 / V[0]
-    pars = np.zeros(n - 1)
+    pars = np.concatenate([np.zeros(n - 1), np.ones(n - 1)])
 
     t_pass = [math.nan] * n
     v_peak = [math.nan] * n
@@ -201,21 +202,49 @@ def run(m, r, tol, eps, cpu_limit):
     compile_seconds = time.process_time() - c0
     ev["ta"] = ta
 
+    frozen = {}  # contact k -> (t0, z0, dz/dt): its gap in closed form
+
+    def freeze(k):
+        """Freezes open gap k when both its granules fly freely apart and
+        their observables are known."""
+        if ta.pars[k] != 0.0 or k in frozen:
+            return
+        if (k > 0 and ta.pars[k - 1] != 0.0) or (k < n - 2 and ta.pars[k + 1] != 0.0):
+            return
+        if any(math.isnan(t_peak[j]) for j in (k, k + 1)) or any(
+                math.isnan(t_pass[j]) for j in (k, k + 1) if j < n - 1):
+            return
+        st = ta.state
+        dz = V[k] * st[iu(k)] - V[k + 1] * st[iu(k + 1)]
+        if not dz < 0.0:
+            return
+        frozen[k] = (ta.time, Z[k] * st[iw(k)], dz)
+        st[iw(k)] = -1.0
+        ta.pars[n - 1 + k] = 0.0
+
+    def thaw(k):
+        if k in frozen:
+            t0, z0, dz = frozen.pop(k)
+            ta.state[iw(k)] = (z0 + dz * (ta.time - t0)) / Z[k]
+            ta.pars[n - 1 + k] = 1.0
+
     steps = 0
     switches = 0
     complete = 0
     c0 = time.process_time()
-    chunk = 100.0
     while True:
         if time.process_time() - c0 > cpu_limit:
             break
-        horizon = min(ta.time + chunk, ev["t_end"])
+        # the stops where gaps are frozen: about 20 per decade of time
+        horizon = min(ta.time + max(100.0, 0.1 * ta.time), ev["t_end"])
         res = ta.propagate_until(horizon)
         steps += res[3]
         oc = res[0]
         if oc == hy.taylor_outcome.time_limit:
             if ta.time >= ev["t_end"]:
                 break
+            for k in range(n - 1):
+                freeze(k)
             continue
         code = int(oc.value) if hasattr(oc, "value") else int(oc)
         if not -len(t_events) <= code <= -1:  # a non-finite state or another failure
@@ -243,6 +272,14 @@ def run(m, r, tol, eps, cpu_limit):
             if not on and k == n - 2:  # the last granule leaves: its peak
                 tp = t + eps * Z[k] / max(abs(urel), 1e-300)
                 record_peak(n, tp, s[iu(n - 1)] * V[n - 1])
+            for j in (k - 1, k + 1):
+                if 0 <= j < n - 1:
+                    if on:
+                        thaw(j)  # a granule of gap j no longer flies freely
+                    else:
+                        freeze(j)
+            if not on:
+                freeze(k)
         if ev["next_pass"] > n - 1 and (ev["next_peak"] > n or ta.time >= ev["t_end"]):
             complete = 1
             break
@@ -254,7 +291,7 @@ def run(m, r, tol, eps, cpu_limit):
         energy += 0.5 * m[k] * (V[k] * s[iu(k)]) ** 2
     for k in range(n - 1):
         z = Z[k] * s[iw(k)]
-        if z > 0:
+        if z > 0 and k not in frozen:
             energy += r[k] * z ** 2.5 / 2.5
     e0 = 0.5 * m[0]
     complete = complete and all(not math.isnan(x) for x in t_pass[: n - 1])
