@@ -95,9 +95,9 @@ def load_chain(path):
         raise ValueError(f"{path}: need at least 2 granules")
     for k in range(len(m) - 1):
         if not (m[k] > 0 and r[k] > 0 and math.isfinite(m[k]) and math.isfinite(r[k])):
-            raise ValueError(f"{path}:{k + 1}: mass and contact factor must be positive")
+            raise ValueError(f"{path}: granule {k + 1}: mass and contact factor must be positive and finite")
     if not (m[-1] > 0 and math.isfinite(m[-1])):
-        raise ValueError(f"{path}:{len(m)}: mass must be positive")
+        raise ValueError(f"{path}: granule {len(m)}: mass must be positive and finite")
     return m, r[:-1]
 
 
