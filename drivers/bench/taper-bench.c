@@ -3,7 +3,12 @@
  *
  *   taper-bench [--quick] [-o DIR] [--reps R] [--chain NAME]
  *               [--no-scaling | --scaling-only] [--scaling-max N]
- *   taper-bench --single CHAIN METHOD TOL     (one run, for profiling)
+ *   taper-bench [--heyoka-python PATH] --single CHAIN METHOD TOL [N [REF]]
+ *               (one run, for profiling and paired timings: wall and CPU
+ *               seconds; with REF, taper-reference's output for the chain,
+ *               err_t over granules 1..N-2 as in the study)
+ *   taper-bench --write-chain CHAIN N FILE    (the chain file of
+ *               peers/peer_heyoka.py: libtaper's masses and contact factors)
  *   taper-bench --options [-o DIR] [--chain NAME] [--options-max N]
  *               [--options-limit S]     (the chains with options, below)
  *
@@ -25,8 +30,13 @@
  * erk-verner6 (ARKODE_VERNER_8_5_6, order 6(5)), erk-fehlberg8
  * (ARKODE_FEHLBERG_13_7_8, order 8(7)), erk-dp5 (ARKODE_DORMAND_PRINCE_7_4_5);
  * rk8-window: rk8pd inside an active window, max-norm control with taper's
- * scaled tolerances (peers/peer_rk8_window.c).
- * Wall times are medians of R repetitions (default 3).
+ * scaled tolerances (peers/peer_rk8_window.c); heyoka: the Taylor
+ * integrator heyoka on the whole chain (peers/peer_heyoka.py, run by the
+ * Python of --heyoka-python PATH, default python3; skipped with one line
+ * where that Python cannot import heyoka).
+ * Wall times are medians of R repetitions (default 3); heyoka's are the
+ * CPU seconds of its integration alone (its compilation in the column
+ * compile_seconds).
  *
  * --options: the cost of the chains experimenters build (a damping, a drag,
  * a static load, walls) on the monodisperse chain (or --chain NAME), at the
@@ -53,6 +63,7 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 /* A chain of the study, named by its profile (taper_profile_name: the one
  * list of profile names). */
@@ -78,10 +89,11 @@ static const chain_def quick_chains[] = {
 static const char *chain_name(const chain_def *c) { return taper_profile_name(c->profile); }
 
 enum { M_ADAMS, M_DEFAULT, M_ADAMS_NOWIN, M_ADAMS_Q4, M_ADAMS_Q12, M_BDF, M_RK8PD, M_VERLET,
-       M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, M_RK8_WINDOW, N_METHODS };
+       M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, M_RK8_WINDOW, M_HEYOKA, N_METHODS };
 static const char *method_names[N_METHODS] = {"adams", "default", "adams-nowin", "adams-q4",
                                               "adams-q12", "bdf-band", "rk8pd", "verlet",
-                                              "erk-verner6", "erk-fehlberg8", "erk-dp5", "rk8-window"};
+                                              "erk-verner6", "erk-fehlberg8", "erk-dp5", "rk8-window",
+                                              "heyoka"};
 
 static int is_erk(int m) { return m == M_ERK_VERNER6 || m == M_ERK_FEHLBERG8 || m == M_ERK_DP5; }
 
@@ -89,7 +101,8 @@ static int is_erk(int m) { return m == M_ERK_VERNER6 || m == M_ERK_FEHLBERG8 || 
 typedef struct run {
     size_t n;
     double *t_pass, *v_peak;
-    double seconds, energy_drift;
+    double seconds, cpu, energy_drift;
+    double compile_seconds; /* heyoka: building its integrator; NaN for the others */
     long steps, rhs_evals, root_evals, jac_evals;
     taper_status status;
     int complete;
@@ -143,6 +156,129 @@ static taper_solver_spec *solver_spec(int m, double tol, long max_steps)
     return spec;
 }
 
+static double cpu_seconds(void);
+
+/* ---- heyoka (peers/peer_heyoka.py) --------------------------------------- */
+#ifndef TAPER_BENCH_HEYOKA_SCRIPT
+#define TAPER_BENCH_HEYOKA_SCRIPT "peer_heyoka.py"
+#endif
+static const char *heyoka_python = "python3"; /* --heyoka-python PATH */
+
+/* Quoted for sh -c: 'text' with every ' as '\''; 0, or -1 if it does not fit. */
+static int sh_quote(char *buf, size_t size, const char *text)
+{
+    size_t k = 0;
+    if (size < 3) return -1;
+    buf[k++] = '\'';
+    for (const char *c = text; *c; c++) {
+        if (*c == '\'') {
+            if (k + 4 >= size) return -1;
+            memcpy(buf + k, "'\\''", 4);
+            k += 4;
+        } else {
+            if (k + 1 >= size) return -1;
+            buf[k++] = *c;
+        }
+    }
+    if (k + 2 > size) return -1;
+    buf[k++] = '\'';
+    buf[k] = '\0';
+    return 0;
+}
+
+/* 1 when heyoka_python imports heyoka (asked once); else 0 after one line
+ * on stderr saying that heyoka is skipped and why. */
+static int heyoka_available(void)
+{
+    static int known = -1;
+    if (known >= 0) return known;
+    char py[1200], cmd[1400];
+    known = sh_quote(py, sizeof py, heyoka_python) == 0 &&
+            snprintf(cmd, sizeof cmd, "%s -c 'import heyoka' >/dev/null 2>&1", py) < (int)sizeof cmd &&
+            system(cmd) == 0;
+    if (!known)
+        fprintf(stderr, "taper-bench: heyoka skipped: %s cannot import heyoka (--heyoka-python PATH names a "
+                        "Python that can)\n", heyoka_python);
+    return known;
+}
+
+/* The chain file of peer_heyoka.py: "m_k r_k" per granule, r_N = nan (the
+ * doubles libtaper integrates).  0, or -1 after a message. */
+static int write_chain_file(const taper_chain *chain, FILE *f, const char *path)
+{
+    size_t n = taper_chain_size(chain);
+    const double *m = taper_chain_mass(chain), *r = taper_chain_contact(chain);
+    fprintf(f, "# m_k r_k (libtaper's masses and contact factors), k = 1..%zu\n", n);
+    for (size_t k = 0; k < n; k++)
+        if (k + 1 < n) fprintf(f, "%.17g %.17g\n", m[k], r[k]);
+        else fprintf(f, "%.17g nan\n", m[k]);
+    if (fflush(f) != 0 || ferror(f)) {
+        fprintf(stderr, "taper-bench: cannot write %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+/* One heyoka run at tolerance tol (its `tol`; the contact threshold is the
+ * script's default).  Fills out as run_once does; seconds and cpu are
+ * the integration's CPU seconds. */
+static taper_status run_heyoka(const taper_chain *chain, double tol, run *out)
+{
+    size_t n = taper_chain_size(chain);
+    const char *tmp = getenv("TMPDIR");
+    char path[1024], py[1200], script[1200], file[1200], cmd[4000];
+    snprintf(path, sizeof path, "%s/taper-bench-chain-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    int fd = mkstemp(path);
+    FILE *f = fd >= 0 ? fdopen(fd, "w") : NULL;
+    if (!f) {
+        fprintf(stderr, "taper-bench: heyoka: cannot create %s: %s\n", path, strerror(errno));
+        if (fd >= 0) close(fd), unlink(path);
+        return TAPER_EINVAL;
+    }
+    int bad = write_chain_file(chain, f, path);
+    fclose(f);
+    if (!bad && (sh_quote(py, sizeof py, heyoka_python) || sh_quote(script, sizeof script, TAPER_BENCH_HEYOKA_SCRIPT) ||
+                 sh_quote(file, sizeof file, path) ||
+                 snprintf(cmd, sizeof cmd, "%s %s %s %.17g", py, script, file, tol) >= (int)sizeof cmd)) {
+        fprintf(stderr, "taper-bench: heyoka: command too long\n");
+        bad = 1;
+    }
+    FILE *p = bad ? NULL : popen(cmd, "r");
+    if (!p) {
+        unlink(path);
+        return TAPER_EINVAL;
+    }
+    for (size_t k = 0; k < n; k++) out->t_pass[k] = out->v_peak[k] = NAN;
+    char line[512];
+    int complete = 0, got = 0;
+    while (fgets(line, sizeof line, p)) {
+        char key[64];
+        double a, b, c;
+        size_t k;
+        if (sscanf(line, "granule %zu %lf %lf %lf", &k, &a, &b, &c) == 4 && k >= 1 && k <= n) {
+            out->t_pass[k - 1] = k < n ? a : NAN;
+            out->v_peak[k - 1] = b;
+            got++;
+        } else if (sscanf(line, "%63s %lf", key, &a) == 2) {
+            if (!strcmp(key, "integration_seconds")) out->seconds = out->cpu = a;
+            else if (!strcmp(key, "compile_seconds")) out->compile_seconds = a;
+            else if (!strcmp(key, "steps")) out->steps = (long)a;
+            else if (!strcmp(key, "events")) out->root_evals = (long)a;
+            else if (!strcmp(key, "energy_drift")) out->energy_drift = a;
+            else if (!strcmp(key, "complete")) complete = a != 0.0;
+        }
+    }
+    int status = pclose(p);
+    unlink(path);
+    if (status != 0 || (size_t)got != n) {
+        fprintf(stderr, "taper-bench: heyoka tol %g: %s failed (exit status %d, %d of %zu granules)\n", tol,
+                TAPER_BENCH_HEYOKA_SCRIPT, status, got, n);
+        return TAPER_ESOLVER;
+    }
+    out->complete = complete;
+    return TAPER_OK;
+}
+
 static void run_free(run *r)
 {
     free(r->t_pass);
@@ -157,11 +293,16 @@ static taper_status run_once(const taper_chain *chain, int m, double tol, long m
     size_t n = taper_chain_size(chain);
     memset(out, 0, sizeof *out);
     out->n = n;
+    out->compile_seconds = NAN;
     out->t_pass = malloc(n * sizeof(double));
     out->v_peak = malloc(n * sizeof(double));
     if (!out->t_pass || !out->v_peak) return TAPER_ENOMEM;
     taper_error err;
-    double t0 = wall_seconds();
+    if (m == M_HEYOKA) {
+        out->status = run_heyoka(chain, tol, out);
+        return out->status;
+    }
+    double t0 = wall_seconds(), c0 = cpu_seconds();
     if (m == M_RK8PD || m == M_VERLET || is_erk(m) || m == M_RK8_WINDOW) {
         taper_peer_result r;
         taper_status status;
@@ -175,6 +316,7 @@ static taper_status run_once(const taper_chain *chain, int m, double tol, long m
             status = taper_peer_arkode(chain, table, tol, tol * 1e-3, max_steps, &r, &err);
         }
         out->seconds = wall_seconds() - t0;
+        out->cpu = cpu_seconds() - c0;
         out->status = status;
         if (status != TAPER_OK && status != TAPER_ELIMIT) {
             fprintf(stderr, "taper-bench: %s: %s\n", method_names[m], err.message);
@@ -200,6 +342,7 @@ static taper_status run_once(const taper_chain *chain, int m, double tol, long m
     }
     taper_status status = taper_sim_run(sim, &err);
     out->seconds = wall_seconds() - t0;
+    out->cpu = cpu_seconds() - c0;
     out->status = status;
     if (status != TAPER_OK)
         fprintf(stderr, "taper-bench: %s tol %g: %s\n", method_names[m], tol, err.message);
@@ -265,7 +408,7 @@ static double max_rel_err(const double *x, const double *ref, size_t n, size_t *
 
 typedef struct row {
     int chain, method;
-    double tol, err_t, err_v, drift, seconds, t_min, t_max;
+    double tol, err_t, err_v, drift, seconds, t_min, t_max, compile_seconds;
     long steps, rhs, roots, jacs;
     size_t missing;
     int complete;
@@ -323,7 +466,8 @@ static size_t sweep(int m, int quick, const taper_chain *chain, double *tol)
      * ARKODE ERK (whole chain, orders 5-8): 1e-11 and below take 10^5-10^6
      * whole-chain steps on N = 1000, so its sweep ends at 1e-11, as the
      * whole-chain CVODE runs do. */
-    int tight = m == M_ADAMS || m == M_ADAMS_Q4 || m == M_ADAMS_Q12 || m == M_RK8PD || m == M_RK8_WINDOW;
+    int tight = m == M_ADAMS || m == M_ADAMS_Q4 || m == M_ADAMS_Q12 || m == M_RK8PD || m == M_RK8_WINDOW ||
+                m == M_HEYOKA;
     double lo = m == M_BDF ? 1e-11 : tight ? 1e-14 : 1e-11;
     double hi = m == M_BDF ? 1e-4 : 1e-5;
     if (m == M_BDF && !quick) lo = 1e-10;
@@ -414,6 +558,7 @@ static int run_chain(study *s, size_t ci)
             w.err_v = max_rel_err(r.v_peak, ref.v_peak, n, &w.missing);
             w.drift = r.energy_drift;
             w.seconds = r.seconds;
+            w.compile_seconds = r.compile_seconds;
             w.steps = r.steps, w.rhs = r.rhs_evals, w.roots = r.root_evals, w.jacs = r.jac_evals;
             w.complete = r.complete && w.missing == 0;
             fprintf(stderr, "   %-12s tol %-9.3g err_t %.2e err_v %.2e drift %.1e  %.4f s  steps %ld%s\n",
@@ -496,13 +641,13 @@ static int write_results(const study *s, const char *dir)
     FILE *f = open_out(dir, "work-precision.tsv");
     if (!f) return -1;
     fprintf(f, "chain\tmethod\ttol\terr_t_pass\terr_v_peak\tenergy_drift\tseconds\tsteps\trhs_evals"
-               "\troot_evals\tjac_evals\tn_granules\tseconds_min\tseconds_max\tmissing\tcomplete\n");
+               "\troot_evals\tjac_evals\tn_granules\tseconds_min\tseconds_max\tmissing\tcomplete\tcompile_seconds\n");
     for (size_t i = 0; i < s->n_rows; i++) {
         const row *r = &s->rows[i];
-        fprintf(f, "%s\t%s\t%.3g\t%.3e\t%.3e\t%.3e\t%.6f\t%ld\t%ld\t%ld\t%ld\t%zu\t%.6f\t%.6f\t%zu\t%d\n",
+        fprintf(f, "%s\t%s\t%.3g\t%.3e\t%.3e\t%.3e\t%.6f\t%ld\t%ld\t%ld\t%ld\t%zu\t%.6f\t%.6f\t%zu\t%d\t%.3f\n",
                 chain_name(&s->chains[r->chain]), method_names[r->method], r->tol, r->err_t, r->err_v, r->drift,
                 r->seconds, r->steps, r->rhs, r->roots, r->jacs, s->chains[r->chain].n, r->t_min,
-                r->t_max, r->missing, r->complete);
+                r->t_max, r->missing, r->complete, r->compile_seconds);
     }
     fclose(f);
 
@@ -591,7 +736,8 @@ static int write_results(const study *s, const char *dir)
                                             "lc rgb '#8c564b' pt 11", "lc rgb '#2ca02c' pt 13",
                                             "lc rgb '#ff7f0e' pt 4", "lc rgb '#d62728' pt 6",
                                             "lc rgb '#e377c2' pt 8", "lc rgb '#bcbd22' pt 10",
-                                            "lc rgb '#7f7f7f' pt 12", "lc rgb '#ff7f0e' pt 5 dt 2"};
+                                            "lc rgb '#7f7f7f' pt 12", "lc rgb '#ff7f0e' pt 5 dt 2",
+                                            "lc rgb '#8b0000' pt 2"};
     for (size_t c = 0; c < s->n_chains; c++) {
         fprintf(f, "set title '%s N=%zu' noenhanced\nplot ", chain_name(&s->chains[c]), s->chains[c].n);
         for (int m = 0, first = 1; m < N_METHODS; m++) {
@@ -865,8 +1011,9 @@ static int run_options(const char *dir, const char *only, size_t n_max, double c
 static void usage(FILE *out)
 {
     fputs("usage: taper-bench [--quick] [-o DIR] [--reps R] [--chain NAME] [--no-scaling | --scaling-only]\n"
-          "                   [--scaling-max N] [--methods NAME,NAME,...]\n"
-          "       taper-bench --single CHAIN METHOD TOL [N]\n"
+          "                   [--scaling-max N] [--methods NAME,NAME,...] [--heyoka-python PATH]\n"
+          "       taper-bench [--heyoka-python PATH] --single CHAIN METHOD TOL [N [REF]]\n"
+          "       taper-bench --write-chain CHAIN N FILE   (masses and contacts for peers/peer_heyoka.py)\n"
           "       taper-bench --options [-o DIR] [--chain NAME] [--options-max N] [--options-limit S]\n"
           "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
           "Methods:",
@@ -904,13 +1051,55 @@ static int single(int argc, char **argv, int i)
     }
     double tol = atof(argv[i + 2]);
     size_t n = i + 3 < argc ? (size_t)atol(argv[i + 3]) : 0;
+    const char *ref_path = i + 4 < argc ? argv[i + 4] : NULL;
+    if (m == M_HEYOKA && !heyoka_available()) return 77;
     taper_chain *chain = make_chain(cd, n);
     if (!chain) return 1;
+    n = taper_chain_size(chain);
+    /* REF: taper-reference's output for this chain, "k t_pass" per line */
+    double *ref = NULL;
+    if (ref_path) {
+        FILE *f = fopen(ref_path, "r");
+        ref = malloc(n * sizeof *ref);
+        if (!f || !ref) {
+            fprintf(stderr, "taper-bench: cannot read %s: %s\n", ref_path, f ? "out of memory" : strerror(errno));
+            if (f) fclose(f);
+            free(ref);
+            taper_chain_free(chain);
+            return 2;
+        }
+        for (size_t k = 0; k < n; k++) ref[k] = NAN;
+        size_t k, line = 0, got = 0;
+        double t;
+        char text[256];
+        int bad = 0;
+        while (!bad && fgets(text, sizeof text, f)) {
+            line++;
+            if (text[0] == '#') continue; /* the header of tests/unit/reference/ files */
+            bad = sscanf(text, "%zu %lf", &k, &t) != 2 || k < 1 || k + 1 > n;
+            if (!bad) ref[k - 1] = k + 1 < n ? t : NAN, got++; /* granules 1..N-2, as the study */
+        }
+        fclose(f);
+        if (bad || got != n - 1) {
+            fprintf(stderr, "taper-bench: %s:%zu: not taper-reference's output for N = %zu\n", ref_path,
+                    bad ? line : line + 1, n);
+            free(ref);
+            taper_chain_free(chain);
+            return 2;
+        }
+    }
     run r;
     taper_status status = run_once(chain, m, tol, 0, &r);
-    printf("%s N=%zu %s tol %g: %.4f s steps %ld rhs %ld roots %ld jac %ld drift %.2e t_pass(N-1) %.15g\n",
-           chain_name(cd), taper_chain_size(chain), method_names[m], tol, r.seconds, r.steps, r.rhs_evals,
-           r.root_evals, r.jac_evals, r.energy_drift, r.t_pass[taper_chain_size(chain) - 2]);
+    printf("%s N=%zu %s tol %g: %.4f s cpu %.4f s steps %ld rhs %ld roots %ld jac %ld drift %.2e t_pass(N-1) %.15g",
+           chain_name(cd), n, method_names[m], tol, r.seconds, r.cpu, r.steps, r.rhs_evals, r.root_evals,
+           r.jac_evals, r.energy_drift, r.t_pass[n - 2]);
+    if (m == M_HEYOKA) printf(" compile %.3f s", r.compile_seconds);
+    if (ref) {
+        size_t missing = 0;
+        printf(" err_t %.3e missing %zu", max_rel_err(r.t_pass, ref, n, &missing), missing);
+    }
+    printf("%s\n", r.complete ? "" : " (incomplete)");
+    free(ref);
     run_free(&r);
     taper_chain_free(chain);
     return status == TAPER_OK ? 0 : 1;
@@ -935,6 +1124,21 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--chain") && i + 1 < argc) only = argv[++i];
         else if (!strcmp(argv[i], "--scaling-max") && i + 1 < argc) scaling_max = (size_t)atol(argv[++i]);
         else if (!strcmp(argv[i], "--single")) return single(argc, argv, i + 1);
+        else if (!strcmp(argv[i], "--heyoka-python") && i + 1 < argc) heyoka_python = argv[++i];
+        else if (!strcmp(argv[i], "--write-chain") && i + 3 < argc) {
+            const chain_def *cd = find_chain(full_chains, sizeof full_chains / sizeof *full_chains, argv[i + 1]);
+            if (!cd) {
+                usage(stderr);
+                return 2;
+            }
+            taper_chain *chain = make_chain(cd, (size_t)atol(argv[i + 2]));
+            FILE *f = chain ? fopen(argv[i + 3], "w") : NULL;
+            if (chain && !f) fprintf(stderr, "taper-bench: cannot write %s: %s\n", argv[i + 3], strerror(errno));
+            int bad = !f || write_chain_file(chain, f, argv[i + 3]) != 0;
+            if (f && fclose(f) != 0) bad = 1;
+            taper_chain_free(chain);
+            return bad;
+        }
         else if (!strcmp(argv[i], "--methods") && i + 1 < argc) {
             methods = 0;
             for (char *list = argv[++i], *name; (name = strtok(list, ",")); list = NULL) {
@@ -956,6 +1160,7 @@ int main(int argc, char **argv)
         }
     }
     if (reps < 1) reps = 1;
+    if ((methods >> M_HEYOKA & 1u) && !heyoka_available()) methods &= ~(1u << M_HEYOKA);
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
         fprintf(stderr, "taper-bench: cannot create %s: %s\n", dir, strerror(errno));
         return 2;
