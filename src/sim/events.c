@@ -115,7 +115,7 @@ static int known(const taper_sim *sim, size_t k, unsigned bit) { return sim->pul
 /* A carried body and its carrier (sim.c, "A light end carried") move as
  * one: v_c - v_(c-1) and the rider's peak function are identically zero.
  * Their events are those of the granules the limit gives them
- * (carry_events). */
+ * (carry_pass, record_peak, carry_untimed). */
 static int carrier(const taper_sim *sim, size_t k) { return sim->dyn.carried && k + 1 == sim->dyn.carried; }
 
 static int pass_armed(const taper_sim *sim, const double *y, size_t k)
@@ -411,11 +411,7 @@ static double peak_value(const taper_sim *sim, const double *y, size_t k)
     return taper_dyn_peak_function(&sim->dyn, y, k);
 }
 
-/* The observables of an event are those of the state at its zero located
- * to a few ulps of t on CVODE's interpolant (taper_sim_refine_root), at
- * the true time (taper_sim_true_time); y, the state CVODE returned, decides
- * only whether the root is genuine. */
-/* The carrier's pass is granule c-2's (sim.c, "A light end carried"),
+/* The carrier's pass (granule k+1) is granule k's (sim.c, "A light end carried"),
  * at the same time, where the carrier is in y. */
 static void carry_pass(taper_sim *sim, const double *y, size_t k)
 {
@@ -426,6 +422,10 @@ static void carry_pass(taper_sim *sim, const double *y, size_t k)
     sim->pulse.obs[TAPER_X_PASS][c - 1] = sim->rest[c - 1] + taper_dyn_position(&sim->dyn, y, c);
 }
 
+/* The observables of an event are those of the state at its zero located
+ * to a few ulps of t on CVODE's interpolant (taper_sim_refine_root), at
+ * the true time (taper_sim_true_time); y, the state CVODE returned, decides
+ * only whether the root is genuine. */
 static void record_pass(taper_sim *sim, const double *y, size_t k)
 {
     const taper_dyn *d = &sim->dyn;

@@ -343,7 +343,7 @@ static void advise_on_slow_light_end(const taper_sim *sim)
  * it at mass ratios 1e-9, 1e-12, 1e-15; test dynamics/light_end_carried),
  * and the pass times move by as much: the rider is carried where that is
  * below rtol.  Contact exponents below 2 are left out (their force is
- * stiff without bound at small compressions; sim.c, "slow light end"). */
+ * stiff without bound at small compressions; advise_on_slow_light_end). */
 static size_t light_end_carried(const taper_sim *sim)
 {
     const taper_model *m = &sim->model;
