@@ -43,8 +43,9 @@ static double stat(const taper_sim *sim, taper_statistic which)
     return taper_sim_statistic(sim, which);
 }
 
-static taper_sim *run(const taper_chain *c, double rtol, double atol, taper_method method,
-                      int window, taper_status expect)
+/* Solver settings: rtol and atol (the defaults where rtol <= 0), the
+ * method and the window. */
+static taper_solver_spec *settings(double rtol, double atol, taper_method method, int window)
 {
     taper_solver_spec *spec = new_spec();
     if (rtol > 0) {
@@ -53,6 +54,12 @@ static taper_sim *run(const taper_chain *c, double rtol, double atol, taper_meth
     }
     SET(taper_solver_spec_set_method(spec, method, &e_));
     SET(taper_solver_spec_set_window(spec, window, &e_));
+    return spec;
+}
+
+/* Runs chain c with spec (freed here); the run must end with `expect`. */
+static taper_sim *run_spec(const taper_chain *c, taper_solver_spec *spec, taper_status expect)
+{
     taper_error err;
     taper_sim *sim = taper_sim_alloc(c, spec, &err);
     taper_solver_spec_free(spec);
@@ -61,6 +68,12 @@ static taper_sim *run(const taper_chain *c, double rtol, double atol, taper_meth
     if (status != expect) print_error("run: status %d: %s\n", status, err.message);
     assert_int_equal(status, expect);
     return sim;
+}
+
+static taper_sim *run(const taper_chain *c, double rtol, double atol, taper_method method,
+                      int window, taper_status expect)
+{
+    return run_spec(c, settings(rtol, atol, method, window), expect);
 }
 
 static double max_rel_diff(const double *a, const double *b, size_t n)
@@ -1023,21 +1036,10 @@ static taper_chain *light_end_chain(double r)
 static taper_sim *run_counting_carried(const taper_chain *c, double rtol, double atol,
                                        taper_method method, int window, int *carried)
 {
-    taper_solver_spec *spec = new_spec();
-    SET(taper_solver_spec_set_rtol(spec, rtol, &e_));
-    SET(taper_solver_spec_set_atol(spec, atol, &e_));
-    SET(taper_solver_spec_set_method(spec, method, &e_));
-    SET(taper_solver_spec_set_window(spec, window, &e_));
+    taper_solver_spec *spec = settings(rtol, atol, method, window);
     *carried = 0;
     taper_solver_spec_set_log(spec, count_carried, carried);
-    taper_error err;
-    taper_sim *sim = taper_sim_alloc(c, spec, &err);
-    taper_solver_spec_free(spec);
-    assert_non_null(sim);
-    taper_status status = taper_sim_run(sim, &err);
-    if (status != TAPER_OK) print_error("run: %s\n", err.message);
-    assert_int_equal(status, TAPER_OK);
-    return sim;
+    return run_spec(c, spec, TAPER_OK);
 }
 
 /* A light end carried (sim.c): the last granule of a free end, far lighter
