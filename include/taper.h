@@ -514,11 +514,12 @@ TAPER_API taper_status taper_theory_compute(const taper_chain *chain, double *v,
 /* ------------------------------------------------------------------ */
 #define TAPER_METHOD_LIST(X)                                                           \
     X(TAPER_ADAMS, "adams") /* CVODE Adams-Moulton, fixed-point iteration (non-stiff) */ \
-    X(TAPER_BDF, "bdf")     /* CVODE BDF, Newton with the banded analytic Jacobian    */
+    X(TAPER_BDF, "bdf")     /* CVODE BDF, Newton with the banded analytic Jacobian    */ \
+    X(TAPER_RK8, "rk8")     /* Prince-Dormand 8(7) single-step (GSL rk8pd), rtol 1e-14 */
 typedef enum taper_method { TAPER_METHOD_LIST(TAPER_ENUM_CONSTANT) } taper_method;
 #define TAPER_N_METHODS (0 TAPER_METHOD_LIST(TAPER_ENUM_COUNT))
 
-/* "adams", "bdf"; NULL outside the enum. */
+/* "adams", "bdf", "rk8"; NULL outside the enum. */
 TAPER_API const char *taper_method_name(taper_method method);
 /* Case-insensitive inverse; TAPER_EINVAL if unknown (field "method"). */
 TAPER_API taper_status taper_method_from_name(const char *name, taper_method *method,
@@ -575,7 +576,8 @@ TAPER_API taper_status taper_solver_spec_set_last_granule(taper_solver_spec *spe
 TAPER_API taper_status taper_solver_spec_set_window(taper_solver_spec *spec, int window,
                                                     taper_error *err);
 /* Highest method order, 1..TAPER_MAX_ORDER_ADAMS (or _BDF, checked by
- * taper_sim_alloc against the method); 0: the measured default. */
+ * taper_sim_alloc against the method; rk8's order is fixed: 0 only); 0:
+ * the measured default. */
 TAPER_API taper_status taper_solver_spec_set_max_order(taper_solver_spec *spec, int max_order,
                                                        taper_error *err);
 /* Stop at this time with a partial result; 0: no limit. */

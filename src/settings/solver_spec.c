@@ -28,7 +28,12 @@ void taper_solver_spec_defaults(struct taper_solver_spec *spec)
 
 int taper_method_max_order(taper_method method)
 {
-    return method == TAPER_BDF ? TAPER_MAX_ORDER_BDF : TAPER_MAX_ORDER_ADAMS;
+    switch (method) {
+    case TAPER_ADAMS: return TAPER_MAX_ORDER_ADAMS;
+    case TAPER_BDF: return TAPER_MAX_ORDER_BDF;
+    case TAPER_RK8: return 0; /* a fixed order: its coefficients are one pair */
+    }
+    return 0;
 }
 
 taper_solver_spec *taper_solver_spec_alloc(taper_error *err)

@@ -30,6 +30,7 @@ void taper_clock_track(taper_sim *sim)
     taper_cvode *cv = &sim->cv;
     long nst = 0;
     double tn = 0.0, h = 0.0;
+    if (!cv->mem) return; /* method 'rk8' keeps its own low part (rk8.c) */
     if (CVodeGetNumSteps(cv->mem, &nst) != CV_SUCCESS || nst == cv->nst_seen) return;
     CVodeGetCurrentTime(cv->mem, &tn);
     if (nst == cv->nst_seen + 1 && CVodeGetLastStep(cv->mem, &h) == CV_SUCCESS) {
@@ -55,10 +56,6 @@ double taper_sim_true_time(const taper_sim *sim, double t) { return t + sim->cv.
  * elsewhere) keeps CVODE's answer. */
 #define ROOT_BRACKET (200.0 * DBL_EPSILON)
 #define ROOT_ITERATIONS 60
-/* Above this rtol the integration error of an event time (~10-100 rtol)
- * dwarfs CVODE's root tolerance, and the search (~10 interpolations per
- * event, 8 % of a default monodisperse run's instructions) buys nothing. */
-#define REFINE_BELOW_RTOL 1e-11
 
 static int sign_of(double g) { return g > 0.0 ? 1 : g < 0.0 ? -1 : 0; }
 
@@ -67,7 +64,8 @@ double taper_sim_refine_root(taper_sim *sim, taper_root_value g, size_t k, const
     void *mem = sim->cv.mem;
     N_Vector at = sim->cv.at_root;
     double tn = sim->t, hu = 0.0;
-    if (!at || !(sim->spec.rtol < REFINE_BELOW_RTOL) || CVodeGetCurrentTime(mem, &tn) != CV_SUCCESS || CVodeGetLastStep(mem, &hu) != CV_SUCCESS)
+    /* rk8 stops on its roots, located to a few ulps on order-8 steps */
+    if (!mem || !at || !(sim->spec.rtol < TAPER_REFINE_BELOW_RTOL) || CVodeGetCurrentTime(mem, &tn) != CV_SUCCESS || CVodeGetLastStep(mem, &hu) != CV_SUCCESS)
         return sim->t;
     const double *data = taper_sim_data(sim, at);
     double b = sim->t, gb = g(sim, *y, k);

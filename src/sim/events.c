@@ -318,8 +318,13 @@ int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
 {
     (void)t;
     const taper_sim *sim = user;
+    taper_events_root_values(sim, taper_sim_data(sim, yv), g);
+    return 0;
+}
+
+void taper_events_root_values(const taper_sim *sim, const double *y, double *g)
+{
     const taper_dyn *d = &sim->dyn;
-    const double *y = taper_sim_data(sim, yv);
     const size_t np = sim->pulse.pass_slots, nk = sim->pulse.peak_slots;
     ring_values(sim, y, g, g + np);
     g[np + nk] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1] : -1.0;
@@ -327,12 +332,16 @@ int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
     size_t slot = np + nk + 2;
     if (sim->model.wall_left) g[slot++] = wall_rate(sim, y, TAPER_LEFT);
     if (sim->model.wall_right) g[slot] = wall_rate(sim, y, TAPER_RIGHT);
-    return 0;
 }
 
 static size_t wall_slots(const taper_sim *sim)
 {
     return (size_t)(sim->model.wall_left != 0) + (size_t)(sim->model.wall_right != 0);
+}
+
+size_t taper_events_grow_slot(const taper_sim *sim)
+{
+    return sim->pulse.pass_slots + sim->pulse.peak_slots;
 }
 
 size_t taper_events_slots(const taper_sim *sim)

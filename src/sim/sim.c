@@ -52,6 +52,10 @@ static taper_status check_spec(const taper_solver_spec *s, size_t n, taper_error
         return taper_fail_field(err, TAPER_EINVAL, "last_granule",
                                 "last_granule = %zu exceeds n_granules = %zu", s->last_granule, n);
     const int order = taper_method_max_order(s->method);
+    if (s->max_order > order && order == 0)
+        return taper_fail_field(err, TAPER_EINVAL, "max_order",
+                                "max_order = %d: method '%s' has a fixed order (8); give 0",
+                                s->max_order, taper_method_name(s->method));
     if (s->max_order > order)
         return taper_fail_field(err, TAPER_EINVAL, "max_order",
                                 "max_order = %d: CVODE allows 1..%d for method '%s' (0: default)",
@@ -456,6 +460,7 @@ void taper_sim_free(taper_sim *sim)
     if (!sim) return;
     taper_cvode *cv = &sim->cv;
     if (cv->mem) CVodeFree(&cv->mem);
+    taper_rk8_free(cv->rk8);
     if (cv->nonlinear) SUNNonlinSolFree(cv->nonlinear);
     if (cv->linear) SUNLinSolFree(cv->linear);
     if (cv->band) SUNMatDestroy(cv->band);

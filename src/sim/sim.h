@@ -19,6 +19,8 @@
  *     |-> clock.c    CVODE's time: its clock's rounding summed exactly, and
  *     |              a root located again on the step's interpolant (for
  *     |              solve.c and events.c alike).
+ *     |-> equations.c the right-hand side and the error weights on the
+ *     |              state's entries, for CVODE's callbacks and for rk8.
  *     v
  *   sim.c          the state: allocation (with the bodies of extended.c),
  *                  free, the theory and tolerance scales, the results'
@@ -27,8 +29,9 @@
  *                  that moves granules out of it and back.
  *     v
  *   dynamics.c, dynamics_api.c, nvector_window.c,
- *   sundials_compat.c, extended.c  (leaves: they call nothing else in
- *   src/sim)
+ *   sundials_compat.c, extended.c, rk8.c  (leaves: they call nothing else
+ *   in src/sim; rk8.c, method 'rk8', is driven by solve.c through the
+ *   callbacks it is given)
  *
  * Who writes what after taper_sim_alloc:
  *   sim->pulse               events.c (taper_events_record)
@@ -43,6 +46,7 @@
 
 #include "dynamics.h"
 #include "nvector_window.h"
+#include "rk8.h"
 #include "settings/specs.h"
 #include "sundials_compat.h"
 
@@ -201,6 +205,9 @@ typedef struct taper_cvode {
     int *roots;             /* CVodeGetRootInfo's answer, roots_size slots  */
     size_t roots_size;
     N_Vector at_root;       /* the state at a refined root (events.c)       */
+    /* Method 'rk8': the integrator in place of CVODE (mem is NULL then);
+     * its counters are the run's, its time's low part is t_shift. */
+    taper_rk8 *rk8;
     /* CVODE's time drifts: it advances tn += h rounded to double, and at a
      * fixed h each step rounds the same way (clock.c, taper_clock_track).  The
      * rounding errors summed exactly: true time = CVODE's time + t_shift. */
@@ -287,6 +294,13 @@ void taper_sim_flight(const taper_sim *sim, size_t j, double t, double *x, doubl
  * window, up to sim->t (0 without drag).  O(N): for the end of the run. */
 double taper_sim_dissipated_out(const taper_sim *sim);
 
+/* ---- equations.c: what every integrator integrates ---------------------------- */
+/* The right-hand side f = y' and the error weights w on the state's entries
+ * (from absolute index taper_dyn_begin; the quadratures after the window's
+ * entries). */
+void taper_equations_rhs(const taper_sim *sim, double t, const double *y, double *f);
+void taper_equations_weights(const taper_sim *sim, const double *y, double *w);
+
 /* ---- extended.c: the chain the sim integrates (a leaf) ------------------------- */
 /* 0, or -1 when out of memory (taper_model_release frees what was made). */
 int taper_model_init(taper_model *m, const taper_chain *chain);
@@ -322,6 +336,13 @@ double taper_sim_true_time(const taper_sim *sim, double t);
 /* A root function's value for granule k at the state y (events.c). */
 typedef double (*taper_root_value)(const taper_sim *sim, const double *y, size_t k);
 
+/* Below this rtol roots are located to a few ulps of t (CVODE's, by
+ * taper_sim_refine_root; rk8's by rk8.c itself); above it the integration
+ * error of an event time (~10-100 rtol) dwarfs CVODE's root tolerance, and
+ * the search (~10 interpolations per event, 8 % of a default monodisperse
+ * run's instructions) buys nothing. */
+#define TAPER_REFINE_BELOW_RTOL 1e-11
+
 /* The zero of g(k) that CVODE returned at sim->t, located again on CVODE's
  * interpolant of the step that holds it, to a few ulps of t instead of
  * CVODE's 100 uround (|t| + |h|).  Returns its time (CVODE's clock) and
@@ -338,8 +359,13 @@ typedef struct taper_root_report {
 } taper_root_report;
 
 int taper_events_root_function(double t, N_Vector y, double *g, void *user);
+/* The same on the state's entries (method 'rk8'). */
+void taper_events_root_values(const taper_sim *sim, const double *y, double *g);
 /* Slots in all: the two rings, grow and gap. */
 size_t taper_events_slots(const taper_sim *sim);
+/* The slot of the window's growth (its root need not be located: the
+ * window grows where the integrator's step ends, solve.c). */
+size_t taper_events_grow_slot(const taper_sim *sim);
 /* CVodeSetRootDirection's array for taper_events_slots(sim) slots. */
 void taper_events_directions(const taper_sim *sim, int *directions);
 /* Where every root is armed: enlarges the rings to cover every window

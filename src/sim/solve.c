@@ -40,49 +40,17 @@
 #define NO_TIME_LIMIT 1e300
 
 /* ---- CVODE callbacks --------------------------------------------------- */
+/* The equations (equations.c) on the state's entries. */
 static int rhs(double t, N_Vector y, N_Vector ydot, void *user)
 {
-    (void)t;
     const taper_sim *sim = user;
-    double *f = taper_sim_data(sim, ydot);
-    taper_dyn_rhs(&sim->dyn, taper_sim_data(sim, y), f);
-    taper_dyn_carry(&sim->dyn, f);
+    taper_equations_rhs(sim, t, taper_sim_data(sim, y), taper_sim_data(sim, ydot));
     return 0;
 }
 
-/* Chains with options: chosen once, at CVodeInit, so that the paper's chain
- * keeps the plain right-hand side above. */
-static int rhs_general(double t, N_Vector y, N_Vector ydot, void *user)
-{
-    const taper_sim *sim = user;
-    double *f = taper_sim_data(sim, ydot);
-    taper_dyn_rhs_general(&sim->dyn, t, taper_sim_data(sim, y), f);
-    taper_dyn_carry(&sim->dyn, f);
-    return 0;
-}
-
-/* With walls or losses the state ends with TAPER_N_QUADRATURES entries
- * after the window's (the window vector's tail, nvector_window.h; after the
- * 2 bodies entries of the whole chain): the wall impulses and the dissipated
- * energy, integrated by CVODE with the motion and under its error control,
- * so that E + D = E(0) holds to the tolerance (budget.c).  CVODE itself has
- * no quadratures (CVODES has; the build links CVODE). */
 static double *quadrature_entries(const taper_sim *sim, N_Vector v)
 {
     return taper_sim_data(sim, v) + (taper_dyn_end(&sim->dyn) - taper_dyn_begin(&sim->dyn));
-}
-
-static int rhs_quadratures(double t, N_Vector y, N_Vector ydot, void *user)
-{
-    const taper_sim *sim = user;
-    const double *yy = taper_sim_data(sim, y);
-    taper_dyn_rhs_general(&sim->dyn, t, yy, taper_sim_data(sim, ydot));
-    taper_dyn_carry(&sim->dyn, taper_sim_data(sim, ydot));
-    double *q = quadrature_entries(sim, ydot);
-    taper_dyn_quadrature_rhs(&sim->dyn, yy, q);
-    /* departed granules' drag loss, fading out of the quadrature (sim.c) */
-    if (sim->out.n_handing) q[TAPER_QUAD_DISSIPATED] += taper_sim_handover_power(sim, t);
-    return 0;
 }
 
 /* Banded analytic Jacobian (BDF, whole chain): d(v_k')/dz = +-F'(z)/m_k,
@@ -120,31 +88,13 @@ static int jacobian(double t, N_Vector yv, N_Vector fy, SUNMatrix J, void *user,
     return 0;
 }
 
-/* Error weights 1 / (rtol |y_i| + atol scale_i) over the window, the scale
- * being the granule's pulse velocity or maximum compression (see sim.h). */
+/* Error weights (equations.c).  CVODE calls this before every step: the
+ * moment to sum its clock's rounding (clock.c). */
 static int error_weights(N_Vector yv, N_Vector wv, void *user)
 {
     taper_sim *sim = user;
     taper_clock_track(sim);
-    const taper_dyn *d = &sim->dyn;
-    const double *y = taper_sim_data(sim, yv);
-    double *w = taper_sim_data(sim, wv);
-    const double rtol = sim->spec.rtol, atol = sim->spec.atol;
-    size_t i = 0;
-    if (d->lo > 1) { /* the gap behind the window */
-        w[0] = 1.0 / (rtol * fabs(y[0]) + atol * sim->z_scale[d->lo - 2]);
-        i = 1;
-    }
-    for (size_t k = d->lo; k <= d->hi; k++, i += 2) {
-        w[i] = 1.0 / (rtol * fabs(y[i]) + atol * sim->v_scale[k - 1]);
-        w[i + 1] = 1.0 / (rtol * fabs(y[i + 1]) + atol * sim->z_scale[k - 1]);
-    }
-    if (sim->model.quadratures) { /* impulses on the scale of P(0), D of E(0) */
-        const double m0 = sim->model.scale_mass;
-        w[i + TAPER_QUAD_WALL_LEFT] = 1.0 / (rtol * fabs(y[i + TAPER_QUAD_WALL_LEFT]) + atol * m0);
-        w[i + TAPER_QUAD_WALL_RIGHT] = 1.0 / (rtol * fabs(y[i + TAPER_QUAD_WALL_RIGHT]) + atol * m0);
-        w[i + TAPER_QUAD_DISSIPATED] = 1.0 / (rtol * fabs(y[i + TAPER_QUAD_DISSIPATED]) + atol * 0.5 * m0);
-    }
+    taper_equations_weights(sim, taper_sim_data(sim, yv), taper_sim_data(sim, wv));
     return 0;
 }
 
@@ -176,7 +126,7 @@ static int make_state(taper_sim *sim)
 {
     taper_cvode *cv = &sim->cv;
     const size_t extra = sim->model.quadratures ? TAPER_N_QUADRATURES : 0;
-    if (sim->spec.window && sim->spec.method == TAPER_ADAMS) {
+    if (sim->spec.window && sim->spec.method != TAPER_BDF) { /* BDF: a banded Jacobian */
         cv->window = taper_window_alloc_tail(0, 2, 64, extra); /* the quadratures ride along */
         if (!cv->window) return -1;
         cv->y = taper_window_vector_new(cv->window, cv->ctx);
@@ -243,13 +193,18 @@ static int init_roots(taper_sim *sim, taper_error *err)
 {
     taper_cvode *cv = &sim->cv;
     const size_t slots = taper_events_slots(sim);
-    if (slots > cv->roots_size) {
-        int *roots = realloc(cv->roots, 2 * slots * sizeof *roots);
+    /* room for twice the slots: rk8 keeps the directions in the second half */
+    if (2 * slots > cv->roots_size) {
+        int *roots = realloc(cv->roots, 4 * slots * sizeof *roots);
         if (!roots) return taper_fail(err, TAPER_ENOMEM, "cannot allocate %zu root slots", slots);
         cv->roots = roots;
-        cv->roots_size = 2 * slots;
+        cv->roots_size = 4 * slots;
     }
     taper_events_directions(sim, cv->roots);
+    if (cv->rk8) { /* rk8 reads the directions behind the slots' answers */
+        memcpy(cv->roots + slots, cv->roots, slots * sizeof *cv->roots);
+        return TAPER_OK;
+    }
     int status = check(CVodeRootInit(cv->mem, (int)slots, taper_events_root_function), "CVodeRootInit", sim, err);
     if (!status) status = check(CVodeSetRootDirection(cv->mem, cv->roots), "CVodeSetRootDirection", sim, err);
     if (!status) status = check(CVodeSetNoInactiveRootWarn(cv->mem), "CVodeSetNoInactiveRootWarn", sim, err);
@@ -263,13 +218,43 @@ static const double *quadratures_now(const taper_sim *sim)
     return quadrature_entries(sim, sim->cv.y);
 }
 
-static int setup_cvode(taper_sim *sim, taper_error *err)
+/* ---- method 'rk8' (rk8.c): the sim's equations and roots as its callbacks ---- */
+static int rk8_rhs(double t, const double *y, double *f, void *user)
+{
+    taper_equations_rhs(user, t, y, f);
+    return 0;
+}
+
+static void rk8_weights(const double *y, double *w, void *user) { taper_equations_weights(user, y, w); }
+static void rk8_roots(const double *y, double *g, void *user) { taper_events_root_values(user, y, g); }
+
+/* The state's entries: the window's (with the quadratures' tail) or the
+ * whole chain's. */
+static size_t state_length(const taper_sim *sim)
+{
+    return sim->cv.window ? taper_window_length(sim->cv.y) : (size_t)N_VGetLength(sim->cv.y);
+}
+
+static int setup_rk8(taper_sim *sim, taper_error *err)
+{
+    sim->cv.rk8 = taper_rk8_alloc(rk8_rhs, rk8_weights, rk8_roots, sim, INITIAL_STEP);
+    if (!sim->cv.rk8) return taper_fail(err, TAPER_ENOMEM, "cannot create the rk8 integrator");
+    /* Roots as CVODE locates them: to 100 uround (|t| + |h|) (cvRootfind's
+     * ttol), and below rtol 1e-11, where that would dwarf the integration
+     * error, to a few ulps (clock.c refines CVODE's there). */
+    if (!(sim->spec.rtol < TAPER_REFINE_BELOW_RTOL)) taper_rk8_set_root_tolerance(sim->cv.rk8, 100.0 * DBL_EPSILON);
+    return init_roots(sim, err);
+}
+
+/* The state, then the integrator: CVODE, or rk8 in its place. */
+static int setup_integrator(taper_sim *sim, taper_error *err)
 {
     taper_cvode *cv = &sim->cv;
     taper_window_growth_thresholds(sim, sim->grow_z);
     if (taper_sundials_context_new(&cv->ctx) != 0)
         return taper_fail(err, TAPER_ENOMEM, "cannot create the SUNDIALS context");
     if (make_state(sim) != 0) return taper_fail(err, TAPER_ENOMEM, "cannot allocate the state");
+    if (sim->spec.method == TAPER_RK8) return setup_rk8(sim, err);
     cv->mem = CVodeCreate(sim->spec.method == TAPER_BDF ? CV_BDF : CV_ADAMS, cv->ctx);
     if (!cv->mem) return taper_fail(err, TAPER_ENOMEM, "cannot create CVODE");
     void *mem = cv->mem;
@@ -278,9 +263,7 @@ static int setup_cvode(taper_sim *sim, taper_error *err)
     int status = TAPER_OK;
     if (!status) status = check(taper_sundials_capture_errors(mem, &cv->messages), "error handler", sim, err);
     if (!status)
-        status = check(CVodeInit(mem, sim->model.quadratures ? rhs_quadratures
-                                      : sim->model.options ? rhs_general : rhs,
-                                 0.0, cv->y), "CVodeInit", sim, err);
+        status = check(CVodeInit(mem, rhs, 0.0, cv->y), "CVodeInit", sim, err);
     if (!status) status = check(CVodeWFtolerances(mem, error_weights), "CVodeWFtolerances", sim, err);
     if (!status) status = check(CVodeSetUserData(mem, sim), "CVodeSetUserData", sim, err);
     if (!status) status = check(CVodeSetMaxNumSteps(mem, STEPS_PER_CALL), "CVodeSetMaxNumSteps", sim, err);
@@ -327,6 +310,12 @@ static taper_cvode_counters read_counters(const taper_sim *sim)
 {
     taper_cvode_counters c = {0};
     void *mem = sim->cv.mem;
+    if (sim->cv.rk8) {
+        const taper_rk8_counters r = taper_rk8_get_counters(sim->cv.rk8);
+        c.steps = r.steps, c.rhs_evals = r.rhs_evals, c.root_evals = r.root_evals;
+        c.err_test_fails = r.err_test_fails;
+        return c;
+    }
     if (!mem) return c;
     CVodeGetNumSteps(mem, &c.steps);
     CVodeGetNumRhsEvals(mem, &c.rhs_evals);
@@ -422,7 +411,8 @@ static taper_status stop(const taper_sim *sim, taper_error *err, stop_reason why
     case STOP_END_OF_TIME: taper_fail(err, status, "time 1e300 reached (no t_max given)"); break;
     case STOP_ROOT_INFO: taper_fail(err, status, "CVodeGetRootInfo failed"); break;
     case STOP_SOLVER:
-        taper_fail(err, status, "CVODE failed (flag %d: %s)", flag, solver_message(sim));
+        if (sim->cv.rk8) taper_fail(err, status, "rk8 failed: %s", taper_rk8_failure(sim->cv.rk8));
+        else taper_fail(err, status, "CVODE failed (flag %d: %s)", flag, solver_message(sim));
         break;
     }
     taper_fail_append(err, " at t = %.17g with the pulse past granule %zu of %zu "
@@ -443,6 +433,10 @@ static void window_changed(taper_sim *sim)
 /* Re-initialises CVODE at the current state; the counters so far are kept. */
 static taper_status restart(taper_sim *sim, taper_error *err)
 {
+    if (sim->cv.rk8) { /* a single-step method starts afresh at every step */
+        sim->stats.restarts++;
+        return TAPER_OK;
+    }
     sim->cv.before_restart = total_counters(sim);
     if (CVodeReInit(sim->cv.mem, sim->t, sim->cv.y) != CV_SUCCESS) return stop(sim, err, STOP_RESTART, 0);
     sim->cv.tn_seen = sim->t; /* CVODE's counters start again from 0 */
@@ -495,8 +489,12 @@ static taper_status shrink(taper_sim *sim, taper_error *err)
 {
     const size_t lo = sim->dyn.lo;
     double tn = sim->t, h = 0.0;
-    CVodeGetCurrentTime(sim->cv.mem, &tn);
-    CVodeGetLastStep(sim->cv.mem, &h);
+    if (sim->cv.rk8) { /* rk8's state is at its time */
+        h = taper_rk8_last_step(sim->cv.rk8);
+    } else {
+        CVodeGetCurrentTime(sim->cv.mem, &tn);
+        CVodeGetLastStep(sim->cv.mem, &h);
+    }
     taper_status status = TAPER_OK;
     for (taper_departure d; !status && (d = taper_window_departure(sim)).kind != TAPER_STAYS;)
         if (taper_sim_release_granule(sim, d.watch, d.kind == TAPER_LEAVES_AT_REST, tn, h) != 0)
@@ -523,7 +521,8 @@ static int piston_stop_pending(const taper_sim *sim)
 static void set_stop_time(taper_sim *sim, double t)
 {
     sim->phase_stop = t;
-    if (!piston_stop_pending(sim)) CVodeSetStopTime(sim->cv.mem, t);
+    /* rk8 never steps past the time it is asked for */
+    if (!piston_stop_pending(sim) && sim->cv.mem) CVodeSetStopTime(sim->cv.mem, t);
 }
 
 static taper_status stop_piston(taper_sim *sim, taper_error *err)
@@ -538,7 +537,8 @@ static taper_status stop_piston(taper_sim *sim, taper_error *err)
     taper_status status = restart(sim, err);
     /* CVODE 6.4 keeps a reached stop time through CVodeReInit and then
      * refuses to start from it (flag -22): the phase's, or none. */
-    if (!status) CVodeSetStopTime(sim->cv.mem, sim->phase_stop > sim->t ? sim->phase_stop : NO_TIME_LIMIT);
+    if (!status && sim->cv.mem)
+        CVodeSetStopTime(sim->cv.mem, sim->phase_stop > sim->t ? sim->phase_stop : NO_TIME_LIMIT);
     return status;
 }
 
@@ -559,7 +559,9 @@ static int call_monitor(const taper_sim *sim)
 
 static taper_status handle_roots(taper_sim *sim, taper_error *err)
 {
-    if (CVodeGetRootInfo(sim->cv.mem, sim->cv.roots) < 0) return stop(sim, err, STOP_ROOT_INFO, 0);
+    /* (rk8 has filled the slots' answers already) */
+    if (sim->cv.mem && CVodeGetRootInfo(sim->cv.mem, sim->cv.roots) < 0)
+        return stop(sim, err, STOP_ROOT_INFO, 0);
     taper_clock_track(sim); /* the step holding the root */
     const taper_root_report report = taper_events_record(sim, sim->cv.roots);
     const taper_window_plan plan = taper_window_plan_for(sim, report);
@@ -588,6 +590,31 @@ static double grace_time(const taper_sim *sim)
     return sim->t + PEAK_GRACE * fmax(longest, 1e-3);
 }
 
+/* One call of the integrator towards target, answering in CVODE's flags:
+ * CVODE itself, or rk8, which stops at target exactly (a stop time), at a
+ * root, or after STEPS_PER_CALL steps, its roots' answers already in
+ * sim->cv.roots. */
+static int integrator_call(taper_sim *sim, double target, double *t)
+{
+    taper_cvode *cv = &sim->cv;
+    if (!cv->rk8) return CVode(cv->mem, target, cv->y, t, CV_NORMAL);
+    const size_t slots = taper_events_slots(sim);
+    /* The growth root is not located: CVODE too grows the window at the end
+     * of the step that holds it (make_state), and rk8 saves the ~5 trial
+     * steps a located root costs. */
+    const taper_rk8_result r = taper_rk8_advance(cv->rk8, taper_sim_data(sim, cv->y), state_length(sim),
+                                                 cv->roots + slots, slots, taper_events_grow_slot(sim),
+                                                 cv->roots, target, STEPS_PER_CALL);
+    *t = taper_rk8_time(cv->rk8, &cv->t_shift);
+    switch (r) {
+    case TAPER_RK8_REACHED: return CV_TSTOP_RETURN;
+    case TAPER_RK8_ROOT: return CV_ROOT_RETURN;
+    case TAPER_RK8_WORK: return CV_TOO_MUCH_WORK;
+    case TAPER_RK8_FAILED: break;
+    }
+    return CV_ERR_FAILURE;
+}
+
 /* One call of CVode towards tout, stopping on the way at the next sample
  * time (sample.c) and calling the sampler there.  *reached: CVODE got to
  * tout (or its stop time) itself.  Without a sampler this is the plain
@@ -598,13 +625,13 @@ static taper_status advance(taper_sim *sim, double tout, int *reached, taper_err
     double t = sim->t, target = t_sample < tout ? t_sample : tout;
     const int piston_first = piston_stop_pending(sim) && sim->model.piston_duration <= target;
     if (piston_first) target = sim->model.piston_duration;
-    if (piston_stop_pending(sim)) { /* CVODE's stop: the piston's or the phase's, the first */
+    if (piston_stop_pending(sim) && sim->cv.mem) { /* CVODE's stop: the piston's or the phase's, the first */
         double tn = t, stop_at = sim->model.piston_duration;
         CVodeGetCurrentTime(sim->cv.mem, &tn);
         if (sim->phase_stop > tn && sim->phase_stop < stop_at) stop_at = sim->phase_stop;
         CVodeSetStopTime(sim->cv.mem, stop_at);
     }
-    int flag = CVode(sim->cv.mem, target, sim->cv.y, &t, CV_NORMAL);
+    int flag = integrator_call(sim, target, &t);
     sim->t = t;
     *reached = 0;
     if (piston_first && (flag == CV_SUCCESS || flag == CV_TSTOP_RETURN) && t >= target) {
@@ -647,7 +674,7 @@ static taper_status continue_to_end(taper_sim *sim, taper_error *err)
      * its step): it then interpolates, and a stop time behind it would be
      * refused. */
     double tn = sim->t;
-    CVodeGetCurrentTime(sim->cv.mem, &tn);
+    if (sim->cv.mem) CVodeGetCurrentTime(sim->cv.mem, &tn);
     if (tout > tn) set_stop_time(sim, tout);
     for (int reached = 0; !reached;) {
         if (sim->spec.max_steps > 0 && total_counters(sim).steps >= sim->spec.max_steps)
@@ -929,7 +956,7 @@ taper_status taper_sim_run(taper_sim *sim, taper_error *err)
     sim->ran = 1;
     sim->piston_moving = sim->model.piston;
     sim->phase_stop = 0.0;
-    taper_status status = setup_cvode(sim, err);
+    taper_status status = setup_integrator(sim, err);
     /* the sampler's first call: the initial state, t = 0 */
     if (status == TAPER_OK && taper_sample_next(sim) == 0.0 && taper_sample_call(sim))
         status = stop(sim, err, STOP_INTERRUPTED, 0);

@@ -70,7 +70,8 @@ static double *read_reference(const char *name, size_t n)
     return t;
 }
 
-static taper_sim *run_tightest(const accuracy_case *c, taper_chain **chain)
+static taper_sim *run_at(const accuracy_case *c, taper_method method, double rtol, double atol,
+                         taper_chain **chain)
 {
     taper_error err;
     taper_chain_spec *cs = taper_chain_spec_alloc(&err);
@@ -84,8 +85,9 @@ static taper_sim *run_tightest(const accuracy_case *c, taper_chain **chain)
     assert_non_null(*chain);
     taper_solver_spec *ss = taper_solver_spec_alloc(&err);
     assert_non_null(ss);
-    assert_int_equal(taper_solver_spec_set_rtol(ss, TAPER_RTOL_MIN, &err), TAPER_OK);
-    assert_int_equal(taper_solver_spec_set_atol(ss, TAPER_RTOL_MIN * 1e-3, &err), TAPER_OK);
+    assert_int_equal(taper_solver_spec_set_method(ss, method, &err), TAPER_OK);
+    assert_int_equal(taper_solver_spec_set_rtol(ss, rtol, &err), TAPER_OK);
+    assert_int_equal(taper_solver_spec_set_atol(ss, atol, &err), TAPER_OK);
     taper_sim *sim = taper_sim_alloc(*chain, ss, &err);
     taper_solver_spec_free(ss);
     assert_non_null(sim);
@@ -93,16 +95,17 @@ static taper_sim *run_tightest(const accuracy_case *c, taper_chain **chain)
     return sim;
 }
 
-static void tightest_settings_reach_the_reference(void **state)
+/* Every case at (method, rtol, atol): 1 if each is within bound(case). */
+static int reach_references(taper_method method, double rtol, double atol,
+                            double (*bound)(const accuracy_case *c))
 {
-    (void)state;
     int failed = 0;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const accuracy_case *c = &cases[i];
         double *ref = read_reference(c->file, c->n);
         assert_non_null(ref);
         taper_chain *chain;
-        taper_sim *sim = run_tightest(c, &chain);
+        taper_sim *sim = run_at(c, method, rtol, atol, &chain);
         const double *t = taper_sim_observable(sim, TAPER_T_PASS);
         double worst = 0.0;
         size_t at = 0;
@@ -110,14 +113,31 @@ static void tightest_settings_reach_the_reference(void **state)
             double e = fabs(t[k - 1] - ref[k - 1]) / ref[k - 1];
             if (!(e <= worst)) worst = e, at = k; /* NaN counts as the worst */
         }
-        print_message("%-26s rtol %g: max t_pass error %.2e at granule %zu (bound %.0e)\n", c->file,
-                      TAPER_RTOL_MIN, worst, at, c->bound);
-        if (!(worst <= c->bound)) failed = 1;
+        long steps = taper_sim_statistic(sim, TAPER_STAT_STEPS);
+        print_message("%-26s %-5s rtol %g: max t_pass error %.2e at granule %zu (bound %.0e), "
+                      "%ld steps\n", c->file, taper_method_name(method), rtol, worst, at, bound(c), steps);
+        if (!(worst <= bound(c))) failed = 1;
         taper_sim_free(sim);
         taper_chain_free(chain);
         free(ref);
     }
-    assert_false(failed);
+    return !failed;
+}
+
+static double cvode_bound(const accuracy_case *c) { return c->bound; }
+
+static void tightest_settings_reach_the_reference(void **state)
+{
+    (void)state;
+    assert_true(reach_references(TAPER_ADAMS, TAPER_RTOL_MIN, TAPER_RTOL_MIN * 1e-3, cvode_bound));
+}
+
+static double rk8_bound(const accuracy_case *c) { (void)c; return 1e-13; }
+
+static void rk8_reaches_the_reference(void **state)
+{
+    (void)state;
+    assert_true(reach_references(TAPER_RK8, 1e-14, 1e-17, rk8_bound));
 }
 
 int main(int argc, char **argv)
@@ -129,6 +149,7 @@ int main(int argc, char **argv)
     reference_dir = argv[1];
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(tightest_settings_reach_the_reference),
+        cmocka_unit_test(rk8_reaches_the_reference),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -22,7 +22,7 @@ def test_name_tuples_come_from_the_library():
     assert taper.PROFILES == ("monodisperse", "backward_linear", "forward_linear",
                               "backward_exponential", "forward_exponential", "custom",
                               "decorated")
-    assert taper.METHODS == ("adams", "bdf")
+    assert taper.METHODS == ("adams", "bdf", "rk8")
     assert len(taper.STATISTICS) == 25
     assert taper.STATISTICS[0] == "steps" and taper.STATISTICS[13] == "complete"
     assert taper.STATISTICS[-1] == "wall_impulse_right"

@@ -1,0 +1,384 @@
+/*
+ * rk8.c -- method 'rk8': an explicit single-step integrator, GSL's rk8pd
+ * (Prince-Dormand 8(7), 13 stages), with root finding, answering solve.c
+ * as CVODE does.  A leaf: it calls GSL and the callbacks it was given (the
+ * sim's equations, error weights and root functions), nothing else in
+ * src/sim.
+ *
+ * Why a single-step method: a contact's force has a kink where the contact
+ * opens or closes (r z^n for z > 0, 0 otherwise), and every kink costs a
+ * multistep method its order, since its history spans the kink; a
+ * single-step method starts afresh at every step.  Measured
+ * (docs/benchmarks.md, "Who is fastest"): on backward chains rk8 reaches
+ * pass-time errors of 4-6e-15 at rtol 1e-14, where CVODE's Adams at its
+ * tightest rtol stops at 3-4e-14; from 1e-6 to 1e-12 Adams is the faster.
+ *
+ * What it shares with CVODE's run: the state vector (the window's or the
+ * whole chain's entries, contiguous), the right-hand side, the error
+ * weights 1 / (rtol |y_i| + atol scale_i) and the root functions with
+ * their directions.  What differs:
+ * - The error test is in the max norm of the weighted error estimate.  A
+ *   WRMS norm over the window divides the error of the few granules the
+ *   pulse moves by the many it does not (taper-bench's rk8-window
+ *   experiment, whose scheme this is, settled it).
+ * - Roots: every slot's value at both ends of an accepted step; a sign
+ *   change in the slot's direction is located by the Illinois method on
+ *   fresh rk8pd steps from the step's start (the method has no interpolant,
+ *   so every trial state is of order 8), to a few ulps of t.  The step is
+ *   then cut at the earliest root, so that at a root return the state is
+ *   the state at the root (CVODE's is interpolated there, its internal
+ *   time ahead), and every slot that changed sign up to it is reported.
+ * - A step never goes past tout: it is shortened to end there (a sample,
+ *   a stop time), and the step-size controller keeps its own proposal.
+ * - Time is a compensated sum of the steps: t plus a low part (the
+ *   rounding of each t += h, Knuth's TwoSum), read as the true time.
+ */
+#include "rk8.h"
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The step-size controller: the error estimate is of order 7 (error ~
+ * h^8), safety 0.9, growth at most 4 and shrinkage at most 5 per step. */
+#define ERROR_EXPONENT (1.0 / 8.0)
+#define SAFETY 0.9
+#define GROW_MAX 4.0
+#define SHRINK_MAX 0.2
+/* Root location: at most this many trial steps per root; by default down
+ * to this many ulps of t (taper_rk8_set_root_tolerance). */
+#define LOCATE_ITERATIONS 100
+#define LOCATE_ULPS 4.0
+/* The seed's bracket, relative to the step (see locate). */
+#define SEED_BRACKET 1e-4
+
+struct taper_rk8 {
+    taper_rk8_rhs rhs;
+    taper_rk8_weights weights;
+    taper_rk8_roots roots;
+    void *user;
+    gsl_odeiv2_step *step;  /* rk8pd for up to step_capacity entries        */
+    size_t step_capacity, dim; /* dim: the current state's entries          */
+    double *y1, *y_root, *y_trial, *err, *w, *f0, *f1; /* `capacity` each  */
+    int f0_valid;           /* f0 is y' at the step's start state          */
+    size_t capacity;
+    double *g0, *g1, *g_trial; /* `slot_capacity` entries each             */
+    size_t slot_capacity;
+    double t, t_low;        /* the time: t + t_low                          */
+    double h, h_last;       /* the controller's proposal; the last step     */
+    double root_tol;        /* roots to root_tol (|t| + |h|)                */
+    taper_rk8_counters count;
+    const char *failure;
+};
+
+taper_rk8 *taper_rk8_alloc(taper_rk8_rhs rhs, taper_rk8_weights weights, taper_rk8_roots roots,
+                           void *user, double h0)
+{
+    taper_rk8 *rk = calloc(1, sizeof *rk);
+    if (!rk) return NULL;
+    rk->rhs = rhs, rk->weights = weights, rk->roots = roots, rk->user = user;
+    rk->h = h0;
+    rk->root_tol = LOCATE_ULPS * DBL_EPSILON;
+    return rk;
+}
+
+void taper_rk8_free(taper_rk8 *rk)
+{
+    if (!rk) return;
+    if (rk->step) gsl_odeiv2_step_free(rk->step);
+    free(rk->y1), free(rk->y_root), free(rk->y_trial), free(rk->err), free(rk->w);
+    free(rk->f0), free(rk->f1);
+    free(rk->g0), free(rk->g1), free(rk->g_trial);
+    free(rk);
+}
+
+double taper_rk8_time(const taper_rk8 *rk, double *low)
+{
+    if (low) *low = rk->t_low;
+    return rk->t;
+}
+
+double taper_rk8_last_step(const taper_rk8 *rk) { return rk->h_last; }
+void taper_rk8_set_root_tolerance(taper_rk8 *rk, double rel) { rk->root_tol = fmax(rel, LOCATE_ULPS * DBL_EPSILON); }
+taper_rk8_counters taper_rk8_get_counters(const taper_rk8 *rk) { return rk->count; }
+const char *taper_rk8_failure(const taper_rk8 *rk) { return rk->failure ? rk->failure : ""; }
+
+/* ---- storage, grown with the window --------------------------------------- */
+static int grow_array(double **a, size_t n)
+{
+    double *p = realloc(*a, n * sizeof *p);
+    if (!p) return -1;
+    *a = p;
+    return 0;
+}
+
+static int fit(taper_rk8 *rk, size_t dim, size_t slots)
+{
+    if (dim > rk->capacity) {
+        size_t c = 2 * dim;
+        if (grow_array(&rk->y1, c) || grow_array(&rk->y_root, c) || grow_array(&rk->y_trial, c) ||
+            grow_array(&rk->err, c) || grow_array(&rk->w, c) || grow_array(&rk->f0, c) ||
+            grow_array(&rk->f1, c))
+            return -1;
+        rk->capacity = c;
+    }
+    if (slots > rk->slot_capacity) {
+        size_t c = 2 * slots;
+        if (grow_array(&rk->g0, c) || grow_array(&rk->g1, c) || grow_array(&rk->g_trial, c)) return -1;
+        rk->slot_capacity = c;
+    }
+    /* GSL's allocators report a failed malloc to GSL's error handler, whose
+     * default aborts (the library never does; fit.c leaves GSL one
+     * allocation too), so they are kept few: the stepper is allocated for
+     * twice the entries the state has, and its apply function, which takes
+     * the dimension of each call, runs on the current ones (rk8pd's stages
+     * touch no entry beyond it).  A window of up to 2^k entries costs k
+     * allocations. */
+    if (dim > rk->step_capacity) {
+        if (rk->step) gsl_odeiv2_step_free(rk->step);
+        rk->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 2 * dim);
+        rk->step_capacity = rk->step ? 2 * dim : 0;
+        if (!rk->step) return -1;
+    }
+    rk->dim = dim;
+    return 0;
+}
+
+/* ---- one step -------------------------------------------------------------- */
+static int system_rhs(double t, const double y[], double dydt[], void *params)
+{
+    taper_rk8 *rk = params;
+    rk->count.rhs_evals++;
+    return rk->rhs(t, y, dydt, rk->user) == 0 ? GSL_SUCCESS : GSL_EBADFUNC;
+}
+
+/* One rk8pd step of size h from (t, y) into out; 0, or -1 if the
+ * right-hand side failed.  The error estimate is left in rk->err.  y' at
+ * the start is computed once per start state (rk->f0) and handed to every
+ * step from it: the retries after a failed error test and the trial steps
+ * of root location. */
+static int step(taper_rk8 *rk, const double *y, double t, double h, double *out)
+{
+    if (!rk->f0_valid) {
+        if (system_rhs(t, y, rk->f0, rk) != GSL_SUCCESS) return -1;
+        rk->f0_valid = 1;
+    }
+    gsl_odeiv2_system sys = {system_rhs, NULL, rk->dim, rk};
+    memcpy(out, y, rk->dim * sizeof *out);
+    /* rk8pd keeps nothing from one step to the next (no FSAL, no history):
+     * no reset between steps */
+    return rk->step->type->apply(rk->step->state, rk->dim, t, h, out, rk->err, rk->f0, NULL, &sys) ==
+                   GSL_SUCCESS
+               ? 0
+               : -1;
+}
+
+/* The error estimate in units of the tolerance: max_i |err_i| w_i, the
+ * weights of the step's start state (as CVODE's, set before each step).
+ * Not a number counts as too large. */
+static double error_norm(const taper_rk8 *rk)
+{
+    double e = 0.0;
+    for (size_t i = 0; i < rk->dim; i++) {
+        double q = fabs(rk->err[i]) * rk->w[i];
+        if (!(q <= e)) e = isnan(q) ? INFINITY : q;
+    }
+    return e;
+}
+
+/* ---- roots ----------------------------------------------------------------- */
+/* The sign of the crossing from a to b in the slot's direction (+1: up,
+ * -1: down), 0 if none.  A value that is exactly 0 at the start crosses
+ * nothing: it is the end of an earlier crossing, or a slot at rest (as
+ * CVODE, which looks past a zero at the start). */
+static int crossing(double a, double b, int direction)
+{
+    if (a < 0.0 && b >= 0.0 && direction >= 0) return 1;
+    if (a > 0.0 && b <= 0.0 && direction <= 0) return -1;
+    return 0;
+}
+
+static void root_values(taper_rk8 *rk, const double *y, double *g)
+{
+    rk->count.root_evals++;
+    rk->roots(y, g, rk->user);
+}
+
+/* The cubic Hermite interpolant of the step of size h from (y, f0) to
+ * (y1, f1) at tau, into out. */
+static void hermite(const taper_rk8 *rk, const double *y, double h, double tau, double *out)
+{
+    const double th = tau / h, u = 1.0 - th;
+    const double h00 = (1.0 + 2.0 * th) * u * u, h10 = th * u * u * h;
+    const double h01 = th * th * (3.0 - 2.0 * th), h11 = -th * th * u * h;
+    for (size_t i = 0; i < rk->dim; i++)
+        out[i] = h00 * y[i] + h10 * rk->f0[i] + h01 * rk->y1[i] + h11 * rk->f1[i];
+}
+
+/* Where the interpolant puts slot i's crossing in (0, b]: the Illinois
+ * method on the interpolated states, whose root functions cost a fraction
+ * of a step each. */
+static double seed(taper_rk8 *rk, const double *y, double t, double h, size_t i, int direction,
+                   double g_start, double b, double gb)
+{
+    double a = 0.0, ga = g_start;
+    int side = 0;
+    for (int it = 0; it < LOCATE_ITERATIONS && b - a > LOCATE_ULPS * DBL_EPSILON * (fabs(t) + b); it++) {
+        double c = (a * gb - b * ga) / (gb - ga);
+        if (!(c > a && c < b)) c = 0.5 * (a + b);
+        hermite(rk, y, h, c, rk->y_trial);
+        root_values(rk, rk->y_trial, rk->g_trial);
+        const double gc = rk->g_trial[i];
+        if (crossing(g_start, gc, direction)) {
+            b = c, gb = gc;
+            if (side == 1) ga *= 0.5;
+            side = 1;
+        } else {
+            a = c, ga = gc;
+            if (side == -1) gb *= 0.5;
+            side = -1;
+        }
+    }
+    return b;
+}
+
+/* The time in (0, b] of slot i's crossing (direction `direction`, value
+ * g_start at the step's start), searched from the step's start (y, t) to
+ * b, where the state is rk->y_root (value gb); on return rk->y_root holds
+ * the state at the returned time, on the far side of the crossing.  The
+ * Illinois method on fresh steps (order 8 at every trial point), its first
+ * two trials SEED_BRACKET of b either side of where the step's cubic
+ * Hermite interpolant puts the root (seed): where the interpolant is that
+ * close, the search starts from that narrow bracket and ends within a few
+ * more steps (measured: 13 trial steps per root from (0, b], 5 with the
+ * seed); where it is not, the trials still narrow the bracket. */
+static double locate(taper_rk8 *rk, const double *y, double t, double h, size_t i, int direction,
+                     double g_start, double b, double gb)
+{
+    const double guess = seed(rk, y, t, h, i, direction, g_start, b, gb);
+    double a = 0.0, ga = g_start;
+    int side = 0;
+    for (int it = 0; it < LOCATE_ITERATIONS && b - a > rk->root_tol * (fabs(t) + h); it++) {
+        double c = (a * gb - b * ga) / (gb - ga);
+        if (!(c > a && c < b)) c = 0.5 * (a + b);
+        if (it < 2) { /* the seed's bracket, where it lies inside (a, b) */
+            const double s = guess + (it ? 1.0 : -1.0) * SEED_BRACKET * b;
+            if (s > a && s < b) c = s;
+        }
+        if (step(rk, y, t, c, rk->y_trial) != 0) break;
+        root_values(rk, rk->y_trial, rk->g_trial);
+        const double gc = rk->g_trial[i];
+        if (crossing(g_start, gc, direction)) { /* crossed by c: the root is in (a, c] */
+            b = c, gb = gc;
+            memcpy(rk->y_root, rk->y_trial, rk->dim * sizeof(double));
+            if (gc == 0.0) break; /* the root itself */
+            if (side == 1) ga *= 0.5;
+            side = 1;
+        } else {
+            a = c, ga = gc;
+            if (side == -1) gb *= 0.5;
+            side = -1;
+        }
+    }
+    return b;
+}
+
+/* The roots of an accepted step of size h from (t, y) to rk->y1 (values
+ * rk->g0, rk->g1): the earliest crossing's time tau (h if none), with
+ * rk->y_root the state there and found[] every slot that crossed up to
+ * it.  Returns the number of slots found. */
+static size_t find_roots(taper_rk8 *rk, const double *y, double t, double h, const int *directions,
+                         size_t slots, size_t unlocated, int *found, double *tau)
+{
+    *tau = h;
+    memcpy(rk->y_root, rk->y1, rk->dim * sizeof(double));
+    const double *g_end = rk->g1;
+    int located = 0, have_f1 = 0;
+    for (size_t i = 0; i < slots; i++) {
+        if (!crossing(rk->g0[i], g_end[i], directions[i])) continue;
+        located = 1;
+        if (i == unlocated) continue; /* reported where the step ends */
+        if (!have_f1) { /* the interpolant's end slope */
+            if (system_rhs(t + h, rk->y1, rk->f1, rk) != GSL_SUCCESS) memset(rk->f1, 0, rk->dim * sizeof(double));
+            have_f1 = 1;
+        }
+        /* crossed before the earliest root so far: that is earlier */
+        *tau = locate(rk, y, t, h, i, directions[i], rk->g0[i], *tau, g_end[i]);
+        root_values(rk, rk->y_root, rk->g_trial);
+        memcpy(rk->g1, rk->g_trial, slots * sizeof(double));
+        g_end = rk->g1;
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < slots; i++) {
+        found[i] = located ? crossing(rk->g0[i], rk->g1[i], directions[i]) : 0;
+        n += found[i] != 0;
+    }
+    return n;
+}
+
+/* ---- the run --------------------------------------------------------------- */
+static void add_time(taper_rk8 *rk, double h)
+{
+    const double s = rk->t + h, h_part = s - rk->t; /* TwoSum(t, h) */
+    rk->t_low += (rk->t - (s - h_part)) + (h - h_part);
+    rk->t = s;
+}
+
+void taper_rk8_set_time(taper_rk8 *rk, double t)
+{
+    rk->t = t;
+    rk->t_low = 0.0;
+}
+
+taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const int *directions,
+                                   size_t slots, size_t unlocated, int *found, double tout,
+                                   long max_steps)
+{
+    rk->failure = NULL;
+    rk->f0_valid = 0; /* the caller may have changed y */
+    if (fit(rk, dim, slots) != 0) {
+        rk->failure = "out of memory";
+        return TAPER_RK8_FAILED;
+    }
+    for (long n = 0; n < max_steps; n++) {
+        if (!(rk->t < tout)) return TAPER_RK8_REACHED;
+        const int last = rk->t + rk->h >= tout;
+        const double h = last ? tout - rk->t : rk->h;
+        if (step(rk, y, rk->t, h, rk->y1) != 0) {
+            rk->failure = "the right-hand side failed";
+            return TAPER_RK8_FAILED;
+        }
+        rk->weights(y, rk->w, rk->user);
+        const double e = error_norm(rk);
+        if (!(e <= 1.0)) {
+            rk->count.err_test_fails++;
+            rk->h = h * fmax(SHRINK_MAX, SAFETY * pow(e, -ERROR_EXPONENT));
+            if (!(rk->h > 8.0 * DBL_EPSILON * fabs(rk->t))) {
+                rk->failure = "the step size fell below the resolution of t (t + h = t)";
+                return TAPER_RK8_FAILED;
+            }
+            continue;
+        }
+        root_values(rk, y, rk->g0);
+        root_values(rk, rk->y1, rk->g1);
+        double tau = h;
+        const size_t n_found = find_roots(rk, y, rk->t, h, directions, slots, unlocated, found, &tau);
+        rk->count.steps++;
+        rk->h_last = tau;
+        memcpy(y, n_found ? rk->y_root : rk->y1, dim * sizeof *y);
+        rk->f0_valid = 0;
+        if (last && !n_found) {
+            taper_rk8_set_time(rk, tout);
+        } else {
+            add_time(rk, tau);
+        }
+        /* after a root or a step cut short at tout, the proposal stands */
+        if (!n_found && !last) rk->h = h * fmin(GROW_MAX, SAFETY * pow(fmax(e, 1e-30), -ERROR_EXPONENT));
+        if (n_found) return TAPER_RK8_ROOT;
+    }
+    return TAPER_RK8_WORK;
+}
