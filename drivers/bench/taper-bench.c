@@ -29,8 +29,8 @@
  * and ARKODE ERKStep on the whole chain with ARKODE's root finder:
  * erk-verner6 (ARKODE_VERNER_8_5_6, order 6(5)), erk-fehlberg8
  * (ARKODE_FEHLBERG_13_7_8, order 8(7)), erk-dp5 (ARKODE_DORMAND_PRINCE_7_4_5);
- * rk8-window: rk8pd inside an active window, max-norm control with taper's
- * scaled tolerances (peers/peer_rk8_window.c); heyoka: the Taylor
+ * rk8: taper's method 'rk8' (GSL's rk8pd in the window, max-norm error
+ * control with taper's scaled tolerances, src/sim/rk8.c); heyoka: the Taylor
  * integrator heyoka on the whole chain (peers/peer_heyoka.py, run by the
  * Python of --heyoka-python PATH, default python3; skipped with one line
  * where that Python cannot import heyoka).
@@ -89,10 +89,10 @@ static const chain_def quick_chains[] = {
 static const char *chain_name(const chain_def *c) { return taper_profile_name(c->profile); }
 
 enum { M_ADAMS, M_DEFAULT, M_ADAMS_NOWIN, M_ADAMS_Q4, M_ADAMS_Q12, M_BDF, M_RK8PD, M_VERLET,
-       M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, M_RK8_WINDOW, M_HEYOKA, N_METHODS };
+       M_ERK_VERNER6, M_ERK_FEHLBERG8, M_ERK_DP5, M_RK8, M_HEYOKA, N_METHODS };
 static const char *method_names[N_METHODS] = {"adams", "default", "adams-nowin", "adams-q4",
                                               "adams-q12", "bdf-band", "rk8pd", "verlet",
-                                              "erk-verner6", "erk-fehlberg8", "erk-dp5", "rk8-window",
+                                              "erk-verner6", "erk-fehlberg8", "erk-dp5", "rk8",
                                               "heyoka"};
 
 static int is_erk(int m) { return m == M_ERK_VERNER6 || m == M_ERK_FEHLBERG8 || m == M_ERK_DP5; }
@@ -147,6 +147,7 @@ static taper_solver_spec *solver_spec(int m, double tol, long max_steps)
     if (ok && m == M_BDF)
         ok = taper_solver_spec_set_method(spec, TAPER_BDF, &err) == TAPER_OK &&
              taper_solver_spec_set_window(spec, 0, &err) == TAPER_OK;
+    if (ok && m == M_RK8) ok = taper_solver_spec_set_method(spec, TAPER_RK8, &err) == TAPER_OK;
     if (ok) ok = taper_solver_spec_set_max_steps(spec, max_steps, &err) == TAPER_OK;
     if (!ok) {
         fprintf(stderr, "taper-bench: %s tol %g: %s\n", method_names[m], tol, err.message);
@@ -303,11 +304,10 @@ static taper_status run_once(const taper_chain *chain, int m, double tol, long m
         return out->status;
     }
     double t0 = wall_seconds(), c0 = cpu_seconds();
-    if (m == M_RK8PD || m == M_VERLET || is_erk(m) || m == M_RK8_WINDOW) {
+    if (m == M_RK8PD || m == M_VERLET || is_erk(m)) {
         taper_peer_result r;
         taper_status status;
         if (m == M_RK8PD) status = taper_peer_rk8pd(chain, tol, tol * 1e-3, max_steps, &r, &err);
-        else if (m == M_RK8_WINDOW) status = taper_peer_rk8_window(chain, tol, tol * 1e-3, max_steps, &r, &err);
         else if (m == M_VERLET) status = taper_peer_verlet(chain, tol, max_steps, &r, &err);
         else {
             taper_peer_erk_table table = m == M_ERK_VERNER6   ? TAPER_PEER_ERK_VERNER6
@@ -466,7 +466,7 @@ static size_t sweep(int m, int quick, const taper_chain *chain, double *tol)
      * ARKODE ERK (whole chain, orders 5-8): 1e-11 and below take 10^5-10^6
      * whole-chain steps on N = 1000, so its sweep ends at 1e-11, as the
      * whole-chain CVODE runs do. */
-    int tight = m == M_ADAMS || m == M_ADAMS_Q4 || m == M_ADAMS_Q12 || m == M_RK8PD || m == M_RK8_WINDOW ||
+    int tight = m == M_ADAMS || m == M_ADAMS_Q4 || m == M_ADAMS_Q12 || m == M_RK8PD || m == M_RK8 ||
                 m == M_HEYOKA;
     double lo = m == M_BDF ? 1e-11 : tight ? 1e-14 : 1e-11;
     double hi = m == M_BDF ? 1e-4 : 1e-5;

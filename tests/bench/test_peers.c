@@ -123,31 +123,6 @@ static void test_peers_match_cvode(void **state)
     taper_chain_free(c);
 }
 
-/* rk8pd inside a window: the peaks agree with CVODE, and the pass times
- * with the long-double reference (drivers/bench/reference.c) to what a
- * single-step method of order 8 reaches where CVODE Adams stops at
- * ~1e-12 (backward linear, docs/benchmarks.md; measured 4.2e-14). */
-static void test_rk8_window_reaches_the_reference(void **state)
-{
-    (void)state;
-    taper_chain *c = make(TAPER_BACKWARD_LINEAR, 40, 0.5, 0);
-    taper_sim *sim = cvode_reference(c);
-    const double *vp = taper_sim_observable(sim, TAPER_V_PEAK);
-    long double ref[40];
-    assert_int_equal(taper_reference_pass_times(c, 1e-17L, ref), 0);
-    taper_peer_result w;
-    assert_int_equal(taper_peer_rk8_window(c, 1e-13, 1e-16, 0, &w, NULL), TAPER_OK);
-    assert_true(w.complete);
-    double worst = 0.0;
-    for (size_t k = 0; k + 2 < 40; k++) worst = fmax(worst, rel_diff(w.t_pass[k], (double)ref[k]));
-    print_message("rk8-window backward linear N=40 rtol 1e-13: t_pass error %.2e\n", worst);
-    assert_true(worst <= 2e-13);
-    for (size_t k = 0; k < 40; k++) assert_double_rel(w.v_peak[k], vp[k], 1e-8);
-    taper_peer_result_free(&w);
-    taper_sim_free(sim);
-    taper_chain_free(c);
-}
-
 static const taper_peer_erk_table erk_tables[] = {TAPER_PEER_ERK_VERNER6, TAPER_PEER_ERK_FEHLBERG8,
                                                    TAPER_PEER_ERK_DP5};
 #define N_ERK (sizeof erk_tables / sizeof *erk_tables)
@@ -239,7 +214,6 @@ int main(void)
         cmocka_unit_test(test_verlet_order_two),
         cmocka_unit_test(test_rk8pd_binary_collision),
         cmocka_unit_test(test_peers_match_cvode),
-        cmocka_unit_test(test_rk8_window_reaches_the_reference),
         cmocka_unit_test(test_arkode_binary_collision),
         cmocka_unit_test(test_arkode_matches_cvode),
         cmocka_unit_test(test_invalid),

@@ -90,12 +90,6 @@ taper_status taper_peer_verlet(const taper_chain *chain, double dt, long max_ste
 taper_status taper_peer_rk8pd(const taper_chain *chain, double rtol, double atol,
                               long max_steps, taper_peer_result *r, taper_error *err);
 
-/* rk8pd inside an active window of the granules that move, max-norm error
- * control with taper's scaled tolerances (peer_rk8_window.c).  Returns
- * TAPER_OK, TAPER_EINVAL, TAPER_ENOMEM, TAPER_ESOLVER or TAPER_ELIMIT. */
-taper_status taper_peer_rk8_window(const taper_chain *chain, double rtol, double atol, long max_steps,
-                                   taper_peer_result *r, taper_error *err);
-
 /* Adaptive ARKODE ERKStep with the given table, tolerances rtol, atol.
  * Returns TAPER_OK, TAPER_EINVAL, TAPER_ENOMEM, TAPER_ESOLVER (ARKODE failed)
  * or TAPER_ELIMIT. */
