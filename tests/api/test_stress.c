@@ -35,6 +35,8 @@
  *                           matrix; --ranges-only: full_ranges alone;
  *                           --physics-only: physics_ranges alone; --nmin
  *                           N: leave out sizes below N
+ *   --method NAME           the cells that run Adams run NAME instead
+ *                           (docs/robustness.md's matrix for method rk8)
  *
  * Prints one line per run and closes with how many cells completed, were
  * refused before the run and stopped mid-run, then "N passed, N failed,
@@ -301,6 +303,11 @@ static void outcome_free(outcome *o)
     memset(o, 0, sizeof *o);
 }
 
+/* --method NAME: the method the cells that run Adams run instead (the
+ * matrix for another method; BDF's cells stay BDF). */
+static taper_method g_adams_cells = TAPER_ADAMS;
+static taper_method cell_method(taper_method m) { return m == TAPER_ADAMS ? g_adams_cells : m; }
+
 /* Runs one case with the guards. */
 static void run_case(const stress_case *c, double rtol, outcome *o)
 {
@@ -336,7 +343,7 @@ static void run_case(const stress_case *c, double rtol, outcome *o)
     wall w = {now(), g_wall_limit};
     taper_sim *sim = NULL;
     taper_solver_spec *ss = taper_solver_spec_alloc(&err);
-    if (ss && taper_solver_spec_set_method(ss, c->method, &err) == TAPER_OK &&
+    if (ss && taper_solver_spec_set_method(ss, cell_method(c->method), &err) == TAPER_OK &&
         taper_solver_spec_set_rtol(ss, rtol, &err) == TAPER_OK &&
         taper_solver_spec_set_atol(ss, atol, &err) == TAPER_OK &&
         taper_solver_spec_set_t_max(ss, t_max, &err) == TAPER_OK &&
@@ -527,7 +534,7 @@ static void case_label(const stress_case *c, double rtol, char *buf, size_t size
 {
     const char *param = is_exponential(c->profile) ? "q" : c->profile == TAPER_CUSTOM ? "R2" : "S";
     snprintf(buf, size, "%-6s %s=%-8.3g N=%-6zu n=%-4.3g rtol=%-7.1e %s%s", profile_label(c->profile),
-             param, c->param, c->n, c->exponent, rtol, taper_method_name(c->method),
+             param, c->param, c->n, c->exponent, rtol, taper_method_name(cell_method(c->method)),
              c->whole_chain ? " whole" : "");
 }
 
@@ -1125,7 +1132,7 @@ static void run_physics(const physics_case *c, double rtol, outcome *out, physic
         if (ss && taper_solver_spec_set_rtol(ss, rtol, &err) == TAPER_OK &&
             taper_solver_spec_set_atol(ss, atol, &err) == TAPER_OK &&
             taper_solver_spec_set_max_steps(ss, g_max_steps, &err) == TAPER_OK &&
-            (!c->bdf || taper_solver_spec_set_method(ss, TAPER_BDF, &err) == TAPER_OK) &&
+            taper_solver_spec_set_method(ss, c->bdf ? TAPER_BDF : cell_method(TAPER_ADAMS), &err) == TAPER_OK &&
             /* Under drag no t_max: a pulse that drag absorbs ends the run by
              * itself (src/sim/solve.c, absorbed_by_drag), long after the
              * elastic crossing time (drag 0.1, N = 1000: t = 1.3e6, 870
@@ -1555,8 +1562,13 @@ int main(int argc, char **argv)
             drift = 1;
         } else if (strcmp(argv[i], "--quiet") == 0) {
             g_verbose = 0;
+        } else if (strcmp(argv[i], "--method") == 0 && i + 1 < argc) {
+            if (taper_method_from_name(argv[++i], &g_adams_cells, NULL) != TAPER_OK) {
+                fprintf(stderr, "test_stress: unknown method '%s'\n", argv[i]);
+                return 2;
+            }
         } else {
-            fprintf(stderr, "usage: test_stress [--drift | --full [--ranges-only | --physics-only] [--nmin N] [--nmax N]] [--quiet]\n");
+            fprintf(stderr, "usage: test_stress [--drift | --full [--ranges-only | --physics-only] [--nmin N] [--nmax N]] [--method NAME] [--quiet]\n");
             return 2;
         }
     }
