@@ -256,16 +256,16 @@ static taper_status check_time_resolution(const taper_sim *sim, taper_error *err
 /* Drag relaxes a granule's velocity in m_k / drag.  Where that is much
  * shorter than a collision (tau = (mu_1 / r_1)^(1/n), eq. (18)'s time at
  * unit velocity up to a factor of order one), the equations are stiff:
- * Adams, whose corrector is a fixed-point iteration, steps at the
- * relaxation time for the whole run, while the pulse, overdamped, creeps
- * on for ever longer (monodisperse N = 100, drag 100: absorbed at
+ * Adams, whose corrector is a fixed-point iteration, and rk8, an explicit
+ * method, step at the relaxation time for the whole run, while the pulse,
+ * overdamped, creeps on for ever longer (monodisperse N = 100, drag 100: absorbed at
  * t = 1.8e6 after 2.4e8 Adams steps, 212 s; BDF: 1437 steps, 0.01 s, the
  * same pass times to 3e-4, which a creeping front makes ill-conditioned).
  * A note, not a refusal: the run is correct, only slow. */
 static void advise_on_stiff_drag(const taper_sim *sim)
 {
     const taper_model *m = &sim->model;
-    if (!(m->drag > 0.0) || sim->spec.method != TAPER_ADAMS || m->granules < 2) return;
+    if (!(m->drag > 0.0) || sim->spec.method == TAPER_BDF || m->granules < 2) return;
     const double *mass = sim->mass + m->off;
     double m_min = INFINITY;
     for (size_t k = 0; k < m->granules; k++) m_min = fmin(m_min, mass[k]);
@@ -276,9 +276,9 @@ static void advise_on_stiff_drag(const taper_sim *sim)
         taper_sim_log(sim, 1,
                       "drag = %g relaxes the lightest granule's velocity in m/drag = %.3g, %.0f times "
                       "faster than a collision ((mu/r)^(1/n) = %.3g): the equations are stiff, and "
-                      "Adams steps at that relaxation time for the whole run; method = 'bdf' takes "
+                      "method '%s' steps at that relaxation time for the whole run; method = 'bdf' takes "
                       "far fewer steps (monodisperse, 100 granules, drag 100: 1437 against 2.4e8)",
-                      m->drag, m_min / m->drag, ratio, tau);
+                      m->drag, m_min / m->drag, ratio, tau, taper_method_name(sim->spec.method));
 }
 
 /* Below n = 2 on a chain that gets much lighter toward its end (a steep
