@@ -67,7 +67,14 @@ struct taper_rk8 {
     int f0_valid;           /* f0 is y' at the step's start state          */
     size_t capacity;
     double *g0, *g1, *g_trial; /* `slot_capacity` entries each             */
+    int *found_ahead;
     size_t slot_capacity;
+    /* Output inside a step (see taper_rk8_advance): the caller holds the
+     * state at t_out, the integrator's is y_ahead at t; the step began at
+     * y_start, t_start, and found_ahead holds the roots at its end if
+     * root_ahead. */
+    int ahead, root_ahead;
+    double *y_start, *y_ahead, t_start, t_out;
     double t, t_low;        /* the time: t + t_low                          */
     double h, h_last;       /* the controller's proposal; the last step     */
     double root_tol;        /* roots to root_tol (|t| + |h|)                */
@@ -92,14 +99,15 @@ void taper_rk8_free(taper_rk8 *rk)
     if (rk->step) gsl_odeiv2_step_free(rk->step);
     free(rk->y1), free(rk->y_root), free(rk->y_trial), free(rk->err), free(rk->w);
     free(rk->f0), free(rk->f1);
-    free(rk->g0), free(rk->g1), free(rk->g_trial);
+    free(rk->g0), free(rk->g1), free(rk->g_trial), free(rk->found_ahead);
+    free(rk->y_start), free(rk->y_ahead);
     free(rk);
 }
 
 double taper_rk8_time(const taper_rk8 *rk, double *low)
 {
-    if (low) *low = rk->t_low;
-    return rk->t;
+    if (low) *low = rk->ahead ? 0.0 : rk->t_low;
+    return rk->ahead ? rk->t_out : rk->t;
 }
 
 double taper_rk8_last_step(const taper_rk8 *rk) { return rk->h_last; }
@@ -122,13 +130,15 @@ static int fit(taper_rk8 *rk, size_t dim, size_t slots)
         size_t c = 2 * dim;
         if (grow_array(&rk->y1, c) || grow_array(&rk->y_root, c) || grow_array(&rk->y_trial, c) ||
             grow_array(&rk->err, c) || grow_array(&rk->w, c) || grow_array(&rk->f0, c) ||
-            grow_array(&rk->f1, c))
+            grow_array(&rk->f1, c) || grow_array(&rk->y_start, c) || grow_array(&rk->y_ahead, c))
             return -1;
         rk->capacity = c;
     }
     if (slots > rk->slot_capacity) {
         size_t c = 2 * slots;
-        if (grow_array(&rk->g0, c) || grow_array(&rk->g1, c) || grow_array(&rk->g_trial, c)) return -1;
+        int *f = realloc(rk->found_ahead, c * sizeof *f);
+        if (f) rk->found_ahead = f;
+        if (!f || grow_array(&rk->g0, c) || grow_array(&rk->g1, c) || grow_array(&rk->g_trial, c)) return -1;
         rk->slot_capacity = c;
     }
     /* GSL's allocators report a failed malloc to GSL's error handler, whose
@@ -334,11 +344,47 @@ void taper_rk8_set_time(taper_rk8 *rk, double t)
     rk->t_low = 0.0;
 }
 
+/* The state at time `at` inside the step held ahead: a fresh step from
+ * its start (whose y' rk->f0 still holds). */
+static int output_inside(taper_rk8 *rk, double at, double *y)
+{
+    return step(rk, rk->y_start, rk->t_start, at - rk->t_start, y);
+}
+
+/* Leaves the step held ahead: the caller's state becomes the integrator's. */
+static void catch_up(taper_rk8 *rk, double *y)
+{
+    memcpy(y, rk->y_ahead, rk->dim * sizeof *y);
+    rk->ahead = 0;
+    rk->f0_valid = 0;
+}
+
 taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const int *directions,
                                    size_t slots, size_t unlocated, int *found, double tout,
-                                   long max_steps)
+                                   double tstop, long max_steps)
 {
     rk->failure = NULL;
+    if (rk->ahead && dim != rk->dim) rk->ahead = 0; /* (the window moved: cannot happen) */
+    if (rk->ahead) {
+        if (tout < rk->t && tout <= tstop) { /* another output inside the step held */
+            if (output_inside(rk, tout, y) != 0) goto rhs_failed;
+            rk->t_out = tout;
+            return TAPER_RK8_REACHED;
+        }
+        if (tstop < rk->t) { /* a stop inside it, before its roots: the step ends there */
+            if (output_inside(rk, tstop, y) != 0) goto rhs_failed;
+            rk->ahead = 0;
+            rk->f0_valid = 0;
+            taper_rk8_set_time(rk, tstop);
+            rk->h_last = tstop - rk->t_start;
+            return TAPER_RK8_REACHED;
+        }
+        catch_up(rk, y);
+        if (rk->root_ahead) {
+            memcpy(found, rk->found_ahead, slots * sizeof *found);
+            return TAPER_RK8_ROOT;
+        }
+    }
     rk->f0_valid = 0; /* the caller may have changed y */
     if (fit(rk, dim, slots) != 0) {
         rk->failure = "out of memory";
@@ -346,12 +392,9 @@ taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const i
     }
     for (long n = 0; n < max_steps; n++) {
         if (!(rk->t < tout)) return TAPER_RK8_REACHED;
-        const int last = rk->t + rk->h >= tout;
-        const double h = last ? tout - rk->t : rk->h;
-        if (step(rk, y, rk->t, h, rk->y1) != 0) {
-            rk->failure = "the right-hand side failed";
-            return TAPER_RK8_FAILED;
-        }
+        const int last = rk->t + rk->h >= tstop;
+        const double h = last ? tstop - rk->t : rk->h;
+        if (step(rk, y, rk->t, h, rk->y1) != 0) goto rhs_failed;
         rk->weights(y, rk->w, rk->user);
         const double e = error_norm(rk);
         if (!(e <= 1.0)) {
@@ -369,16 +412,32 @@ taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const i
         const size_t n_found = find_roots(rk, y, rk->t, h, directions, slots, unlocated, found, &tau);
         rk->count.steps++;
         rk->h_last = tau;
+        /* after a root or a step cut short at tstop, the proposal stands */
+        if (!n_found && !last) rk->h = h * fmin(GROW_MAX, SAFETY * pow(fmax(e, 1e-30), -ERROR_EXPONENT));
+        const double t_start = rk->t;
+        const int reaches_stop = last && !n_found;
+        if (reaches_stop) taper_rk8_set_time(rk, tstop);
+        else add_time(rk, tau);
+        if (tout < rk->t) {
+            /* tout (a sample) falls inside the step: the step is kept, as
+             * if no one had asked (the run's steps do not depend on the
+             * samples), and the caller gets the state at tout */
+            memcpy(rk->y_start, y, dim * sizeof *y);
+            memcpy(rk->y_ahead, n_found ? rk->y_root : rk->y1, dim * sizeof *y);
+            rk->t_start = t_start;
+            rk->root_ahead = n_found != 0;
+            if (n_found) memcpy(rk->found_ahead, found, slots * sizeof *found);
+            rk->ahead = 1;
+            rk->t_out = tout;
+            if (output_inside(rk, tout, y) != 0) goto rhs_failed;
+            return TAPER_RK8_REACHED;
+        }
         memcpy(y, n_found ? rk->y_root : rk->y1, dim * sizeof *y);
         rk->f0_valid = 0;
-        if (last && !n_found) {
-            taper_rk8_set_time(rk, tout);
-        } else {
-            add_time(rk, tau);
-        }
-        /* after a root or a step cut short at tout, the proposal stands */
-        if (!n_found && !last) rk->h = h * fmin(GROW_MAX, SAFETY * pow(fmax(e, 1e-30), -ERROR_EXPONENT));
         if (n_found) return TAPER_RK8_ROOT;
     }
     return TAPER_RK8_WORK;
+rhs_failed:
+    rk->failure = "the right-hand side failed";
+    return TAPER_RK8_FAILED;
 }

@@ -38,19 +38,24 @@ taper_rk8 *taper_rk8_alloc(taper_rk8_rhs rhs, taper_rk8_weights weights, taper_r
                            void *user, double h0);
 void taper_rk8_free(taper_rk8 *rk);
 
-/* Steps y (dim entries, overwritten) towards tout, never past it, taking
- * at most max_steps steps; stops at the first root of the `slots` root
- * functions that changes sign in its direction (+1: from below, -1: from
- * above, 0: either).  found[]: per slot, the sign of its crossing (0:
- * none), set on TAPER_RK8_ROOT.  Slot `unlocated` (none if >= slots) is
- * not located: its root is reported at the end of the step that holds it
- * (or at an earlier root of another slot in that step, if already
- * crossed there). */
+/* Steps y (dim entries, overwritten) towards tout, taking at most
+ * max_steps steps, never past tstop (>= tout: a discontinuity, the end of
+ * a phase); stops at the first root of the `slots` root functions that
+ * changes sign in its direction (+1: from below, -1: from above, 0:
+ * either).  found[]: per slot, the sign of its crossing (0: none), set on
+ * TAPER_RK8_ROOT.  Slot `unlocated` (none if >= slots) is not located: its
+ * root is reported at the end of the step that holds it (or at an earlier
+ * root of another slot in that step, if already crossed there).
+ * A tout inside a step does not shorten it: y is the state at tout (a
+ * fresh step from the step's start), and the integrator keeps its own
+ * state ahead; the next call goes on from there (y must be left as
+ * returned, as CVODE's interpolated output). */
 taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const int *directions,
                                    size_t slots, size_t unlocated, int *found, double tout,
-                                   long max_steps);
+                                   double tstop, long max_steps);
 
-/* The time reached, t + low (low: the rounding of the sum of the steps). */
+/* The time of the state last returned, t + low (low: the rounding of the
+ * sum of the steps). */
 double taper_rk8_time(const taper_rk8 *rk, double *low);
 void taper_rk8_set_time(taper_rk8 *rk, double t);
 /* Roots are located to rel (|t| + |h|), h the step holding them; at

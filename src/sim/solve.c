@@ -590,11 +590,12 @@ static double grace_time(const taper_sim *sim)
     return sim->t + PEAK_GRACE * fmax(longest, 1e-3);
 }
 
-/* One call of the integrator towards target, answering in CVODE's flags:
- * CVODE itself, or rk8, which stops at target exactly (a stop time), at a
- * root, or after STEPS_PER_CALL steps, its roots' answers already in
- * sim->cv.roots. */
-static int integrator_call(taper_sim *sim, double target, double *t)
+/* One call of the integrator towards target (never past stop_at),
+ * answering in CVODE's flags: CVODE itself (whose stop time is set), or
+ * rk8, which returns at target (a state computed inside its step, as
+ * CVODE's interpolation), at a root, or after STEPS_PER_CALL steps, its
+ * roots' answers already in sim->cv.roots. */
+static int integrator_call(taper_sim *sim, double target, double stop_at, double *t)
 {
     taper_cvode *cv = &sim->cv;
     if (!cv->rk8) return CVode(cv->mem, target, cv->y, t, CV_NORMAL);
@@ -604,7 +605,7 @@ static int integrator_call(taper_sim *sim, double target, double *t)
      * steps a located root costs. */
     const taper_rk8_result r = taper_rk8_advance(cv->rk8, taper_sim_data(sim, cv->y), state_length(sim),
                                                  cv->roots + slots, slots, taper_events_grow_slot(sim),
-                                                 cv->roots, target, STEPS_PER_CALL);
+                                                 cv->roots, target, stop_at, STEPS_PER_CALL);
     *t = taper_rk8_time(cv->rk8, &cv->t_shift);
     switch (r) {
     case TAPER_RK8_REACHED: return CV_TSTOP_RETURN;
@@ -631,7 +632,10 @@ static taper_status advance(taper_sim *sim, double tout, int *reached, taper_err
         if (sim->phase_stop > tn && sim->phase_stop < stop_at) stop_at = sim->phase_stop;
         CVodeSetStopTime(sim->cv.mem, stop_at);
     }
-    int flag = integrator_call(sim, target, &t);
+    /* rk8's stop: the piston's, or the phase's end (tout) */
+    const double stop_at = piston_stop_pending(sim) && sim->model.piston_duration < tout
+                               ? sim->model.piston_duration : tout;
+    int flag = integrator_call(sim, target, stop_at, &t);
     sim->t = t;
     *reached = 0;
     if (piston_first && (flag == CV_SUCCESS || flag == CV_TSTOP_RETURN) && t >= target) {
