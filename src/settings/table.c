@@ -197,8 +197,9 @@ const setting_row taper_setting_rows[] = {
               .info.description = "integrator: 'adams' (CVODE Adams-Moulton, fixed point), 'bdf' "
                                   "(CVODE BDF, banded Jacobian: stiff drag) or 'rk8' "
                                   "(Prince-Dormand 8(7), single-step: faster than adams at errors "
-                                  "of 1e-9 and below, and the only one below 3e-14, at rtol 1e-14; "
-                                  "docs/benchmarks.md)",
+                                  "of 1e-9 and below on monodisperse and tapered chains, the only "
+                                  "one below 3e-14 (rtol 1e-14); slower where light granules "
+                                  "chatter: dimers, n < 2; docs/benchmarks.md)",
               .info.bounds_reason = "",
      CHOICE(taper_method_names), SOLVER_AT(method)},
     {.info.name = "rtol", .info.group = "solver", DIM(NUMBER),
