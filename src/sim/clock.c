@@ -5,6 +5,7 @@
  * memory and the sim's clock fields; this file calls nothing else in
  * src/sim, so that solve.c and events.c both sit above it.
  */
+#include "illinois.h"
 #include "sim.h"
 
 #include <cvode/cvode.h>
@@ -73,27 +74,18 @@ double taper_sim_refine_root(taper_sim *sim, taper_root_value g, size_t k, const
     if (!(a < b) || CVodeGetDky(mem, a, 0, at) != CV_SUCCESS) return sim->t;
     double ga = g(sim, data, k);
     if (sign_of(ga) * sign_of(gb) >= 0) return sim->t;
-    int side = 0;
-    for (int i = 0; i < ROOT_ITERATIONS && b - a > 2.0 * DBL_EPSILON * fabs(b); i++) {
-        double c = b - gb * (b - a) / (gb - ga);
-        if (!(c > a && c < b)) c = 0.5 * (a + b);
-        if (!(c > a && c < b) || CVodeGetDky(mem, c, 0, at) != CV_SUCCESS) break;
+    taper_bracket br = {a, ga, b, gb, 0};
+    for (int i = 0; i < ROOT_ITERATIONS && br.b - br.a > 2.0 * DBL_EPSILON * fabs(br.b); i++) {
+        const double c = taper_bracket_point(&br);
+        if (!(c > br.a && c < br.b) || CVodeGetDky(mem, c, 0, at) != CV_SUCCESS) break;
         double gc = g(sim, data, k);
         if (gc == 0.0) {
-            b = c; /* an exact zero: the root */
+            br.b = c; /* an exact zero: the root */
             break;
         }
-        if (sign_of(gc) == sign_of(gb)) {
-            b = c, gb = gc;
-            if (side == 1) ga *= 0.5;
-            side = 1;
-        } else {
-            a = c, ga = gc;
-            if (side == -1) gb *= 0.5;
-            side = -1;
-        }
+        taper_bracket_move(&br, c, gc, sign_of(gc) == sign_of(br.gb));
     }
-    if (CVodeGetDky(mem, b, 0, at) != CV_SUCCESS) return sim->t;
+    if (CVodeGetDky(mem, br.b, 0, at) != CV_SUCCESS) return sim->t;
     *y = data;
-    return b;
+    return br.b;
 }

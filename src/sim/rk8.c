@@ -35,6 +35,8 @@
  */
 #include "rk8.h"
 
+#include "illinois.h"
+
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
@@ -235,25 +237,14 @@ static void hermite(const taper_rk8 *rk, const double *y, double h, double tau, 
 static double seed(taper_rk8 *rk, const double *y, double t, double h, size_t i, int direction,
                    double g_start, double b, double gb)
 {
-    double a = 0.0, ga = g_start;
-    int side = 0;
-    for (int it = 0; it < LOCATE_ITERATIONS && b - a > LOCATE_ULPS * DBL_EPSILON * (fabs(t) + b); it++) {
-        double c = (a * gb - b * ga) / (gb - ga);
-        if (!(c > a && c < b)) c = 0.5 * (a + b);
+    taper_bracket br = {0.0, g_start, b, gb, 0};
+    for (int it = 0; it < LOCATE_ITERATIONS && br.b - br.a > LOCATE_ULPS * DBL_EPSILON * (fabs(t) + br.b); it++) {
+        const double c = taper_bracket_point(&br);
         hermite(rk, y, h, c, rk->y_trial);
         root_values(rk, rk->y_trial, rk->g_trial);
-        const double gc = rk->g_trial[i];
-        if (crossing(g_start, gc, direction)) {
-            b = c, gb = gc;
-            if (side == 1) ga *= 0.5;
-            side = 1;
-        } else {
-            a = c, ga = gc;
-            if (side == -1) gb *= 0.5;
-            side = -1;
-        }
+        taper_bracket_move(&br, c, rk->g_trial[i], crossing(g_start, rk->g_trial[i], direction) != 0);
     }
-    return b;
+    return br.b;
 }
 
 /* The time in (0, b] of slot i's crossing (direction `direction`, value
@@ -270,31 +261,24 @@ static double locate(taper_rk8 *rk, const double *y, double t, double h, size_t 
                      double g_start, double b, double gb)
 {
     const double guess = seed(rk, y, t, h, i, direction, g_start, b, gb);
-    double a = 0.0, ga = g_start;
-    int side = 0;
-    for (int it = 0; it < LOCATE_ITERATIONS && b - a > rk->root_tol * (fabs(t) + h); it++) {
-        double c = (a * gb - b * ga) / (gb - ga);
-        if (!(c > a && c < b)) c = 0.5 * (a + b);
+    taper_bracket br = {0.0, g_start, b, gb, 0};
+    for (int it = 0; it < LOCATE_ITERATIONS && br.b - br.a > rk->root_tol * (fabs(t) + h); it++) {
+        double c = taper_bracket_point(&br);
         if (it < 2) { /* the seed's bracket, where it lies inside (a, b) */
-            const double s = guess + (it ? 1.0 : -1.0) * SEED_BRACKET * b;
-            if (s > a && s < b) c = s;
+            const double s = guess + (it ? 1.0 : -1.0) * SEED_BRACKET * br.b;
+            if (s > br.a && s < br.b) c = s;
         }
         if (step(rk, y, t, c, rk->y_trial) != 0) break;
         root_values(rk, rk->y_trial, rk->g_trial);
         const double gc = rk->g_trial[i];
-        if (crossing(g_start, gc, direction)) { /* crossed by c: the root is in (a, c] */
-            b = c, gb = gc;
+        const int far = crossing(g_start, gc, direction) != 0; /* crossed by c */
+        taper_bracket_move(&br, c, gc, far);
+        if (far) {
             memcpy(rk->y_root, rk->y_trial, rk->dim * sizeof(double));
             if (gc == 0.0) break; /* the root itself */
-            if (side == 1) ga *= 0.5;
-            side = 1;
-        } else {
-            a = c, ga = gc;
-            if (side == -1) gb *= 0.5;
-            side = -1;
         }
     }
-    return b;
+    return br.b;
 }
 
 /* The roots of an accepted step of size h from (t, y) to rk->y1 (values
