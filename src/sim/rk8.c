@@ -67,6 +67,7 @@ struct taper_rk8 {
     size_t step_capacity, dim; /* dim: the current state's entries          */
     double *y1, *y_root, *y_trial, *err, *w, *f0, *f1; /* `capacity` each  */
     int f0_valid;           /* f0 is y' at the step's start state          */
+    int g0_valid;           /* g0 holds the root functions there           */
     size_t capacity;
     double *g0, *g1, *g_trial; /* `slot_capacity` entries each             */
     int *found_ahead;
@@ -348,7 +349,10 @@ taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const i
                                    double tstop, long max_steps)
 {
     rk->failure = NULL;
-    if (rk->ahead && dim != rk->dim) rk->ahead = 0; /* (the window moved: cannot happen) */
+    if (rk->ahead && dim != rk->dim) { /* (the window moved: cannot happen) go on from y */
+        rk->ahead = 0;
+        taper_rk8_set_time(rk, rk->t_out);
+    }
     if (rk->ahead) {
         if (tout < rk->t && tout <= tstop) { /* another output inside the step held */
             if (output_inside(rk, tout, y) != 0) goto rhs_failed;
@@ -369,7 +373,7 @@ taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const i
             return TAPER_RK8_ROOT;
         }
     }
-    rk->f0_valid = 0; /* the caller may have changed y */
+    rk->f0_valid = rk->g0_valid = 0; /* the caller may have changed y and the slots */
     if (fit(rk, dim, slots) != 0) {
         rk->failure = "out of memory";
         return TAPER_RK8_FAILED;
@@ -390,7 +394,7 @@ taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const i
             }
             continue;
         }
-        root_values(rk, y, rk->g0);
+        if (!rk->g0_valid) root_values(rk, y, rk->g0);
         root_values(rk, rk->y1, rk->g1);
         double tau = h;
         const size_t n_found = find_roots(rk, y, rk->t, h, directions, slots, unlocated, found, &tau);
@@ -419,6 +423,10 @@ taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const i
         memcpy(y, n_found ? rk->y_root : rk->y1, dim * sizeof *y);
         rk->f0_valid = 0;
         if (n_found) return TAPER_RK8_ROOT;
+        /* the step's end is the next one's start: its root values too */
+        double *g = rk->g0;
+        rk->g0 = rk->g1, rk->g1 = g;
+        rk->g0_valid = 1;
     }
     return TAPER_RK8_WORK;
 rhs_failed:
