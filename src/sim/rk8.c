@@ -256,8 +256,8 @@ static double seed(taper_rk8 *rk, const double *y, double t, double h, size_t i,
  * two trials SEED_BRACKET of b either side of where the step's cubic
  * Hermite interpolant puts the root (seed): where the interpolant is that
  * close, the search starts from that narrow bracket and ends within a few
- * more steps (measured: 13 trial steps per root from (0, b], 5 with the
- * seed); where it is not, the trials still narrow the bracket. */
+ * more steps (3.3 to 5.3 trial steps per event, docs/design.md); where it
+ * is not, the trials still narrow the bracket. */
 static double locate(taper_rk8 *rk, const double *y, double t, double h, size_t i, int direction,
                      double g_start, double b, double gb)
 {
