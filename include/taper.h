@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * taper.h -- pulse propagation in tapered granular chains.
  *

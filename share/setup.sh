@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # setup.sh -- make this checkout ready: install what is missing (Debian 12,
 # as root or through sudo), build an optimised SUNDIALS from Debian's source
 # package into BUILD_DIR/sundials, configure the Meson build in BUILD_DIR

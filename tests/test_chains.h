@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_chains.h -- building chains in tests: one helper that asserts the
  * chain was built and shows the library's message when it was not.

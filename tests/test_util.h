@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_util.h -- assertions for doubles.  cmocka 1.1.5's assert_float_equal
  * casts to float (7 digits); these compare in double with a relative

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """goal.py -- the speed goal's benchmark in one command.
 
     python3 drivers/bench/goal.py BUILD_DIR [--ref TAPER] [--repeats R] [--n N]

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """heyoka_rounds.py -- taper against heyoka, paired, in interleaved rounds.
 
     python3 drivers/bench/heyoka_rounds.py BUILD_DIR PYTHON CHAIN N REF

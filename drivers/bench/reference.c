@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * reference.c -- converged pass times of a paper chain, independent of
  * CVODE (reference.h; the method is described in taper-reference.c).

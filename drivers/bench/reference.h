@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * reference.h -- converged pass times without CVODE (reference.c), for
  * taper-reference and taper-bench.

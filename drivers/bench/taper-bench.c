@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * taper-bench -- work-precision study of the pulse-propagation solvers.
  *

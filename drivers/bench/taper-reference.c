@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * taper-reference -- converged pass times of a paper chain, independent of
  * CVODE: extrapolated modified midpoint steps (Gragg-Bulirsch-Stoer) in

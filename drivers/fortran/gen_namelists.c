@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * gen_namelists.c OUT -- writes the Fortran module taper_nml_scene
  * (taper_nml_scene.f90) for the variables of a scene, from the scene's

@@ -1,3 +1,4 @@
+! SPDX-License-Identifier: GPL-3.0-or-later
 ! taper_nml -- run a taper scene file with Fortran's own namelist READ.
 !
 !   taper_nml SCENE.nml           run it: t_pass and v_peak next to the theory

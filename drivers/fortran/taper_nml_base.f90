@@ -1,3 +1,4 @@
+! SPDX-License-Identifier: GPL-3.0-or-later
 ! taper_nml_base.f90 -- what the Fortran scene driver taper_nml (taper_nml.f90)
 ! and its generated module taper_nml_scene share: the marks of a value left
 ! out, the lists a scene gives, the library's defaults and choices, the

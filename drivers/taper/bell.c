@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * bell.c -- a doorbell for rank 0 of an MPI sweep (bell.h).
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * bell.h -- doorbells for the ranks of an MPI sweep: a TCP connection
  * between rank 0 and each other rank, on which a rank writes one byte

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * taper -- the command line: read and validate a scene, echo it resolved,
  * and run it (run/run.c); or print the defaults, the reference, or one

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep_mpi.c -- the runs of a sweep on MPI ranks (sweep_mpi.h).
  *

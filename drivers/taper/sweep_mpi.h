@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep_mpi.h -- the runs of a sweep on MPI ranks (taper built with -Dmpi, run
  * under mpirun).  Rank 0 reads the scene, echoes it, prepares the output

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """compare_runs.py -- how far one taper run is from a reference run.
 
     python3 drivers/tools/compare_runs.py RUN REFERENCE [--at K1,K2,...] [--bins]

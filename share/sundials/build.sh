@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # share/sundials/build.sh PREFIX [shared|static] -- build the SUNDIALS that
 # taper links, optimised, from the distribution's own source package, and
 # install it in PREFIX.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * asymptotic.c -- large-k laws of the binary collision approximation for the
  * four tapering protocols (paper, Secs. III-IV), for any contact exponent n.

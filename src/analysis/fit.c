@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * fit.c -- least-squares fits of the paper's laws (power law, exponential,
  * and the finite-x divergences of the forward chains, Sec. IV) in ln y.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * chain.c -- geometry of a granular chain (paper, Sec. II and the tapering
  * protocols of Secs. III-IV): radii, masses m_k = R_k^3 (uniform density,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * chain_impl.h -- the layout behind taper_chain (a spec's is
  * settings/specs.h).  Private to src/chain (and its unit tests): every

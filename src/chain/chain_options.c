@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * chain_options.c -- the chain beyond the paper (taper.h, "Beyond the
  * paper"): the relations between its settings (chain_options_check: ends,

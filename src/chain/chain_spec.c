@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * chain_spec.c -- the relations between the settings of a chain of the
  * paper's model (taper_chain_spec_check): what makes one setting's value

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * disorder.c -- the random factors of a disordered chain, reproducible on
  * every machine and for every N (docs/physics.md, "Disorder").

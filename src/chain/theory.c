@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * theory.c -- the binary collision approximation (paper, Sec. II).
  *

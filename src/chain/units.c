@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * units.c -- the SI value of the rescaled units of eq. (5) of
  * arXiv:0905.4512 for Hertz contacts (n = 5/2); docs/physics.md, "Real

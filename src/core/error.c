@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* error.c -- status codes and messages.  The library reports, never prints. */
 #include "core/taper_internal.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * names.c -- finding a name in one of the library's lists of names (the
  * enums' lists of taper.h, the table of settings), the same way for every

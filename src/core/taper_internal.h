@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * taper_internal.h -- what every part of the library shares: recording a
  * failure in a taper_error.  Not installed.  Symbols declared here have

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * chain_spec.c -- taper_chain_spec: allocation, and the typed setters and
  * getters of taper.h, each a thin call into the table of settings (every

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * names.c -- the names of the enums a setting chooses from (profile,
  * disorder, boundary, method) and of the chain's ends, each expanded from

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * settings.c -- reading and writing the settings of a spec through the
  * table (table.c): every check of a single value, every range message and

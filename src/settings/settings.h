@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * settings.h -- the rows of the table of settings as the library reads
  * them: the public row (taper_setting) and where its value lives in its

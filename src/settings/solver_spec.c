@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * solver_spec.c -- taper_solver_spec: allocation, the typed setters and
  * getters of taper.h (thin calls into the table of settings), and what is

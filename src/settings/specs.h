@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * specs.h -- the layouts behind taper_chain_spec and taper_solver_spec, and
  * what the other parts of the library need of them.  Not installed: callers

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * table.c -- the one table of settings (taper.h, "Settings by name"): a row
  * per setting of taper_chain_spec and taper_solver_spec, with its name,

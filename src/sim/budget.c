@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * budget.c -- where the energy went at t_final (taper.h,
  * TAPER_STAT_ENERGY_*), and for chains with options the balances that

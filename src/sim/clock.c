@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * clock.c -- CVODE's time, as the run (solve.c) and the events (events.c)
  * read it: the rounding drift of CVODE's own clock summed exactly, and a

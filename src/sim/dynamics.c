@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * dynamics.c -- right-hand side of eq. (6) in the variables
  * of dynamics.h.  This is the hot path: no allocation, no pow() for n = 5/2.

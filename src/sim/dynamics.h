@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * dynamics.h -- the rescaled equations of motion (eq. (6) of arXiv:0905.4512) in
  * difference variables, on a window of granules.

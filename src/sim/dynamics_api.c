@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * dynamics_api.c -- taper_dynamics: the equations taper_sim integrates,
  * eq. (6), over the whole chain (window lo = 1, hi = N), for integrators

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * equations.c -- the equations every integrator of the run sees, on the
  * state's entries (the window's, from absolute index taper_dyn_begin, or

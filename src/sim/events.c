@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * events.c -- pulse events located exactly by CVODE's root finder.  Writes
  * only sim->pulse (the rings, the references, the observables); tells the

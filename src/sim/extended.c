@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * extended.c -- the chain the sim integrates: the chain's N granules with the
  * bodies the options beyond the paper put at its ends (taper.h, "Beyond the

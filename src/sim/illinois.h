@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * illinois.h -- the Illinois method (regula falsi whose end that stays
  * put twice in a row has its value halved): a root finder that keeps its

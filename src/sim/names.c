@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * names.c -- the names of the per-granule observables of a run
  * (taper_observable_name): the column names of granules.tsv, expanded from

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * nvector_window.c -- the sliding-window N_Vector (see nvector_window.h).
  * The operations are the serial ones restricted to the active range.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * nvector_window.h -- an N_Vector whose active part is a sliding window of
  * the chain's state.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * rk8.c -- method 'rk8': an explicit single-step integrator, GSL's rk8pd
  * (Prince-Dormand 8(7), 13 stages), with root finding, answering solve.c

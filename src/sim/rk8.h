@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * rk8.h -- method 'rk8': GSL's rk8pd with root finding on a state of
  * contiguous entries whose length may change between calls (the window).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sample.c -- the sampler of taper_solver_spec_set_sampler: the user's
  * function at t_j = j * interval, j = 0, 1, ... (each a product, never a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sim.c -- the simulation state (see sim.h for who writes what): allocation
  * with the binary collision theory computed once, free, the results'

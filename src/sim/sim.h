@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sim.h -- the simulation object (struct taper_sim) and the interfaces of
  * the files of src/sim.  Private to src/sim and its unit tests.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * solve.c -- the run: CVODE set-up and callbacks, and the loop that asks
  * events.c what a root return means and window.c what the window must do,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sundials_compat.c -- SUNDIALS-version-specific calls (see the header).
  *   6.x: SUNContext_Create(void *comm, ...), CVodeSetErrHandlerFn.

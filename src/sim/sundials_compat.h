@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sundials_compat.h -- the only place that knows which SUNDIALS version we
  * build against.  Debian 12 ships 6.4.1; the 7.x equivalents are noted so a

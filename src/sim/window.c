@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * window.c -- the policy of the active window of granules (see dynamics.h):
  * it decides, the run loop (solve.c) acts.  Every function here only reads

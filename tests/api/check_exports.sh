@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # check_exports.sh LIBTAPER.so TAPER.h [SOVERSION] -- the shared library
 # exports exactly the functions the public header declares: every dynamic
 # symbol it defines is a taper_ function declared in taper.h, and every

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # check_header.sh TAPER.h -- the public header stands alone: it includes
 # only standard C headers and names no SUNDIALS or GSL type, so that users
 # need neither library's headers (and we may change either without breaking

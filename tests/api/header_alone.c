@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * header_alone.c -- taper.h compiles on its own, first and alone, as
  * strict C99 (-std=c99 -Wall -Wextra -pedantic -Werror) and, through

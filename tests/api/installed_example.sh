@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # installed_example.sh BUILD_DIR SOURCE_DIR -- a user's view of libtaper:
 # `meson install` into a temporary root, then every C example of
 # share/examples/c (and, with gfortran, every Fortran one of

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # installed_prefix.sh BUILD_DIR SOURCE_DIR -- a real installation, as
 # docs/api.md tells a user to make one: a fresh build directory configured
 # with `meson setup DIR --prefix=PREFIX` (an empty temporary prefix, the

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # sundials_fallback.sh SOURCE_DIR -- `meson setup -Dsundials=build` (what
 # pip install . asks for) where the optimised SUNDIALS cannot be made: the
 # configuration still succeeds, on the system SUNDIALS, and says so in

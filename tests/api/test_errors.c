@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_errors.c -- the library reports, never prints and never aborts.
  *

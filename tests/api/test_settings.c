@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_settings.c -- the table of settings through the public API: every
  * row is well formed, its default is what a fresh spec holds and what a

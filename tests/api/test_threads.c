@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_threads.c -- libtaper has no global mutable state: different chains
  * simulated in several threads at once give results bit-identical to the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_version.c -- the version macros of taper.h, the version of the
  * loaded library (taper_version()) and the project version of meson.build

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """test_heyoka.py -- the heyoka peer of taper-bench against converged references.
 
     python3 test_heyoka.py TAPER_BENCH REFERENCE_DIR

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_peers.c -- the baselines of taper-bench are honest (suite 'peers').
  *

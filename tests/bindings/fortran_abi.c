@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * fortran_abi.c -- the C side of test_fortran_abi.f90: sizes and field
  * offsets of the three structs of taper.h that the Fortran module declares

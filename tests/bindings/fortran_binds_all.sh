@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # fortran_binds_all.sh TAPER.h TAPER.f90 -- the Fortran module binds every
 # function the public header declares (an interface with bind(C,
 # name="taper_...")), so that taper.h cannot grow (as the options beyond the paper grew it)

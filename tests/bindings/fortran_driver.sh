@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # fortran_driver.sh TAPER_NML TAPER SCENE -- the Fortran driver (namelist
 # READ + iso_c_binding) and the C driver run the same scene through the
 # same library: the t_pass and v_peak the Fortran driver prints (8 digits)

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # scene_agree.sh TAPER_NML SCENE_DUMP SCENES_DIR -- every shipped scene is a
 # real Fortran namelist: gfortran's namelist READ (taper_nml --dump) and our
 # C parser (scene_dump) resolve it to the same values, bit for bit (see the

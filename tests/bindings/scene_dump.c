@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene_dump.c SCENE.nml -- the resolved values of a scene as read by our C
  * parser (scene.c), one variable per line in table order, in the canonical

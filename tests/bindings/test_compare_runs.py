@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """test_compare_runs.py BUILD_DIR SOURCE_DIR -- drivers/tools/compare_runs.py,
 the tool behind docs/benchmarks.md's accuracy tables: a run against a run of
 the same chain at a tighter tolerance differs by about the looser tolerance

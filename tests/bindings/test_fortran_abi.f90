@@ -1,3 +1,4 @@
+! SPDX-License-Identifier: GPL-3.0-or-later
 ! test_fortran_abi -- the Fortran module drivers/fortran/module/taper.f90
 ! against the library: the three bind(C) derived types it declares
 ! (taper_error, taper_progress, taper_setting) have the size and field

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # driver_scenes.sh TAPER SOURCE_DIR -- the taper driver end to end:
 #  - every shipped scene (share/scenes/*.nml) runs, writes a complete tidy
 #    granules.tsv (one row per granule, the contract columns) and echoes a

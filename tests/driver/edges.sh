@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # edges.sh TAPER SECTION -- the driver at the edges of its ranges, one
 # section per item (each registered as its own test in meson.build):
 #   signals    SIGTERM/SIGHUP/SIGXCPU keep the partial result (exit 3, the

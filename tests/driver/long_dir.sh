@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # long_dir.sh TAPER -- a scene whose &output dir is 3000 characters long (15
 # nested folders) runs, and its echo -- on stdout, and in the '# ' scene
 # block of granules.tsv -- reads back to the same scene: each echo, run

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The paper's tables from their scenes: expected values for the paper suite,
 and the tables section of docs/paper.md.
 

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # paper_tables.sh TAPER SOURCE_DIR -- suite 'paper': every value of the
 # paper's Tables I-V, as the shipped scenes produce it, against its stored
 # expected value (tests/driver/paper_tables.tsv), and the tables section of

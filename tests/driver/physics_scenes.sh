@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # physics_scenes.sh TAPER SOURCE_DIR -- the scenes beyond the paper end to end
 # (share/scenes/physics, one per capability), each checked for what it is
 # about, not only for files:

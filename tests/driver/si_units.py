@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """si_units.py RESCALED_DIR SI_DIR -- the SI files of a scene (&output units =
 'si') are its rescaled files times the unit scales, exactly.
 

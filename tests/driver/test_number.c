@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_number.c -- number_shortest (drivers/scenes/util/number.c) writes
  * every double as the shortest text that reads back to it, the nearest of

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_scene.c -- the scene parser, validation (the scene's own rules and
  * the library's, each reported at its key), the typed configuration, the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_scene_physics.c -- the scene side of the models beyond the paper: the new variables
  * stay out of the echo of a scene that does not give them (the paper's

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # tests/fuzz/build.sh [BUILD_DIR] -- build the libFuzzer scene harness
 # (clang, AddressSanitizer + UndefinedBehaviorSanitizer) into BUILD_DIR
 # (default build-fuzz), installing clang's fuzzer runtime if missing.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * fuzz_scene.c -- libFuzzer harness for the scene parser and validation
  * (drivers/scenes/scene/scene*.c), and for what a valid scene feeds into the library.

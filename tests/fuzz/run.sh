@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # tests/fuzz/run.sh [SECONDS] [BUILD_DIR] -- fuzz the scene parser for
 # SECONDS (default 1800) at the lowest priority, one job.  The working corpus
 # grows in BUILD_DIR/fuzz-corpus (seeded from share/scenes, tests/driver/scenes/bad

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_budget.c -- the energy budget's words mean what they say
  * (docs/physics.md, "Energy budget"): energy is reflected or transmitted

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_decorated.c -- the effective chain of a decorated chain against the
  * numerics (suite 'physics'; docs/physics.md, "Decorated chains").

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_load.c -- precompression (taper.h, taper_chain_spec_set_load;
  * docs/physics.md, "Static load"), checked as physics through the public

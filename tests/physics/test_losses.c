@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_losses.c -- dissipation (taper.h, taper_chain_spec_set_damping and
  * _set_drag; docs/physics.md, "Losses"), checked as physics through the

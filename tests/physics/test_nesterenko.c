@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_nesterenko.c -- real units (docs/physics.md, "Real units") checked
  * against Nesterenko's solitary wave (suite 'physics').

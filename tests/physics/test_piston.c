@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_piston.c -- the piston (taper.h, taper_chain_spec_set_piston;
  * docs/physics.md, "Piston"), through the public header (suite 'physics'):

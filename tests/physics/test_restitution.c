@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_restitution.c -- Kuwabara-Kono damping (docs/physics.md,
  * "Viscoelastic contacts") checked through the restitution coefficient of

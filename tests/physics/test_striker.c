@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_striker.c -- the striker (taper.h, taper_chain_spec_set_striker;
  * docs/physics.md, "Striker") and the sampler

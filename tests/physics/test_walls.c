@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_walls.c -- fixed flat walls at the ends of a chain (taper.h,
  * taper_chain_spec_set_end; docs/physics.md, "Walls"), checked as physics

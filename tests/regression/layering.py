@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """layering.py SOURCE_DIR -- the architecture rules, checked on
 every #include of the tree, so that a change that breaks them fails a test
 instead of waiting for a reviewer:

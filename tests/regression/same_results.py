@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """same_results.py TAPER_BINARY [REFERENCE_COMMIT] -- does this taper write
 the same results as a reference commit, for every shipped scene?
 

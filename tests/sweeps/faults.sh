@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # faults.sh TAPER -- a failing run does not end a sweep:
 # a grid with points the library refuses (forward_linear needs N < 1 + 1/s)
 # and runs that stop at max_steps (partial).  Every other run completes;

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # grid.sh TAPER -- sweeps over any variable: a grid of
 # 2 x 3 values over two variables, zipped lists, an integer sweep; one
 # directory per run named by its values, sweep.tsv with one column per swept

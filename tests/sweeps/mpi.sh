@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # mpi.sh TAPER MPIRUN -- a sweep on MPI ranks: a grid of
 # 2 x 3 runs (q x exponent) with fits, on 2 and 3 ranks (3 oversubscribe
 # this 2-core machine), every file byte-identical to the serial sweep's;

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # mpi_signals.sh TAPER MPIRUN -- an MPI sweep stopped by a signal, on 2
 # ranks, then the same command: it reuses the runs that were complete and
 # ends with every file byte-identical to a serial sweep's.

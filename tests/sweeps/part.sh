@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # part.sh TAPER -- a sweep split without MPI: parts
 # 1/3, 2/3, 3/3 (a job array) each compute their share of the runs into the
 # same directory, then the command without --part merges them (reuses all,

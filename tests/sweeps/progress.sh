@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # progress.sh TAPER -- what a sweep shows: on a terminal
 # (script(1) gives it one), a progress line with runs done / total, the
 # rate, the time left and the threads; none when stderr is a file; the

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # resume.sh TAPER -- an interrupted sweep resumes.
 #  - A sweep killed halfway (SIGKILL: no handler runs) and run again with the
 #    same command reuses the runs it completed, redoes the others, and ends

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_accuracy.c -- pass times at the tightest tolerances taper accepts
  * (rtol 3e-16, atol 3e-19) against converged references computed without

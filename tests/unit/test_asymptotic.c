@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_asymptotic.c -- the large-k laws of src/analysis/asymptotic.c against the exact
  * binary-collision sums and products of taper_theory_compute (suite

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_chain_options.c -- the chain options beyond the paper (suite 'chain'):
  * ends, striker, static load, damping, drag, mixed materials, the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_dynamics.c -- the full dynamics against physics that must hold:
  * the exact two-body collision, conservation laws, convergence under

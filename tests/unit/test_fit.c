@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_fit.c -- least-squares fits (suite 'fit'): exact synthetic data give
  * the parameters back to 1e-10, noisy data give estimates within 3 standard

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_fit_tables.c -- the theory columns of the paper's Tables I-V from fits
  * of the exact binary-collision theory (suite 'fit'), against the printed

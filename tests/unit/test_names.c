@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_names.c -- the names of the enums that had none before
  * (taper_observable_name, taper_theory_quantity_name, taper_law_name):

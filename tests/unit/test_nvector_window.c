@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_nvector_window.c -- the sliding-window N_Vector (src/sim/nvector_window.c)
  * against plain loops over the active range, through SUNDIALS' own

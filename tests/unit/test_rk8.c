@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_rk8.c -- method 'rk8' (src/sim/rk8.c) integrates what CVODE does,
  * on every kind of chain the run supports, and is refused what it has not.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_theory.c -- binary collision approximation (suite 'theory').
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_units.c -- the SI value of the rescaled units, eqs. (4)-(5) of
  * arXiv:0905.4512 with a = sqrt(2) E / (3 (1 - nu^2)) (suite 'chain';

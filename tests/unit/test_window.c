@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * test_window.c -- the active window (src/sim/window.c) integrates the same
  * trajectory as the whole chain, on all five profiles, and leaves the

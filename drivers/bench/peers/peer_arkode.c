@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * peer_arkode.c -- the ARKODE ERKStep baseline of peers.h: an explicit
  * Runge-Kutta table of ARKODE (Verner 6(5), Fehlberg 8(7) or Dormand-Prince

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * peer_common.c -- results, errors and event bookkeeping shared by the
  * baseline integrators of peers.h (same arming and end rules as

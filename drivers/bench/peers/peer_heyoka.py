@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """peer_heyoka.py -- heyoka (Taylor method, LLVM-compiled) as a peer of taper-bench.
 
     python3 peer_heyoka.py CHAIN_FILE TOL [--eps E] [--cpu-limit S] [--keep-gaps]

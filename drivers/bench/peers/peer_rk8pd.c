@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * peer_rk8pd.c -- the GSL odeiv2 rk8pd baseline of peers.h.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * peer_verlet.c -- the textbook velocity-Verlet baseline of peers.h.
  *

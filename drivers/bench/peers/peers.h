@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * peers.h -- baseline integrators for taper-bench (not part of libtaper).
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sundials_compat_arkode.c -- every SUNDIALS-version-specific call of the
  * ERK peer of taper-bench (peer_arkode.c), linked only into taper-bench and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sundials_compat_arkode.h -- the SUNDIALS-version-specific calls of the
  * ERK peer (peer_arkode.c).  The bench's own glue, self-contained: libtaper

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * gen_constants.c OUT -- writes the constants of include/taper.h as the
  * Fortran module taper_constants into OUT (taper_constants.f90), which the

@@ -1,3 +1,4 @@
+! SPDX-License-Identifier: GPL-3.0-or-later
 ! taper.f90 -- Fortran interface to libtaper (iso_c_binding, Fortran 2008).
 !
 ! Pulse propagation in tapered granular chains: the C API of include/taper.h

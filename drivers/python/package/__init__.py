@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """taper -- pulse propagation in tapered granular chains, from Python.
 
 The full Hertzian dynamics of a chain (libtaper: SUNDIALS CVODE with exact

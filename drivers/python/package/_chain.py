@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """taper.chain(): a chain's geometry as the library builds it, with the
 reduced masses of its binary collisions (no theory times, no integration)."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Per-granule columns read as attributes or items: what Chain and Result
 share (one place for the access rules)."""
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * _core.c -- the compiled half of the Python package `taper`: libtaper
  * through its public header (include/taper.h), written with the CPython C

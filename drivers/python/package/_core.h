@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * _core.h -- what _core.c (libtaper's runs, fits and laws; the exceptions;
  * Python values in and out) gives the other C files of the extension:

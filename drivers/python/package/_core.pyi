@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Type stub of taper._core, the compiled extension (see _core.c)."""
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 import os

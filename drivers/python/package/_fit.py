@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """taper.fit(): least-squares fits of y(x) by the library (taper_fit)."""
 
 from __future__ import annotations

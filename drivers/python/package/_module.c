@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * _module.c -- the extension module taper._core: its functions, its
  * exceptions and the names it exports.  The scenes (simulate, theory,

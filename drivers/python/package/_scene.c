@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * _scene.c -- every call of the package that runs a chain is a scene of the
  * driver's scene module (drivers/scenes/scene/scene.h): the same variables,

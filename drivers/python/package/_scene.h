@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * _scene.h -- the Python package's scenes (_scene.c): where the extension
  * meets the driver's scene module (drivers/scenes/scene, linked in from the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """taper.variables(): the scene variables, which are the keywords of
 simulate(), theory() and chain(), read from the scene's own table (the one
 `taper --defaults` and `taper --doc` print)."""

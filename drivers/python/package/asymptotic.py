@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """taper.asymptotic -- the large-k laws of the binary collision theory
 (arXiv:0905.4512, Secs. III-IV), for any contact exponent n > 1.
 

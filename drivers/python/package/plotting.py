@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """taper.plotting -- the driver's figures with matplotlib (optional:
 ``pip install taper[plot]``).
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """taper.result -- the result of a run: per-granule numpy columns named as in
 granules.tsv, the run's statistics, its status; and read_granules, which
 reads a granules.tsv (or sweep.tsv) written by the driver back as the same

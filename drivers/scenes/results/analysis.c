@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * analysis.c -- &fit applied to a run (taper_fit over a granule window).
  */

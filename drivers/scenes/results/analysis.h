@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * analysis.h -- the scene's &fit applied to one run: to the numerics and to
  * the exact binary-collision theory alike, and the closed-form theory value

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * granules.c -- granules.tsv and sweep.tsv (granules.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * granules.h -- the result files of a run: DIR/granules.tsv (or
  * granules.partial.tsv for a run that ended early) with the resolved scene

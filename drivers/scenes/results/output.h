@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * output.h -- result files of the driver: tidy TSV (comment lines, one
  * header line, one row per granule) written atomically, so that a file

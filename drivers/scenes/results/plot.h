@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * plot.h -- a scene's figure: DIR/figure.tsv (per-granule data, one gnuplot
  * data block per run), DIR/inset.tsv (the fitted value against the swept

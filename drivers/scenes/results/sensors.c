@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sensors.c -- time series of a run: recording in the sampler, the files
  * after it (sensors.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sensors.h -- what an experimenter's instruments read during a run
  * (&sensors): time series recorded by the library's sampler

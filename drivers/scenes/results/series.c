@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * series.c -- per-granule quantities of a run, theory and numerics alike.
  *

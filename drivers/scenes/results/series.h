@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * series.h -- per-granule quantities of one run (scene_quantity: &fit x, y;
  * &figure x, y), for the numerics and for the binary-collision theory

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * table.c -- fits.tsv, table.tsv and the printed table.
  */

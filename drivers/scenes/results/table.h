@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * table.h -- the fits of a scene as files and as the paper's tables:
  * DIR/fits.tsv (every fit parameter of every run, theory and numerics),

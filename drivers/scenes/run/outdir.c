@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * outdir.c -- what earlier runs and sweeps left in an output directory
  * (outdir.h): the single run and the sweep both clear it before they

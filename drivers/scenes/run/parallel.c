@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * parallel.c -- a minimal parallel for: workers take the next index under a
  * mutex until none is left.  Which thread computes which run does not

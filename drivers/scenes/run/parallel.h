@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * parallel.h -- the runs of a sweep computed at once on several threads.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * run.h -- the runs of a validated scene: for each value of its sweep (or
  * once) a chain and, unless &solver numerics = .false., a sim whose

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep.c -- the runs of a sweep (sweep.h): the order of the steps.
  *

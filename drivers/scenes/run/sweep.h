@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep.h -- the runs of a sweep (a scene whose variables take lists):
  * one directory per run, DIR/NAME=VALUE[,NAME=VALUE...] (scene_point_name),

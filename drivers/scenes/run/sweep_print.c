@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep_print.c -- what a sweep prints while it runs (sweep_print.h).
  */

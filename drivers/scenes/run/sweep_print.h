@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep_print.h -- what a sweep prints while it runs: each run's messages
  * in the order of the sweep, as soon as every run before it is done (the

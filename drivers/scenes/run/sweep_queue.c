@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep_queue.c -- the runs of a sweep and who computes which
  * (sweep_queue.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep_queue.h -- the runs of a sweep and who computes which: one item per
  * run (its name, directory, estimated cost and state), handed out the

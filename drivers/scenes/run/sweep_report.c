@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep_report.c -- the files a sweep writes from its runs' files
  * (sweep_report.h).

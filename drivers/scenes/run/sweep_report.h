@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep_report.h -- the files a sweep writes from its runs' files once
  * every run is done: DIR/sweep.tsv (one column per swept variable, then

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sweep_resume.h -- a sweep's results on disk, and resuming from them.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene.c -- the table of scene variables, the scene object (typed values
  * and where they came from), diagnostics, and typed access to a row's

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene.h -- scene files: Fortran namelists describing one taper run,
  * resolved into a typed configuration.

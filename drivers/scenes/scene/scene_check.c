@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene_check.c -- validation of a parsed scene.  The scene checks what is
  * its own: the ranges of its own variables (the table's lo, hi), that a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene_impl.h -- what the scene_*.c files share and nobody else needs:
  * the variable table, the scene object, typed access to a variable's

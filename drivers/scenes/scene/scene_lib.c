@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene_lib.c -- where the scene meets the library's settings.  Every
  * setting of the library's table of settings is a variable of the scene

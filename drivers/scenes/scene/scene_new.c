@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene_new.c -- the scene object: a new scene holds the defaults (the
  * table's: for the library's settings, the library's table of settings;

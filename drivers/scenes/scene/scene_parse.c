@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene_parse.c -- namelist lexer and parser: text -> scene values.
  *

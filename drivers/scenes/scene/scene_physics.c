@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene_physics.c -- the scene's own rules for the variables beyond the
  * paper: the radii file of a measured chain, &material (real

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene_sweep.c -- the points of a sweep.  Any variable of the table with
  * the SCENE_SWEEP flag (reals and integers of &chain and &solver) takes a

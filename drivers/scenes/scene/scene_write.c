@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene_write.c -- a scene back to text: the resolved namelist (the echo
  * and `taper --defaults`, which must parse again) and the Markdown

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * number.c -- the shortest text that reads back to the same double
  * (number.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * text.h -- allocated strings for the driver: messages and paths are as
  * long as they need to be, never cut at a buffer's size.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * force_sensors.c -- how fast a solitary wave runs in a chain of steel
  * beads, and how that depends on how hard it pushes.

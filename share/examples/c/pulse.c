@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * pulse.c -- a pulse in a backward-tapered chain, numerics next to theory.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * shock_absorber.c -- a granular chain between an impact and a wall: which
  * chain protects the wall best?

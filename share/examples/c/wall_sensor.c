@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * wall_sensor.c -- a bench experiment: a striker, a chain of steel beads, a
  * force sensor in the far wall.

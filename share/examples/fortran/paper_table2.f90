@@ -1,3 +1,4 @@
+! SPDX-License-Identifier: GPL-3.0-or-later
 ! paper_table2.f90 -- Table II of the paper, again: how fast the pulse dies
 ! in a chain whose granules grow exponentially.
 !

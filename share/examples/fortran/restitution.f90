@@ -1,3 +1,4 @@
+! SPDX-License-Identifier: GPL-3.0-or-later
 ! restitution.f90 -- two steel beads collide with viscoelastic contacts:
 ! the coefficient of restitution falls as the impact gets faster.
 !

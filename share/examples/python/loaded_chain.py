@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """loaded_chain.py -- from sonic vacuum to sound: a pulse in a chain of steel
 beads under a growing static load.
 

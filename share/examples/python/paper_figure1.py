@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """paper_figure1.py -- a sweep with a plot: Fig. 1 of the paper, the pulse
 amplitude along backward tapered chains of four strengths.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pytest configuration of the `taper` package's tests.
 
 Paths come from the environment (tests/bindings/python/run_pytest.py sets

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """run_pytest.py BUILD_DIR SOURCE_DIR DRIVER [pytest args...] -- the pytest
 suite of the Python package `taper`, as `meson test` runs it.
 

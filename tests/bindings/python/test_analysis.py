@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """taper.chain(), taper.asymptotic, taper.fit() and the name tuples: against
 closed forms, the formulas stated in include/taper.h, and each other."""
 

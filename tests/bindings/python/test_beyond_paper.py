@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The chain settings beyond the paper (taper.h) through the Python
 package: every keyword reaches its library setter through the scene, a
 refusal names the keyword, the paper's defaults given explicitly change

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The Python code in the docs runs, with the plain install, and prints what
 the docs say it prints.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The checks of the retired ctypes binding's test (tests/bindings/test_python.py),
 on the package: a backward linear chain through taper.simulate()/chain()/
 theory() and through the driver (scene -> granules.tsv) gives the same

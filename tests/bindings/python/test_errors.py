@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Bad input: every wrong type or value raises TypeError or ValueError naming
 the argument, with the library's message for values it refuses; nothing
 crashes, however many combinations are tried."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The Python examples of share/examples/python, run as a user runs them:
 each script with this interpreter (the package installed), in a fresh
 folder.  Each checks its own physics and exits non-zero when a check fails;

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """granules.tsv loads as it is in numpy and pandas: the
 column names are the first line, the '#' block follows, then the rows; a run
 without numerics has no columns of the dynamics; &output columns and every

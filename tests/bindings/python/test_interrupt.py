@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Ctrl-C: SIGINT to a process in the middle of a long run raises
 KeyboardInterrupt promptly, returns nothing half-built, and the package works
 afterwards."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The keywords of simulate(), theory() and chain() are the scene's
 variables: every variable `taper --defaults` prints is a keyword under the
 one naming rule (the key in its group, with the group's name in front where

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """run_scene() reads scenes with the driver's reader and runs them as the
 driver does."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """simulate(), theory() and read_granules() against the driver and closed forms."""
 
 import math

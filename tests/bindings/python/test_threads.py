@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs release the GIL: chains in threads give the same results as one at a
 time, and Python keeps running while a chain integrates."""
 

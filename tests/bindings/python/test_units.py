@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """SI in and SI out: with the &material keywords every dimensional input is
 SI and the results come back in SI with their units; a Kuwabara-Kono
 collision of two steel beads given entirely in SI has the restitution

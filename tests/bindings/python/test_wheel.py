@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """pip wheel . builds a wheel from the source tree with build isolation (its
 build requirements from PyPI), and the wheel installs into a fresh venv and
 works there, with no libtaper.so beside it, and with the optimised SUNDIALS

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # tests/unit/reference/make_references.sh BUILD_DIR -- the converged pass
 # times that test_accuracy compares taper with, written next to this script.
 #
