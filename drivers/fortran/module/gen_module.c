@@ -42,7 +42,13 @@
  * and what each kind of value does in a setter by name.  The template marks
  * where the written parts go with three comment lines, each once:
  * `! @notice@`, `! @specification@` (public statements, generic interfaces,
- * the interface block), `! @procedures@` (after CONTAINS).
+ * the interface block), `! @procedures@` (after CONTAINS).  A template and
+ * not a hand-written module of its own beside the written one: programs
+ * compile the installed taper_constants.f90 and taper.f90 and nothing else
+ * (the examples' build lines say so), and the hand-written structs and
+ * helpers come before and after the interfaces in one module, taper_binding.
+ * The structs stay hand-written: three short declarations read better than a
+ * table that would describe them again.
  *
  * A build-time tool of the Fortran binding (drivers/fortran/module/
  * meson.build), never installed.  It links libtaper for its table and runs
@@ -127,6 +133,8 @@
     X(const_doubles_out, const double **, "type(c_ptr), intent(out) :: %s", "c_ptr", NULL, NULL)
 
 /* ---- each row checked against taper.h by the C compiler ---------------- */
+enum { MAX_ARGS = 8 }; /* arguments of a row at most */
+
 #define TYPEDEF(type, ctype, ...) typedef ctype T_##type;
 TYPES(TYPEDEF)
 #undef TYPEDEF
@@ -139,6 +147,16 @@ TYPES(TYPEDEF)
 #define FN_C FN
 #define SECTION(title)
 #define SETTINGS(function, names)
+#include "taper_functions.def"
+#undef A
+#undef VOID
+#undef FN
+/* (and no row has more arguments than a row holds) */
+#define A(type, name) 0
+#define VOID 0
+#define FN(result, function, note, ...)                                                            \
+    _Static_assert(sizeof((char[]){__VA_ARGS__}) <= MAX_ARGS,                                      \
+                   #function ": more arguments than MAX_ARGS");
 #include "taper_functions.def"
 #undef A
 #undef VOID
@@ -165,7 +183,6 @@ static const crossing crossings[] = {
 #undef CROSSING
 };
 
-enum { MAX_ARGS = 8 };
 typedef enum row_kind { ROW_SECTION, ROW_FN, ROW_FN_C, ROW_SETTINGS } row_kind;
 typedef struct argument {
     type_id type;
