@@ -1,10 +1,13 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-3.0-or-later
-# fortran_binds_all.sh TAPER.h TAPER.f90 -- the Fortran module binds every
-# function the public header declares (an interface with bind(C,
-# name="taper_...")), so that taper.h cannot grow (as the options beyond the paper grew it)
-# without the module following.  The header's declarations are listed by the
-# C compiler (-aux-info, as tests/api/check_exports.sh does).
+# fortran_binds_all.sh TAPER.h TAPER.f90 -- the Fortran module the build
+# wrote (TAPER.f90: gen_module.c from drivers/fortran/module/
+# taper_functions.def) binds every function the public header declares (an
+# interface with bind(C, name="taper_...")) and no other, so that taper.h
+# cannot grow (as the options beyond the paper grew it) without the list,
+# and so the module, following.  The header's declarations are listed by the
+# C compiler (-aux-info, as tests/api/check_exports.sh does); the C types of
+# each row of the list are checked when gen_module.c compiles.
 set -eu
 header=$1
 module=$2
