@@ -6,6 +6,7 @@
  *
  *   taper SCENE.nml... [-o DIR] [GROUP.KEY=VALUE]...      run scenes
  *   taper SCENE.nml [--set GROUP.KEY=VALUE]... --get GROUP.KEY
+ *   taper [SCENE.nml] [GROUP.KEY=VALUE]... --cite         what to cite (BibTeX)
  *   taper --defaults | --doc
  *
  * Exit status (docs/scene.md, "Exit status"): 0 complete; 1 library or
@@ -40,6 +41,7 @@
 static const char usage[] =
     "usage: taper SCENE.nml... [-o DIR] [GROUP.KEY=VALUE]... [--get GROUP.KEY]\n"
     "                          [--part I/N]\n"
+    "       taper [SCENE.nml] [GROUP.KEY=VALUE]... --cite\n"
     "       taper --defaults | --doc | --help | --version\n"
     "\n"
     "Runs each scene (Fortran namelist, see docs/scene.md; - reads standard input):\n"
@@ -59,6 +61,9 @@ static const char usage[] =
     "  --part I/N  a sweep's runs split in N parts: compute part I only (a job\n"
     "              array); then the same command without --part merges them\n"
     "              (reuses every run on disk, writes sweep.tsv; docs/cluster.md)\n"
+    "  --cite      print BibTeX for what the scene's runs use (taper, the paper,\n"
+    "              SUNDIALS or GSL, the contact models); without a scene: the\n"
+    "              default scene's\n"
     "  --defaults  print a complete scene with every default, documented\n"
     "  --doc       print the scene reference (Markdown)\n"
     "\n"
@@ -71,6 +76,7 @@ typedef struct options {
     size_t n_paths;
     const char *out_dir;
     const char *get;
+    int cite;             /* --cite: print what to cite instead of running   */
     const char **sets;
     size_t n_sets;
     size_t part, parts;   /* --part part/parts; 0: the whole sweep */
@@ -200,6 +206,34 @@ static int print_defaults(int markdown)
     return check_stdout() == 0 ? RUN_COMPLETE : RUN_FAILED;
 }
 
+/* --cite: one BibTeX list for every scene given (GROUP.KEY=VALUE applied),
+ * or without a scene for the defaults, and nothing run. */
+static int cite(const options *o)
+{
+    unsigned works = 0;
+    for (size_t i = 0; i < (o->n_paths ? o->n_paths : 1); i++) {
+        scene *sc = o->n_paths ? load_scene(o, o->paths[i]) : scene_new("defaults");
+        size_t errors = 0;
+        if (sc && !o->n_paths) {
+            for (size_t j = 0; errors == 0 && j < o->n_sets; j++) errors = scene_set(sc, o->sets[j]);
+            if (errors == 0) errors = scene_validate(sc);
+            if (errors) scene_print_diags(sc, stderr);
+        }
+        if (!sc || errors) {
+            scene_free(sc);
+            return RUN_INPUT;
+        }
+        int marked = scene_cite_mark(sc, &works);
+        scene_free(sc);
+        if (marked != 0) {
+            fprintf(stderr, "taper: --cite: out of memory\n");
+            return RUN_FAILED;
+        }
+    }
+    return scene_write_citations(works, stdout) == 0 && check_stdout() == 0 ? RUN_COMPLETE
+                                                                           : RUN_FAILED;
+}
+
 static int bad_argument(const char *a, const char *why)
 {
     fprintf(stderr, "taper: %s%s\n%s", a, why, usage);
@@ -237,6 +271,8 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--version") == 0) {
             printf("taper %s\n", taper_version());
             rc = check_stdout() == 0 ? RUN_COMPLETE : RUN_FAILED;
+        } else if (strcmp(a, "--cite") == 0) {
+            o.cite = 1;
         } else if (strcmp(a, "--defaults") == 0 || strcmp(a, "--doc") == 0) {
             rc = print_defaults(strcmp(a, "--doc") == 0);
         } else if (strcmp(a, "-o") == 0 || strcmp(a, "--set") == 0 || strcmp(a, "--get") == 0) {
@@ -281,6 +317,8 @@ int main(int argc, char **argv)
             o.paths[o.n_paths++] = a;
         }
     }
+    if (rc < 0 && o.cite)
+        rc = cite(&o);
     if (rc < 0 && o.n_paths == 0) {
         fputs(usage, stderr);
         rc = RUN_INPUT;

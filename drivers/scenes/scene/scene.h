@@ -465,6 +465,18 @@ void scene_write_doc(const scene *sc, FILE *fp);
  * (taper --get).  0, or -1 for an unknown variable (nothing printed). */
 int scene_print_value(const scene *sc, const char *name, FILE *fp);
 
+/* ---- what to cite (scene_cite.c) ------------------------------------------------ */
+
+/* The works the runs of a validated scene rely on, added to the set
+ * *works (start from 0; several scenes may add to one set): the paper, and
+ * the solvers (SUNDIALS where CVODE integrates, GSL where the theory, rk8 or
+ * a fit runs) and contact models (viscoelastic damping, a static load, the
+ * decorated chains' effective chain) that some run of it uses.  0, or -1
+ * out of memory. */
+int scene_cite_mark(const scene *sc, unsigned *works);
+/* BibTeX for taper and each work of the set.  0, or -1 on a write error. */
+int scene_write_citations(unsigned works, FILE *fp);
+
 /* ---- the table, for generic walkers (tests/bindings/scene_dump.c) ----------------- */
 
 typedef enum scene_type {
