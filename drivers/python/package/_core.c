@@ -582,11 +582,6 @@ PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
         rc = taper_sim_run(sim, &err);
         Py_END_ALLOW_THREADS
         if (ctx.interrupted) goto fail; /* KeyboardInterrupt (or a handler's exception) is set */
-        /* The progress callable's last call: where the run ended. */
-        if (ctx.progress &&
-            report_progress(&ctx, (size_t)taper_sim_statistic(sim, TAPER_STAT_GRANULE_REACHED),
-                            taper_sim_statistic(sim, TAPER_STAT_T_FINAL), monotonic()) < 0)
-            goto fail;
         if (ctx.samples_failed) {
             PyErr_NoMemory();
             goto fail;
@@ -596,6 +591,11 @@ PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
             core_raise_library(&err);
             goto fail;
         }
+        /* The progress callable's last call: where the run ended. */
+        if (ctx.progress &&
+            report_progress(&ctx, (size_t)taper_sim_statistic(sim, TAPER_STAT_GRANULE_REACHED),
+                            taper_sim_statistic(sim, TAPER_STAT_T_FINAL), monotonic()) < 0)
+            goto fail;
         /* The observables under the library's names (granules.tsv's). */
         for (int i = 0; taper_observable_name((taper_observable)i); i++)
             if (core_put(cols, taper_observable_name((taper_observable)i),
