@@ -7,6 +7,7 @@
  */
 #include "settings/settings.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,10 +26,16 @@ const taper_setting *taper_setting_at(size_t i)
 /* Room for the names of every row, for "did you mean" (table.c checks). */
 #define MAX_ROWS SETTING_MAX_ROWS
 
+/* The first letter compared first: a scene sets every row by its name
+ * (docs/python.md, "Overheads"). */
 static const setting_row *row_named(const char *name)
 {
-    for (size_t i = 0; name && i < taper_setting_n_rows; i++)
-        if (strcasecmp(taper_setting_rows[i].info.name, name) == 0) return &taper_setting_rows[i];
+    for (size_t i = 0; name && i < taper_setting_n_rows; i++) {
+        const char *row = taper_setting_rows[i].info.name;
+        if (tolower((unsigned char)row[0]) == tolower((unsigned char)name[0]) &&
+            strcasecmp(row, name) == 0)
+            return &taper_setting_rows[i];
+    }
     return NULL;
 }
 

@@ -4,12 +4,13 @@ reduced masses of its binary collisions (no theory times, no integration)."""
 
 from __future__ import annotations
 
-from typing import Any, Dict, Mapping, Optional
-
-import numpy as np
+from typing import TYPE_CHECKING, Any, Dict, Mapping, Optional
 
 from . import _core
 from ._columns import Columns
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["Chain", "chain", "CHAIN_COLUMNS"]
 
@@ -50,10 +51,18 @@ class Chain(Columns):
         self._columns: Dict[str, np.ndarray] = {c: columns[c] for c in CHAIN_COLUMNS}
         self.profile = profile
         self.exponent = float(exponent)
-        self.settings: Dict[str, Any] = dict(settings or {})
+        self._settings: Optional[Dict[str, Any]] = dict(settings or {})
         self.units: Dict[str, str] = dict(units or {})
         self.theory_note = theory_note
         self.striker_mass = float(striker_mass)
+        self._scene: Any = None
+
+    @property
+    def settings(self) -> Dict[str, Any]:
+        if self._settings is None:
+            from .result import _keyword_settings
+            self._settings = _keyword_settings(self._scene, 0)
+        return self._settings
 
     def __repr__(self) -> str:
         return f"<taper.Chain {self.profile} N={len(self)} exponent={self.exponent:g}>"
@@ -72,6 +81,8 @@ def chain(**variables: Any) -> Chain:
             masses or theory leave double precision.
     """
     d = _core.chain(**variables)
-    return Chain(d["columns"], profile=d["profile"], exponent=d["exponent"],
-                 settings=d["settings"], theory_note=d.get("theory_note"),
-                 striker_mass=d.get("striker_mass", float("nan")), units=d.get("units"))
+    c = Chain(d["columns"], profile=d["profile"], exponent=d["exponent"],
+              theory_note=d.get("theory_note"),
+              striker_mass=d.get("striker_mass", float("nan")), units=d.get("units"))
+    c._settings, c._scene = None, d["scene"]
+    return c

@@ -4,26 +4,42 @@ share (one place for the access rules)."""
 
 from __future__ import annotations
 
-from typing import Dict, Iterator, List, Tuple
+from typing import TYPE_CHECKING, Dict, Iterator, List, Tuple
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy
+
+
+class _Numpy:
+    """numpy, imported when first used (``np.array_equal`` ...), so that
+    ``import taper`` does not import it: numpy's import is most of the
+    package's (docs/python.md, "Overheads")."""
+
+    __slots__ = ()
+
+    def __getattr__(self, name: str):
+        import numpy
+        return getattr(numpy, name)
+
+
+np = _Numpy()
 
 
 class Columns:
     """Numpy columns of length N, granule k at index k-1, in ``self._columns``
     (set by the subclass), read as ``obj.name`` or ``obj["name"]``."""
 
-    _columns: Dict[str, np.ndarray]
+    _columns: Dict[str, "numpy.ndarray"]
 
     @property
     def columns(self) -> Tuple[str, ...]:
         """The names of the columns, in order."""
         return tuple(self._columns)
 
-    def __getitem__(self, name: str) -> np.ndarray:
+    def __getitem__(self, name: str) -> "numpy.ndarray":
         return self._columns[name]
 
-    def __getattr__(self, name: str) -> np.ndarray:
+    def __getattr__(self, name: str) -> "numpy.ndarray":
         columns = self.__dict__.get("_columns")
         if columns is not None and name in columns:
             return columns[name]

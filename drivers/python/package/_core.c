@@ -43,6 +43,9 @@
 
 /* Seconds between two looks at Python's pending signals during a run. */
 #define CHECK_INTERVAL 0.05
+/* Seconds between two calls of a run's progress callable (taper.simulate's
+ * progress=): often enough for a bar, rarely enough to cost nothing. */
+#define PROGRESS_INTERVAL 0.1
 
 PyObject *core_TaperError, *core_InvalidArgumentError, *core_SceneError;
 
@@ -269,6 +272,13 @@ typedef struct run_ctx {
     size_t n_granules, n_samples, samples_cap;
     double *t, *x, *v, *force;
     int samples_failed;     /* out of memory: the run was stopped           */
+    /* progress: the callable, when the run started and when it was last
+     * called (monotonic seconds), the granule the run ends at, the factor
+     * from the library's time to the scene's */
+    PyObject *progress;
+    double start, last_report;
+    size_t target;
+    double time_scale;
 } run_ctx;
 
 static double monotonic(void)
@@ -278,19 +288,37 @@ static double monotonic(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* Calls ctx->progress(passed, target, t, rate) (the GIL held): rate in
+ * granules per second of wall time since the run started.  -1 when it
+ * raised (the exception stays set). */
+static int report_progress(run_ctx *ctx, size_t passed, double t, double now)
+{
+    ctx->last_report = now;
+    double elapsed = now - ctx->start;
+    double rate = elapsed > 0.0 ? (double)passed / elapsed : 0.0;
+    PyObject *r = PyObject_CallFunction(ctx->progress, "nndd", (Py_ssize_t)passed,
+                                        (Py_ssize_t)ctx->target, t * ctx->time_scale, rate);
+    Py_XDECREF(r);
+    return r ? 0 : -1;
+}
+
 static int monitor(const taper_progress *progress, void *user)
 {
-    (void)progress;
     run_ctx *ctx = user;
     if (ctx->interrupted) return 1;
+    ctx->target = progress->target;
     double now = monotonic();
     if (now - ctx->last_check < CHECK_INTERVAL) return 0;
     ctx->last_check = now;
     PyGILState_STATE g = PyGILState_Ensure();
     /* Runs the Python signal handlers (main thread only); on
      * KeyboardInterrupt the exception stays set in this thread's state
-     * until the caller, holding the GIL again, returns NULL. */
+     * until the caller, holding the GIL again, returns NULL.  So does an
+     * exception of the progress callable. */
     if (PyErr_CheckSignals() < 0) ctx->interrupted = 1;
+    else if (ctx->progress && now - ctx->last_report >= PROGRESS_INTERVAL &&
+             report_progress(ctx, progress->granule, progress->t, now) < 0)
+        ctx->interrupted = 1;
     PyGILState_Release(g);
     return ctx->interrupted;
 }
@@ -534,7 +562,13 @@ PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
                 goto fail;
             }
         }
-        ctx.last_check = monotonic();
+        ctx.last_check = ctx.start = ctx.last_report = monotonic();
+        ctx.progress = sampling ? sampling->progress : NULL;
+        ctx.time_scale = sampling ? sampling->time_scale : 1.0;
+        /* The library's target until its monitor says (taper_progress):
+         * passes are timed up to the last contact, granule N - 1. */
+        ctx.target = taper_solver_spec_last_granule(ss);
+        if (ctx.target == 0 || ctx.target >= n) ctx.target = n - 1;
 
         Py_BEGIN_ALLOW_THREADS
         sim = taper_sim_alloc(chain, ss, &err);
@@ -557,6 +591,11 @@ PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
             core_raise_library(&err);
             goto fail;
         }
+        /* The progress callable's last call: where the run ended. */
+        if (ctx.progress &&
+            report_progress(&ctx, (size_t)taper_sim_statistic(sim, TAPER_STAT_GRANULE_REACHED),
+                            taper_sim_statistic(sim, TAPER_STAT_T_FINAL), monotonic()) < 0)
+            goto fail;
         /* The observables under the library's names (granules.tsv's). */
         for (int i = 0; taper_observable_name((taper_observable)i); i++)
             if (core_put(cols, taper_observable_name((taper_observable)i),

@@ -5,8 +5,10 @@
  * _scene.c (the driver's scene module: keywords, validation, units,
  * settings) and _module.c (the module's table and init).
  *
- * All use the numpy C API: one table of its functions, imported once by
- * PyInit__core (_module.c defines TAPER_CORE_IMPORTS_NUMPY).
+ * All use the numpy C API: one table of its functions (_module.c defines
+ * TAPER_CORE_IMPORTS_NUMPY), imported by core_numpy() on the first call that
+ * needs it, not when the module is imported: `import taper` does not import
+ * numpy (docs/python.md, "Overheads").
  */
 #ifndef TAPER_PY_CORE_H
 #define TAPER_PY_CORE_H
@@ -24,6 +26,11 @@
 #include "taper.h"
 
 #include <stddef.h>
+
+/* numpy's C API ready (imported once, the GIL held): 0, or -1 with the
+ * exception set.  Every function of the module that touches a numpy object
+ * or type calls it first (_module.c). */
+int core_numpy(void);
 
 /* taper.TaperError(Exception), taper.InvalidArgumentError(TaperError,
  * ValueError), taper.SceneError(TaperError, ValueError). */
@@ -56,14 +63,18 @@ PyObject *core_double_array(const double *src, size_t n);
 /* dict[key] = value, the reference to value stolen; -1 when value is NULL. */
 int core_put(PyObject *dict, const char *key, PyObject *value);
 
-/* How a run is sampled: every `interval` (rescaled time; 0: never), the
- * samples held in memory refused beyond max_bytes (0: no bound), a time
- * shown in messages times time_scale with its unit (NULL: rescaled). */
+/* How a run is sampled and watched: every `interval` (rescaled time; 0:
+ * never), the samples held in memory refused beyond max_bytes (0: no
+ * bound), a time shown in messages or given to `progress` times time_scale
+ * with its unit (NULL: rescaled); progress (NULL: none) is called with
+ * (granules passed, target granule, t, granules per second of wall time)
+ * every PROGRESS_INTERVAL while the run lasts and once when it ends. */
 typedef struct core_sampling {
     double interval;
     double max_bytes;
     double time_scale;
     const char *time_unit;
+    PyObject *progress;
 } core_sampling;
 
 /* One run of libtaper, the GIL released while it computes (Ctrl-C raises
@@ -71,7 +82,9 @@ typedef struct core_sampling {
  * theory alone (ss NULL) or a sim with the solver settings of ss (which
  * receives the extension's monitor, log and, when sampling, its sampler).
  * Samples that would take more than sampling->max_bytes are refused before
- * the run: InvalidArgumentError naming "interval".  Returns a dict in the
+ * the run: InvalidArgumentError naming "interval".  An exception raised by
+ * sampling->progress stops the run and propagates, as KeyboardInterrupt
+ * does.  Returns a dict in the
  * library's units:
  * "columns" {name: array} (k R m X0, the observables when run, theory_v
  * theory_T theory_t), "stats", "status", "message", "warnings", and for a

@@ -5,44 +5,95 @@
  * chain, run_scene, variables, scene_text) are _scene.c's; the calls that
  * are not scenes (fit, the asymptotic laws, collision_time, version,
  * statuses) and the exceptions' objects are _core.c's.  This file owns
- * numpy's C-API table (import_array in PyInit__core).
+ * numpy's C-API table, imported by the first function that needs it
+ * (core_numpy), so that `import taper` costs no numpy import.
  */
 #define TAPER_CORE_IMPORTS_NUMPY
 #include "_core.h"
 
 #include "_scene.h"
 
+int core_numpy(void)
+{
+    static int ready; /* written with the GIL held */
+    if (ready) return 0;
+    if (_import_array() < 0) {
+        if (!PyErr_Occurred()) PyErr_SetString(PyExc_ImportError, "numpy's C API did not load");
+        return -1;
+    }
+    ready = 1;
+    return 0;
+}
+
+/* Every function below that may meet a numpy object or type (the Python
+ * values of a scene's keywords, results as arrays) imports numpy first. */
+#define WITH_NUMPY(call) (core_numpy() < 0 ? NULL : (call))
+
 /* ---- the scenes (_scene.c) --------------------------------------------------- */
 
 static PyObject *py_simulate(PyObject *self, PyObject *args, PyObject *kwargs)
 {
     (void)self;
-    return pyscene_call(PYSCENE_SIMULATE, args, kwargs);
+    return WITH_NUMPY(pyscene_call(PYSCENE_SIMULATE, args, kwargs));
 }
 
 static PyObject *py_theory(PyObject *self, PyObject *args, PyObject *kwargs)
 {
     (void)self;
-    return pyscene_call(PYSCENE_THEORY, args, kwargs);
+    return WITH_NUMPY(pyscene_call(PYSCENE_THEORY, args, kwargs));
 }
 
 static PyObject *py_chain(PyObject *self, PyObject *args, PyObject *kwargs)
 {
     (void)self;
-    return pyscene_call(PYSCENE_CHAIN, args, kwargs);
+    return WITH_NUMPY(pyscene_call(PYSCENE_CHAIN, args, kwargs));
+}
+
+static PyObject *py_check(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    return WITH_NUMPY(pyscene_call(PYSCENE_CHECK, args, kwargs));
 }
 
 static PyObject *py_run_scene(PyObject *self, PyObject *arg)
 {
     (void)self;
-    return pyscene_run_file(arg);
+    return WITH_NUMPY(pyscene_run_file(arg));
 }
 
 static PyObject *py_variables(PyObject *self, PyObject *unused)
 {
     (void)self;
     (void)unused;
-    return pyscene_variables();
+    return pyscene_variables(); /* imports numpy itself if a default is a list */
+}
+
+static PyObject *py_scene_settings(PyObject *self, PyObject *args)
+{
+    (void)self;
+    return WITH_NUMPY(pyscene_settings(args));
+}
+
+/* ---- the calls that are not scenes (_core.c) ----------------------------------- */
+
+static PyObject *py_collision_time(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    return WITH_NUMPY(core_collision_time(self, args, kwargs));
+}
+
+static PyObject *py_asymptotic(PyObject *self, PyObject *args)
+{
+    return WITH_NUMPY(core_asymptotic(self, args));
+}
+
+static PyObject *py_asymptotic_exponent(PyObject *self, PyObject *args)
+{
+    return WITH_NUMPY(core_asymptotic_exponent(self, args));
+}
+
+static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    return WITH_NUMPY(core_fit(self, args, kwargs));
 }
 
 static PyObject *py_scene_text(PyObject *self, PyObject *args)
@@ -95,6 +146,9 @@ static PyMethodDef methods[] = {
     {"chain", (PyCFunction)(void (*)(void))py_chain, METH_VARARGS | METH_KEYWORDS,
      "chain(**variables) -> dict: the scene's chain: columns k R m X0 r mu, no theory times, "
      "no integration."},
+    {"check", (PyCFunction)(void (*)(void))py_check, METH_VARARGS | METH_KEYWORDS,
+     "check(**variables) -> None: the scene of the keywords validated, nothing run (the "
+     "errors of simulate())."},
     {"run_scene", py_run_scene, METH_O,
      "run_scene(path) -> list of dict: the scene read by the driver's reader, one run per "
      "point of its sweep."},
@@ -104,14 +158,17 @@ static PyMethodDef methods[] = {
     {"scene_text", py_scene_text, METH_VARARGS,
      "scene_text(scene, point) -> str: the resolved scene of a result, as a namelist (the "
      "driver's echo)."},
-    {"collision_time", (PyCFunction)(void (*)(void))core_collision_time, METH_VARARGS | METH_KEYWORDS,
+    {"scene_settings", py_scene_settings, METH_VARARGS,
+     "scene_settings(scene, point) -> dict: every variable of a result's scene by its name, "
+     "at its point."},
+    {"collision_time", (PyCFunction)(void (*)(void))py_collision_time, METH_VARARGS | METH_KEYWORDS,
      "collision_time(mu, r, zdot0, n=2.5) -> float: residence time of one binary collision, "
      "eq. (18)."},
-    {"asymptotic", core_asymptotic, METH_VARARGS,
+    {"asymptotic", py_asymptotic, METH_VARARGS,
      "asymptotic(name, x[, n]) -> float: taper_asymptotic_<name>."},
-    {"asymptotic_exponent", core_asymptotic_exponent, METH_VARARGS,
+    {"asymptotic_exponent", py_asymptotic_exponent, METH_VARARGS,
      "asymptotic_exponent(law, n) -> float: the exponent of a law named as in LAWS."},
-    {"fit", (PyCFunction)(void (*)(void))core_fit, METH_VARARGS | METH_KEYWORDS,
+    {"fit", (PyCFunction)(void (*)(void))py_fit, METH_VARARGS | METH_KEYWORDS,
      "fit(x, y, *, model, exponent, index_window, x_window, skip_invalid, max_iter, xtol) -> "
      "dict: taper_fit, each keyword passed to the fit setter of its name."},
     {"version", core_version, METH_NOARGS, "version() -> str: the version of libtaper linked in."},
@@ -124,7 +181,6 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "taper._core",
 
 PyMODINIT_FUNC PyInit__core(void)
 {
-    import_array();
     PyObject *m = PyModule_Create(&module);
     if (!m) return NULL;
     core_TaperError = PyErr_NewExceptionWithDoc(

@@ -11,7 +11,10 @@
  * scene_set_values, which checks it as a file's value is; then
  * scene_validate checks the scene as a whole, the library's settings
  * through the library's setters.  Nothing here knows a variable by name,
- * except numerics, which theory() sets.
+ * except numerics, which theory() sets, and progress, which simulate()
+ * also takes as a callable (called during the run).  The rows of the
+ * keywords are looked up in a dict made once (the table's own lookup
+ * compares every name, case-insensitively, as files need).
  *
  * Units: with &material every dimensional input is SI (the scene converts
  * it per run point, scene_lib.c), and results are converted back to the
@@ -21,7 +24,8 @@
  * samples and the final state.
  *
  * A result keeps its scene (a capsule shared by the results of one scene)
- * so that its echo, the resolved namelist, is written only when asked for.
+ * so that its echo, the resolved namelist, and its settings are made only
+ * when asked for.
  */
 #include "_scene.h"
 
@@ -35,7 +39,35 @@
 
 #define CAPSULE_NAME "taper._core.scene"
 
-static const char *const call_names[] = {"simulate", "theory", "chain"};
+static const char *const call_names[] = {"simulate", "theory", "chain", "check"};
+
+/* {keyword: row} of the table, made on first use (the GIL held). */
+static PyObject *keyword_rows;
+static int numerics_row = -1, progress_row = -1;
+
+static int keyword_rows_ready(void)
+{
+    if (keyword_rows) return 0;
+    PyObject *d = PyDict_New();
+    for (size_t i = 0; d && i < scene_var_count(); i++)
+        if (core_put(d, scene_var_keyword_at(i), PyLong_FromSize_t(i)) < 0) Py_CLEAR(d);
+    if (!d) return -1;
+    numerics_row = scene_var_keyword("numerics");
+    progress_row = scene_var_keyword("progress");
+    keyword_rows = d;
+    return 0;
+}
+
+/* The row of a keyword spelt exactly as its variable, or -1 (no exception). */
+static int row_of(PyObject *key)
+{
+    PyObject *row = PyDict_GetItemWithError(keyword_rows, key);
+    if (!row) {
+        PyErr_Clear();
+        return -1;
+    }
+    return (int)PyLong_AsLong(row);
+}
 
 static void capsule_free(PyObject *capsule)
 {
@@ -196,15 +228,18 @@ static int set_one(scene *sc, size_t row, const char *func, PyObject *value)
     return 0;
 }
 
-/* The scene of a call's keywords, validated; NULL with an exception. */
-static scene *scene_of(pyscene_kind kind, PyObject *args, PyObject *kwargs)
+/* The scene of a call's keywords, validated; NULL with an exception.  A
+ * callable given for progress goes to *progress (borrowed from kwargs). */
+static scene *scene_of(pyscene_kind kind, PyObject *args, PyObject *kwargs, PyObject **progress)
 {
     const char *func = call_names[kind];
+    *progress = NULL;
     if (PyTuple_GET_SIZE(args) != 0) {
         PyErr_Format(PyExc_TypeError, "%s() takes keyword arguments only (%zd positional given)",
                      func, PyTuple_GET_SIZE(args));
         return NULL;
     }
+    if (keyword_rows_ready() < 0) return NULL;
     /* The call's name names the scene in its echo (&output dir = 'out/NAME'). */
     scene *sc = scene_new(func);
     if (!sc) {
@@ -212,18 +247,19 @@ static scene *scene_of(pyscene_kind kind, PyObject *args, PyObject *kwargs)
         return NULL;
     }
     scene_keep_samples(sc); /* they go to Result.samples */
-    const int numerics = scene_var_keyword("numerics");
+    const int numerics = numerics_row;
     PyObject *key, *value;
     Py_ssize_t pos = 0;
     while (kwargs && PyDict_Next(kwargs, &pos, &key, &value)) {
-        const char *k = PyUnicode_AsUTF8(key);
-        if (!k) goto fail;
-        int row = scene_var_keyword(k);
-        /* The table's names are case-insensitive for files; a keyword is
-         * spelt as its variable is. */
-        if (row < 0 || PyUnicode_CompareWithASCIIString(key, scene_var_keyword_at((size_t)row))) {
-            const char *near = row >= 0 ? scene_var_keyword_at((size_t)row)
-                                        : scene_nearest_keyword(k);
+        int row = row_of(key);
+        if (row < 0) {
+            /* The table's names are case-insensitive for files; a keyword is
+             * spelt as its variable is. */
+            const char *k = PyUnicode_AsUTF8(key);
+            if (!k) goto fail;
+            int nocase = scene_var_keyword(k);
+            const char *near = nocase >= 0 ? scene_var_keyword_at((size_t)nocase)
+                                           : scene_nearest_keyword(k);
             if (near)
                 PyErr_Format(PyExc_TypeError, "%s() got an unexpected keyword argument '%s' "
                              "(did you mean '%s'? taper.variables() lists them)", func, k, near);
@@ -238,6 +274,10 @@ static scene *scene_of(pyscene_kind kind, PyObject *args, PyObject *kwargs)
             goto fail;
         }
         if (value == Py_None) continue; /* the default */
+        if (row == progress_row && !core_is_bool(value) && PyCallable_Check(value)) {
+            *progress = value;
+            value = Py_True;
+        }
         if (set_one(sc, (size_t)row, func, value) != 0) goto fail;
     }
     if (kind == PYSCENE_THEORY) {
@@ -285,7 +325,9 @@ static PyObject *setting_value(const scene *sc, size_t point, size_t i)
         return n ? PyFloat_FromDouble(x[0]) : Py_NewRef(Py_None);
     case SCENE_REAL_LIST:
         x = scene_var_reals(sc, i, &n);
-        return n ? core_double_array(x, n) : Py_NewRef(Py_None);
+        if (!n) return Py_NewRef(Py_None);
+        /* variables() runs when the package is imported, before numpy is. */
+        return core_numpy() < 0 ? NULL : core_double_array(x, n);
     }
     return Py_NewRef(Py_None);
 }
@@ -408,13 +450,13 @@ static int convert_run(PyObject *d, const scene_config *at, PyObject *units)
     return 0;
 }
 
-/* What every result of a scene carries: its settings at `point`, its scene
- * (for the echo), the units, where it came from. */
-static int add_scene(PyObject *d, PyObject *capsule, const scene *sc, size_t point,
-                     PyObject *source, PyObject *units)
+/* What every result of a scene carries: its scene and point (for the echo
+ * and the settings, made when asked for: pyscene_text, pyscene_settings),
+ * the units, where it came from. */
+static int add_scene(PyObject *d, PyObject *capsule, PyObject *source, size_t point,
+                     PyObject *units)
 {
-    if (core_put(d, "settings", settings_of(sc, point)) < 0 ||
-        core_put(d, "units", Py_NewRef(units)) < 0 ||
+    if (core_put(d, "units", Py_NewRef(units)) < 0 ||
         core_put(d, "scene", Py_NewRef(capsule)) < 0 ||
         core_put(d, "point", PyLong_FromSize_t(point)) < 0 ||
         core_put(d, "source", Py_NewRef(source)) < 0)
@@ -424,8 +466,9 @@ static int add_scene(PyObject *d, PyObject *capsule, const scene *sc, size_t poi
 
 /* Run `point` of a validated scene with the driver's specs: its chain, and
  * its sim unless it asks for the theory alone, sampled at its &sensors
- * interval. */
-static PyObject *run_point(PyObject *capsule, const scene *sc, size_t point, PyObject *source)
+ * interval, watched by `progress` (NULL: none). */
+static PyObject *run_point(PyObject *capsule, const scene *sc, size_t point, PyObject *source,
+                           PyObject *progress)
 {
     scene_config at;
     scene_config_at(scene_cfg(sc), point, &at);
@@ -441,13 +484,14 @@ static PyObject *run_point(PyObject *capsule, const scene *sc, size_t point, PyO
     core_sampling sampling = {.interval = ss ? scene_sample_interval(&at) : 0.0,
                               .max_bytes = at.output.max_output,
                               .time_scale = scene_unit(&at, TAPER_DIM_TIME),
-                              .time_unit = seconds};
+                              .time_unit = seconds,
+                              .progress = progress};
     PyObject *d = core_run(cs, ss, &sampling);
     taper_solver_spec_free(ss);
     taper_chain_spec_free(cs);
     PyObject *units = d ? PyDict_New() : NULL;
     if (units && shape_columns(d, &at, units) == 0 && convert_run(d, &at, units) == 0 &&
-        add_scene(d, capsule, sc, point, source, units) == 0) {
+        add_scene(d, capsule, source, point, units) == 0) {
         Py_DECREF(units);
         return d;
     }
@@ -484,7 +528,7 @@ static PyObject *chain_of(PyObject *capsule, const scene *sc, PyObject *source)
             put_unit(units, &at, "striker_mass", TAPER_DIM_MASS) < 0)
             goto fail;
     }
-    if (add_scene(d, capsule, sc, 0, source, units) < 0) goto fail;
+    if (add_scene(d, capsule, source, 0, units) < 0) goto fail;
     Py_DECREF(units);
     return d;
 fail:
@@ -495,8 +539,13 @@ fail:
 
 PyObject *pyscene_call(pyscene_kind kind, PyObject *args, PyObject *kwargs)
 {
-    scene *sc = scene_of(kind, args, kwargs);
+    PyObject *progress;
+    scene *sc = scene_of(kind, args, kwargs, &progress);
     if (!sc) return NULL;
+    if (kind == PYSCENE_CHECK) {
+        scene_free(sc);
+        Py_RETURN_NONE;
+    }
     PyObject *capsule = PyCapsule_New(sc, CAPSULE_NAME, capsule_free);
     if (!capsule) {
         scene_free(sc);
@@ -504,7 +553,8 @@ PyObject *pyscene_call(pyscene_kind kind, PyObject *args, PyObject *kwargs)
     }
     PyObject *source = PyUnicode_FromString(call_names[kind]), *d = NULL;
     if (source)
-        d = kind == PYSCENE_CHAIN ? chain_of(capsule, sc, source) : run_point(capsule, sc, 0, source);
+        d = kind == PYSCENE_CHAIN ? chain_of(capsule, sc, source)
+                                  : run_point(capsule, sc, 0, source, progress);
     Py_XDECREF(source);
     Py_DECREF(capsule);
     return d;
@@ -537,7 +587,7 @@ PyObject *pyscene_run_file(PyObject *arg)
     PyObject *list = source ? PyList_New(0) : NULL;
     size_t n = scene_cfg(sc)->runs.n;
     for (size_t i = 0; list && i < n; i++) {
-        PyObject *r = run_point(capsule, sc, i, source);
+        PyObject *r = run_point(capsule, sc, i, source, NULL);
         if (!r || PyList_Append(list, r) < 0) Py_CLEAR(list);
         Py_XDECREF(r);
     }
@@ -547,17 +597,32 @@ PyObject *pyscene_run_file(PyObject *arg)
     return list;
 }
 
-PyObject *pyscene_text(PyObject *args)
+/* The scene and point of (capsule, point) arguments, or NULL. */
+static const scene *scene_point(PyObject *args, const char *format, Py_ssize_t *point)
 {
     PyObject *capsule;
-    Py_ssize_t point;
-    if (!PyArg_ParseTuple(args, "On:scene_text", &capsule, &point)) return NULL;
+    if (!PyArg_ParseTuple(args, format, &capsule, point)) return NULL;
     const scene *sc = PyCapsule_GetPointer(capsule, CAPSULE_NAME);
     if (!sc) return NULL;
-    if (point < 0 || (size_t)point >= scene_cfg(sc)->runs.n) {
+    if (*point < 0 || (size_t)*point >= scene_cfg(sc)->runs.n) {
         PyErr_Format(PyExc_IndexError, "the scene has %zu runs", scene_cfg(sc)->runs.n);
         return NULL;
     }
+    return sc;
+}
+
+PyObject *pyscene_settings(PyObject *args)
+{
+    Py_ssize_t point;
+    const scene *sc = scene_point(args, "On:scene_settings", &point);
+    return sc ? settings_of(sc, (size_t)point) : NULL;
+}
+
+PyObject *pyscene_text(PyObject *args)
+{
+    Py_ssize_t point;
+    const scene *sc = scene_point(args, "On:scene_text", &point);
+    if (!sc) return NULL;
     char *text = NULL;
     size_t len = 0;
     FILE *mem = open_memstream(&text, &len);

@@ -15,13 +15,17 @@
 typedef enum pyscene_kind {
     PYSCENE_SIMULATE = 0, /* the scene's one run                          */
     PYSCENE_THEORY = 1,   /* the same with numerics = .false.             */
-    PYSCENE_CHAIN = 2     /* its chain alone                              */
+    PYSCENE_CHAIN = 2,    /* its chain alone                              */
+    PYSCENE_CHECK = 3     /* validated only: None (taper_from_radii)      */
 } pyscene_kind;
 
 /* simulate(**kw), theory(**kw), chain(**kw): the dict a Result (Chain) is
  * made from, or NULL with TypeError (an unknown keyword, a value of the
  * wrong Python type), InvalidArgumentError (a value the scene or the
- * library refuses: .field the keyword) or another exception. */
+ * library refuses: .field the keyword) or another exception.  The keyword
+ * progress may be a callable (simulate: called during the run, _core.h's
+ * core_sampling), which the scene holds as progress = .true..  check(**kw):
+ * None once the scene is valid. */
 PyObject *pyscene_call(pyscene_kind kind, PyObject *args, PyObject *kwargs);
 /* run_scene(path): one dict per point of the scene's sweep; SceneError
  * with the reader's diagnostics for an invalid scene. */
@@ -30,6 +34,9 @@ PyObject *pyscene_run_file(PyObject *path);
 PyObject *pyscene_variables(void);
 /* scene_text(scene, point): the echo of a result's scene at its point. */
 PyObject *pyscene_text(PyObject *args);
+/* scene_settings(scene, point): {keyword: value} of every variable of a
+ * result's scene at its point (Result.settings, built when first read). */
+PyObject *pyscene_settings(PyObject *args);
 /* The names of granules.tsv's columns in their order; theory_only: those
  * a run without numerics has. */
 PyObject *pyscene_columns(int theory_only);

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """taper.plotting -- the driver's figures with matplotlib (optional:
-``pip install taper[plot]``).
+``pip install taper-chains[plot]``).
 
 The driver draws, per run, the theory as open circles and the numerics as
 filled circles of one colour (share/scenes/paper/fig*.nml).  plot() does
@@ -24,10 +24,33 @@ __all__ = ["plot", "QUANTITIES"]
 
 #: quantity -> (numerics column, theory column, axis label)
 QUANTITIES = {
-    "v": ("v_peak", "theory_v", "v"),
-    "T_res": ("T_res", "theory_T", "T"),
-    "t": ("t_pass", "theory_t", "t"),
+    "v": ("v_peak", "theory_v", "pulse amplitude $v_k$"),
+    "T_res": ("T_res", "theory_T", "residence time $T_k$"),
+    "t": ("t_pass", "theory_t", "time the pulse passes, $t_k$"),
 }
+
+#: What a column is, for an axis drawn against it.
+COLUMN_LABELS = {
+    "k": "granule $k$", "R": "radius $R_k$", "m": "mass $m_k$", "X0": "rest position $X_k$",
+    "t_pass": "time the pulse passes, $t_k$", "T_res": "residence time $T_k$",
+    "v_peak": "pulse amplitude $v_k$", "t_peak": "time of the peak velocity",
+    "X_pass": "position where the pulse passes, $X_k$", "theory_v": "pulse amplitude $v_k$",
+    "theory_T": "residence time $T_k$", "theory_t": "time the pulse passes, $t_k$",
+}
+
+
+def axis_label(quantity: str, column: str, results: Sequence[Result]) -> str:
+    """"quantity [unit]": the SI unit the results give the column (all the
+    same, else none is claimed), "(rescaled, eq. (5))" for a dimensional
+    column of rescaled results, nothing for k."""
+    if column == "k":
+        return quantity
+    units = {r.units.get(column) for r in results}
+    if len(units) == 1 and None not in units:
+        return f"{quantity} [{units.pop()}]"
+    if units == {None}:
+        return f"{quantity} (rescaled units, eq. (5))"
+    return quantity
 
 
 def _label(r: Result) -> str:
@@ -95,7 +118,8 @@ def plot(results: Union[Result, Sequence[Result]], quantity: str = "v", *, ax: A
     if loglog:
         ax.set_xscale("log")
         ax.set_yscale("log")
-    ax.set_xlabel(x)
-    ax.set_ylabel(ylabel)
+    ax.set_xlabel(axis_label(COLUMN_LABELS.get(x, x), x, results))
+    drawn = num_col if curves != "theory" and any(num_col in r for r in results) else th_col
+    ax.set_ylabel(axis_label(ylabel, drawn, results))
     ax.legend(fontsize="small")
     return ax

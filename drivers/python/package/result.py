@@ -8,12 +8,13 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
-
-import numpy as np
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Tuple, Union
 
 from . import _core
-from ._columns import Columns
+from ._columns import Columns, np
+
+if TYPE_CHECKING:
+    import numpy
 
 __all__ = ["Result", "read_granules", "COLUMNS", "THEORY_COLUMNS"]
 
@@ -23,6 +24,15 @@ COLUMNS = _core.COLUMNS
 THEORY_COLUMNS = _core.THEORY_COLUMNS
 
 PathLike = Union[str, "os.PathLike[str]"]
+
+#: What the columns are, for labels (taper.plot) and the repr.
+QUANTITY = {
+    "k": "granule", "R": "radius", "m": "mass", "X0": "rest position",
+    "t_pass": "time the pulse passes", "T_res": "residence time", "v_peak": "peak velocity",
+    "t_peak": "time of the peak", "X_pass": "position as the pulse passes",
+    "theory_v": "pulse amplitude (theory)", "theory_T": "residence time (theory)",
+    "theory_t": "time the pulse passes (theory)",
+}
 
 
 class Result(Columns):
@@ -45,9 +55,10 @@ class Result(Columns):
             when the results are in SI (a scene with ``&material``, unless
             ``units='rescaled'``); empty when they are in the rescaled units
             of eq. (5) of arXiv:0905.4512.
-        settings: every scene variable of the run by its name (the keywords
-            of simulate()), defaults filled in, as the scene holds them (SI
-            with &material); a sweep's run has its point's values.
+        settings: every keyword of simulate() with its value in the run
+            (defaults filled in), as the scene holds them (SI with
+            &material); a sweep's run has its point's values.  Made when
+            first read.
         complete: True when every requested observable is known.
         status: ``"ok"``, or why the run ended early: ``"solver"`` (the
             integrator failed), ``"limit"`` (t_max or max_steps reached).
@@ -68,18 +79,19 @@ class Result(Columns):
             a granules.tsv path).
     """
 
-    def __init__(self, columns: Mapping[str, np.ndarray], *, stats: Optional[Dict[str, Any]] = None,
+    def __init__(self, columns: Mapping[str, "numpy.ndarray"], *,
+                 stats: Optional[Dict[str, Any]] = None,
                  settings: Optional[Dict[str, Any]] = None, status: str = "ok", message: str = "",
-                 warnings: Optional[List[str]] = None, x_final: Optional[np.ndarray] = None,
-                 v_final: Optional[np.ndarray] = None, source: str = "",
+                 warnings: Optional[List[str]] = None, x_final: Optional["numpy.ndarray"] = None,
+                 v_final: Optional["numpy.ndarray"] = None, source: str = "",
                  complete: Optional[bool] = None,
-                 samples: Optional[Dict[str, np.ndarray]] = None,
+                 samples: Optional[Dict[str, "numpy.ndarray"]] = None,
                  units: Optional[Dict[str, str]] = None, theory_note: Optional[str] = None,
                  untrusted: str = "") -> None:
         ordered = [c for c in COLUMNS if c in columns] + [c for c in columns if c not in COLUMNS]
-        self._columns: Dict[str, np.ndarray] = {c: columns[c] for c in ordered}
+        self._columns: Dict[str, "numpy.ndarray"] = {c: columns[c] for c in ordered}
         self.stats: Dict[str, Any] = dict(stats or {})
-        self.settings: Dict[str, Any] = dict(settings or {})
+        self._settings: Optional[Dict[str, Any]] = dict(settings or {})
         self.units: Dict[str, str] = dict(units or {})
         self.status = status
         self.message = message
@@ -92,21 +104,52 @@ class Result(Columns):
         if complete is None:
             complete = bool(self.stats.get("complete", status == "ok"))
         self.complete = bool(complete)
-        self.untrusted: str = untrusted
+        self._untrusted: Optional[str] = untrusted
         self._scene: Any = None
         self._point = 0
 
     @classmethod
     def _from_core(cls, d: Dict[str, Any]) -> "Result":
-        r = cls(d["columns"], stats=d.get("stats"), settings=d.get("settings"),
-                status=d.get("status", "ok"), message=d.get("message", ""),
-                warnings=d.get("warnings"), x_final=d.get("x_final"),
-                v_final=d.get("v_final"), source=d.get("source", ""),
-                samples=d.get("samples"), units=d.get("units"),
-                theory_note=d.get("theory_note"))
-        r._scene, r._point = d.get("scene"), d.get("point", 0)
-        r.untrusted = _distrust(r.stats, r.settings)
+        """From the extension's dict (its columns already in granules.tsv's
+        order): no copies, the settings and the verdict on conservation
+        made when first read."""
+        r = cls.__new__(cls)
+        r._columns = d["columns"]
+        r.stats = stats = d["stats"]
+        r.units = d["units"]
+        r.status = status = d["status"]
+        r.message = d["message"]
+        r.warnings = d["warnings"]
+        r.x_final = d.get("x_final")
+        r.v_final = d.get("v_final")
+        r.samples = d.get("samples")
+        r.theory_note = d["theory_note"]
+        r.source = d["source"]
+        r.complete = bool(stats.get("complete", status == "ok"))
+        r._settings = r._untrusted = None
+        r._scene, r._point = d["scene"], d["point"]
         return r
+
+    @property
+    def settings(self) -> Dict[str, Any]:
+        if self._settings is None:
+            self._settings = _keyword_settings(self._scene, self._point)
+        return self._settings
+
+    @settings.setter
+    def settings(self, value: Dict[str, Any]) -> None:
+        self._settings = dict(value)
+        self._untrusted = None if self._scene is not None else self._untrusted
+
+    @property
+    def untrusted(self) -> str:
+        if self._untrusted is None:
+            self._untrusted = _distrust(self.stats, self.settings)
+        return self._untrusted
+
+    @untrusted.setter
+    def untrusted(self, value: str) -> None:
+        self._untrusted = value
 
     @property
     def scene(self) -> Optional[str]:
@@ -127,8 +170,37 @@ class Result(Columns):
         """Momentum error relative to the momentum in motion; NaN without a run."""
         return float(self.stats.get("momentum_error", math.nan))
 
+    # -- headline observables ------------------------------------------------------
+    def pulse_speed(self, first: Optional[int] = None, last: Optional[int] = None) -> float:
+        """The pulse's mean speed from granule `first` to granule `last`:
+        (X(last) - X(first)) / (t(last) - t(first)), the positions and times
+        at which the pulse passes them (X_pass, t_pass; for the theory alone
+        the rest positions X0 and the theory's t_k of eq. (19)).  By default
+        over the last tenth of the granules the pulse passed (at least two),
+        where a tapered chain has settled into its asymptotic law.  In the
+        Result's units (``units["X_pass"]`` / ``units["t_pass"]`` in SI);
+        NaN where fewer than two granules were passed."""
+        x, t = ("X_pass", "t_pass") if "t_pass" in self._columns else ("X0", "theory_t")
+        if x not in self._columns or t not in self._columns or "k" not in self._columns:
+            return math.nan
+        k, X, T = self._columns["k"], self._columns[x], self._columns[t]
+        known = np.flatnonzero(np.isfinite(X) & np.isfinite(T))
+        if len(known) < 2:
+            return math.nan
+        if last is None:
+            i1 = known[-1]
+        else:
+            i1 = _row_of(k, last)
+        if first is None:
+            reached = int(k[known[-1]])
+            i0 = known[np.searchsorted(k[known], reached - max(1, reached // 10))]
+        else:
+            i0 = _row_of(k, first)
+        dt = T[i1] - T[i0]
+        return float((X[i1] - X[i0]) / dt) if dt != 0 else math.nan
+
     # -- conversions ---------------------------------------------------------------
-    def to_numpy(self) -> np.ndarray:
+    def to_numpy(self) -> "numpy.ndarray":
         """The columns as one structured array (a row per granule)."""
         dtype = [(c, a.dtype) for c, a in self._columns.items()]
         out = np.empty(len(self), dtype=dtype)
@@ -138,17 +210,28 @@ class Result(Columns):
 
     def to_pandas(self) -> Any:
         """The columns as a pandas.DataFrame indexed by k (needs pandas:
-        ``pip install taper[pandas]``)."""
+        ``pip install taper-chains[pandas]``).  In SI a column's name
+        carries its unit as granules.tsv's header does (``t_pass[s]``,
+        ``v_peak[m/s]``); rescaled columns have their bare names.
+        ``df.attrs`` holds ``units`` (each column's, statistic's, sample's
+        unit by its bare name; empty when rescaled), ``settings`` (every
+        keyword's value; lists as lists), ``stats`` (the run's statistics),
+        ``status``, ``complete``, ``untrusted`` and ``source``."""
         try:
             import pandas as pd
         except ImportError as e:  # pragma: no cover - depends on the installation
             raise ImportError("Result.to_pandas() needs pandas: pip install pandas") from e
-        df = pd.DataFrame({c: a for c, a in self._columns.items()})
-        if "k" in df:
-            df = df.set_index("k", drop=False)
-            df.index.name = None
+        units = self.units
+        df = pd.DataFrame({(f"{c}[{units[c]}]" if c in units else c): a
+                           for c, a in self._columns.items()})
+        if "k" in self._columns:
+            df.index = pd.Index(self._columns["k"])
+        df.attrs["units"] = dict(units)
+        df.attrs["settings"] = {k: (v.tolist() if hasattr(v, "tolist") else v)
+                                for k, v in self.settings.items()}
         df.attrs["stats"] = dict(self.stats)
-        df.attrs["settings"] = {k: v for k, v in self.settings.items() if not isinstance(v, np.ndarray)}
+        for name in ("status", "complete", "untrusted", "source"):
+            df.attrs[name] = getattr(self, name)
         return df
 
     def equals(self, other: "Result") -> bool:
@@ -160,10 +243,70 @@ class Result(Columns):
                    for c, a in self._columns.items())
 
     def __repr__(self) -> str:
-        s = self.settings
-        what = ", ".join(f"{k}={s[k]!r}" for k in ("profile", "s", "q", "n_granules") if k in s)
-        state = "complete" if self.complete else f"partial ({self.status}: {self.message})"
-        return f"<taper.Result {what or self.source} N={len(self)} {state}>"
+        """What a physicist checks first: the chain, N, how the run ended,
+        t_final, the energy error, the pulse's speed, a wall's peak force."""
+        s, units = self.settings, self.units
+        profile = s.get("profile")
+        what = []
+        if profile:
+            what.append(profile)
+            name = TAPER_PARAMETER.get(profile)
+            if name and name in s:
+                what.append(f"{name}={s[name]:g}")
+        elif self.source and self.source not in ("simulate", "theory"):
+            what.append(repr(self.source))
+        what.append(f"N={len(self)}")
+        if not self.stats:
+            state = "theory only" if "theory_v" in self._columns else "no run"
+        elif self.complete:
+            state = "complete"
+        else:
+            state = f"PARTIAL ({self.status}: {self.message})" if self.message else \
+                f"PARTIAL ({self.status})"
+        parts = []
+        if "t_final" in self.stats:
+            parts.append(f"t_final={_with_unit(self.stats['t_final'], units.get('t_final'))}")
+        if "energy_error" in self.stats:
+            parts.append(f"energy error {self.energy_error:.2g}")
+        if self.untrusted:
+            parts.append("UNTRUSTED")
+        speed = self.pulse_speed()
+        if speed == speed:
+            x_unit, t_unit = units.get("X_pass", units.get("X0")), units.get("t_pass")
+            parts.append(f"pulse speed {_with_unit(speed, f'{x_unit}/{t_unit}' if x_unit and t_unit else None)}")
+        for side in ("left", "right"):
+            force = self.stats.get(f"wall_peak_force_{side}", math.nan)
+            if force == force:
+                parts.append(f"{side} wall peak force "
+                             f"{_with_unit(force, units.get(f'wall_peak_force_{side}'))}")
+        return f"<taper.Result {' '.join(what)} {state}" + (f": {', '.join(parts)}>" if parts else ">")
+
+
+#: The tapering parameter of each profile that has one.
+TAPER_PARAMETER = {"backward_linear": "s", "forward_linear": "s",
+                   "backward_exponential": "q", "forward_exponential": "q"}
+
+
+def _with_unit(x: float, unit: Optional[str]) -> str:
+    return f"{x:.4g} {unit}" if unit else f"{x:.4g}"
+
+
+def _row_of(k: "numpy.ndarray", granule: int) -> int:
+    """The row of granule k (columns thinned by &output every keep some)."""
+    rows = np.flatnonzero(k == granule)
+    if len(rows) != 1:
+        raise ValueError(f"granule {granule} is not a row of this result")
+    return int(rows[0])
+
+
+def _keyword_settings(scene: Any, point: int) -> Dict[str, Any]:
+    """The settings of a run of the extension's scene: every keyword of
+    simulate() (the driver's own variables left out, as simulate() does)."""
+    if scene is None:
+        return {}
+    from ._signature import driver_only_names
+    skip = driver_only_names()
+    return {k: v for k, v in _core.scene_settings(scene, point).items() if k not in skip}
 
 
 def _distrust(stats: Mapping[str, Any], settings: Mapping[str, Any]) -> str:

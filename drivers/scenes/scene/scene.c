@@ -24,6 +24,7 @@
 #include <ctype.h>
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -421,7 +422,21 @@ static void build_table(void)
     }
 }
 
-static void ensure_table(void) { pthread_once(&table_once, build_table); }
+/* Set once the table is built: loops ask scene_var_count() for every row,
+ * and pthread_once costs a call each time. */
+static atomic_int table_built;
+
+static void build_table_once(void)
+{
+    build_table();
+    atomic_store_explicit(&table_built, 1, memory_order_release);
+}
+
+static void ensure_table(void)
+{
+    if (!atomic_load_explicit(&table_built, memory_order_acquire))
+        pthread_once(&table_once, build_table_once);
+}
 
 /* Every validated scene's echo must read back (docs/robustness.md, "The
  * echo reads back").  The echo writes a list value in at most 32 bytes (24
@@ -472,19 +487,27 @@ int scene_var_describe(size_t i, scene_var_about *about)
     return 0;
 }
 
+/* strcasecmp(a, b) == 0, its first letter compared first: every scene a
+ * Python call builds looks rows up by name (docs/python.md, "Overheads"). */
+static int same_name(const char *a, const char *b)
+{
+    return tolower((unsigned char)a[0]) == tolower((unsigned char)b[0]) && strcasecmp(a, b) == 0;
+}
+
 int scene_var_find(const char *group, const char *name)
 {
     if (!group || !name) return -1;
-    for (size_t i = 0; i < scene_var_count(); i++)
-        if (strcasecmp(table[i].group, group) == 0 && strcasecmp(table[i].name, name) == 0)
-            return (int)i;
+    const size_t n = scene_var_count();
+    for (size_t i = 0; i < n; i++)
+        if (same_name(table[i].name, name) && same_name(table[i].group, group)) return (int)i;
     return -1;
 }
 
 int scene_var_keyword(const char *keyword)
 {
-    for (size_t i = 0; keyword && i < scene_var_count(); i++)
-        if (strcasecmp(table[i].keyword, keyword) == 0) return (int)i;
+    const size_t n = scene_var_count();
+    for (size_t i = 0; keyword && i < n; i++)
+        if (same_name(table[i].keyword, keyword)) return (int)i;
     return -1;
 }
 

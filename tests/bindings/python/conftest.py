@@ -28,9 +28,9 @@ def pytest_addoption(parser):
 
 def pytest_configure(config):
     config.addinivalue_line(
-        "markers", "slow: the long tests (the wheel built from PyPI, the examples drawing their "
-        "figures, chains in threads against serial runs); meson test runs them in python_slow, "
-        "suite 'slow'")
+        "markers", "slow: the long tests (share/wheel.sh and its wheel in a fresh venv, the "
+        "examples drawing their figures, chains in threads against serial runs); meson test runs "
+        "them in python_slow, suite 'slow'")
 
 
 @pytest.fixture(scope="session")

@@ -10,8 +10,8 @@ suite of the Python package `taper`, as `meson test` runs it.
    directory kept at BUILD_DIR/python-build, so that a second run only
    recompiles what changed.
 3. pytest on tests/bindings/python, with the driver binary and the source
-   tree passed in TAPER_DRIVER and TAPER_SOURCE.  The wheel test inside still
-   builds one wheel with full isolation from PyPI, as a user's `pip wheel .`.
+   tree passed in TAPER_DRIVER and TAPER_SOURCE.  The wheel test (slow) runs
+   share/wheel.sh on a clean copy of the checkout, with its own build venv.
 
 Needs the Python headers and venv module of the Python running this script
 (Debian: python3-dev, python3-venv).
@@ -24,8 +24,8 @@ import venv
 
 # What the package's build needs (pyproject.toml [build-system] requires),
 # what its tests need, and the optional extras the tests exercise.
-REQUIREMENTS = ["meson-python>=0.15", "meson>=1.0.1", "ninja", "numpy>=2.0", "pytest",
-                "pandas", "matplotlib"]
+REQUIREMENTS = ["meson-python>=0.18", "meson>=1.0.1", "ninja", "numpy>=2.0", "pytest",
+                "pandas", "matplotlib", "tqdm"]
 
 
 def run(cmd, **kw):

@@ -2,10 +2,14 @@
 """The keywords of simulate(), theory() and chain() are the scene's
 variables: every variable `taper --defaults` prints is a keyword under the
 one naming rule (the key in its group, with the group's name in front where
-two groups share a key), accepted at its default with a result equal to
-simulate()'s bit for bit; taper.variables() lists the same table; unknown
-keywords and wrong Python types are TypeErrors naming them."""
+two groups share a key), but those docs/python.md names as making no sense
+for one run; each is a keyword-only parameter of the signature with its
+default (help() and the stub too), accepted at its default with a result
+equal to simulate()'s bit for bit; taper.variables() lists the same table;
+unknown keywords and wrong Python types are TypeErrors naming them."""
 
+import inspect
+import pydoc
 import re
 import subprocess
 
@@ -85,14 +89,94 @@ def test_defaults_and_variables_are_one_table(table):
     assert by["damping"].beyond_paper and not by["s"].beyond_paper
 
 
-def test_simulate_accepts_every_variable_at_its_default(table):
-    """The issue's must-show: every variable --defaults prints is a keyword
-    of simulate(); at its default (None for those without one) the run is
-    simulate()'s, bit for bit, statistics included."""
+def documented_driver_only(source):
+    """The variables docs/python.md names as no keyword of a call (its table
+    "What a call does not take": every name in backquotes in the first
+    column), and the reasons it gives."""
+    text = (source / "docs" / "python.md").read_text()
+    section = text[text.index("### What a call does not take"):]
+    section = section[:section.index("\n#", 1)]
+    names = {}
+    for line in section.splitlines():
+        if not line.startswith("| `"):
+            continue
+        first, reason = line.split("|")[1:3]
+        for name in re.findall(r"`([a-z_]+)`", first):
+            names[name] = reason.strip()
+    return names
+
+
+def test_the_signature_is_the_table_less_what_a_call_does_not_take(table, source):
+    """The issue's must-show: len(inspect.signature(taper.simulate).parameters)
+    is the number of variables --defaults prints, less those docs/python.md
+    names with a reason; each of those is refused with a TypeError saying
+    why, every other one is a keyword-only parameter with its default."""
     name = {(v.group, v.key): v.name for v in taper.variables()}
+    excluded = documented_driver_only(source)
+    assert excluded and all(reason for reason in excluded.values()), excluded
+    assert set(excluded) <= set(name.values()), set(excluded) - set(name.values())
+    params = inspect.signature(taper.simulate).parameters
+    assert len(params) == len(table) - len(excluded)
+    defaults = {v.name: v.default for v in taper.variables()}
+    for group, key, _ in table:
+        n = name[group, key]
+        if n in excluded:
+            assert n not in params
+            for call in (taper.simulate, taper.theory, taper.chain):
+                with pytest.raises(TypeError, match=f"does not take {n}: "):
+                    call(**{n: defaults[n]})
+        else:
+            p = params[n]
+            assert p.kind is inspect.Parameter.KEYWORD_ONLY, p
+            assert p.default == defaults[n] or (p.default is None and defaults[n] is None), p
+    theory = inspect.signature(taper.theory).parameters
+    assert list(theory) == [n for n in params if n != "numerics"]
+    assert list(inspect.signature(taper.chain).parameters) == list(params)
+    assert inspect.signature(taper.simulate).return_annotation is taper.Result
+
+
+def test_help_shows_every_keyword_with_its_unit_and_description():
+    doc = pydoc.render_doc(taper.simulate, renderer=pydoc.plaintext)
+    for v in taper.variables():
+        if v.name not in inspect.signature(taper.simulate).parameters:
+            continue
+        # "      name: type = default  [unit with &material]", then the
+        # description indented further
+        m = re.search(rf"^ {{6}}{v.name}: (.*)$\n {{10}}(.*)$", doc, re.M)
+        assert m, v.name
+        if v.unit:
+            assert f"[{v.unit} with &material]" in m.group(1), (v.name, m.group(1))
+        assert v.description.split()[0] in m.group(2) or v.name == "progress", (v.name, m.group(2))
+
+
+def test_the_stub_has_the_same_parameters():
+    """__init__.pyi ships with the package (PEP 561: py.typed), its
+    simulate(), theory() and chain() with the parameters of the runtime
+    signatures, in order, with the same defaults."""
+    import ast
+    import pathlib
+    here = pathlib.Path(taper.__file__).parent
+    assert (here / "py.typed").is_file()
+    tree = ast.parse((here / "__init__.pyi").read_text())
+    funcs = {f.name: f for f in tree.body if isinstance(f, ast.FunctionDef)}
+    for func in (taper.simulate, taper.theory, taper.chain):
+        stub = funcs[func.__name__].args
+        runtime = inspect.signature(func).parameters
+        assert [a.arg for a in stub.kwonlyargs] == list(runtime)
+        for a, d in zip(stub.kwonlyargs, stub.kw_defaults):
+            assert ast.literal_eval(d) == runtime[a.arg].default, a.arg
+
+
+def test_simulate_accepts_every_keyword_at_its_default(table, source):
+    """Every keyword at its default (None for those without one): the run is
+    simulate()'s, bit for bit, statistics and settings included."""
+    name = {(v.group, v.key): v.name for v in taper.variables()}
+    excluded = documented_driver_only(source)
     ref = taper.simulate()
     assert ref.complete and len(ref) == 100
     for group, key, value in table:
+        if name[group, key] in excluded:
+            continue
         kw = {name[group, key]: value}
         r = taper.simulate(**kw)
         assert r.equals(ref), kw
@@ -100,9 +184,11 @@ def test_simulate_accepts_every_variable_at_its_default(table):
         assert _same(r.settings, ref.settings), kw
         if value is not None:
             assert r.settings[name[group, key]] == value, kw
-    # all of them at once too
-    everything = {name[g, k]: v for g, k, v in table}
+    assert set(ref.settings) == set(inspect.signature(taper.simulate).parameters)
+    # all of them at once too, and the settings given back
+    everything = {name[g, k]: v for g, k, v in table if name[g, k] not in excluded}
     assert taper.simulate(**everything).equals(ref)
+    assert taper.simulate(**ref.settings).equals(ref)
 
 
 def _same(a, b):
@@ -114,10 +200,13 @@ def _same(a, b):
     return a.keys() == b.keys() and all(eq(a[k], b[k]) for k in a)
 
 
-def test_theory_and_chain_take_the_same_keywords(table):
+def test_theory_and_chain_take_the_same_keywords(table, source):
     name = {(v.group, v.key): v.name for v in taper.variables()}
+    excluded = documented_driver_only(source)
     th, c = taper.theory(), taper.chain()
     for group, key, value in table:
+        if name[group, key] in excluded:
+            continue
         kw = {name[group, key]: value}
         if name[group, key] == "numerics":
             with pytest.raises(TypeError, match="numerics"):
@@ -146,9 +235,9 @@ def test_unknown_keywords_say_the_nearest_name():
     ("seed", np.float64(3), "an integer"),
     ("max_steps", False, "an integer"),
     ("window", 1, "a bool"),                # an int for a logical
-    ("spacetime", "yes", "a bool"),
+    ("numerics", "yes", "a bool"),
     ("profile", 3, "a str"),                # a number for a choice
-    ("fit_label", 1.0, "a str"),
+    ("columns", 1.0, "a str"),
     ("radii", 1.0, "a one-dimensional sequence"),
     ("radii", "1 2 3", "a sequence of real numbers"),
     ("densities", [[1.0, 2.0]], "a one-dimensional sequence"),
@@ -174,8 +263,8 @@ def test_refusals_are_the_scenes_messages_with_the_keyword_as_field():
     assert str(e.value).startswith("poisson: ") and "density: " in str(e.value)
     # a key the scene writes inside its group is reported by its keyword
     with pytest.raises(taper.InvalidArgumentError) as e:
-        taper.simulate(figure_every=0)
-    assert e.value.field == "figure_every"
+        taper.simulate(every=0)
+    assert e.value.field == "every"
     with pytest.raises(taper.InvalidArgumentError) as e:
         taper.simulate(striker_radius=-1.0)
     assert e.value.field == "striker_radius" and e.value.status == "invalid"
