@@ -4,7 +4,9 @@
  * against plain loops over the active range, through SUNDIALS' own
  * N_V* entry points (which is how CVODE calls them), including the cases
  * CVODE's Adams steps use most: the predictor's in-place sum
- * zn[j-1] += zn[j] and the fused array operations of the Nordsieck rescale.
+ * zn[j-1] += zn[j] and the fused array operations of the Nordsieck rescale;
+ * and the window's storage they share with plain buffers
+ * (src/sim/window_storage.c): a buffer that is no vector.
  */
 #include "sim/nvector_window.h"
 #include "sim/sundials_compat.h"
@@ -141,6 +143,36 @@ static void outside_untouched(void **state)
         for (int i = LEN; i < LEN + 4; i++) assert_true(data(f, j)[i] == 0.0);
 }
 
+/* A plain buffer of the window (rk8's state, window_storage.h) follows the
+ * range with the window's vectors: in place, when the buffers move, and
+ * with the tail; detached, it is gone from the window's list and freed. */
+static void plain_buffer_follows(void **state)
+{
+    (void)state;
+    SUNContext ctx;
+    assert_int_equal(taper_sundials_context_new(&ctx), 0);
+    taper_window *w = taper_window_alloc_tail(0, 4, 8, 2);
+    assert_non_null(w);
+    N_Vector a = taper_window_vector_new(w, ctx);
+    double *plain = NULL;
+    assert_true(a && taper_window_attach(w, &plain) == 0 && plain);
+    assert_int_equal((int)w->n_buffers, 2);
+    for (int i = 0; i < 6; i++) taper_window_data(a)[i] = taper_window_entries(w, plain)[i] = i + 1.0;
+    assert_int_equal(taper_window_set_range(w, 2, 6), 0); /* in place */
+    assert_int_equal(taper_window_set_range(w, 4, 50), 0); /* the buffers move */
+    assert_int_equal((int)taper_window_size(w), 48);
+    const double *p = taper_window_entries(w, plain), *v = taper_window_data(a);
+    for (int i = 0; i < 48; i++) assert_true(p[i] == v[i]);
+    assert_true(p[46] == 5.0 && p[47] == 6.0 && p[0] == 0.0); /* the tail; entry 4 was cleared */
+    taper_window_detach(w, &plain);
+    assert_null(plain);
+    assert_int_equal((int)w->n_buffers, 1);
+    N_VDestroy(a);
+    assert_int_equal((int)w->n_buffers, 0);
+    taper_window_free(w);
+    taper_sundials_context_free(&ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -149,6 +181,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(predictor_pascal_triangle, setup, teardown),
         cmocka_unit_test_setup_teardown(fused_array_operations, setup, teardown),
         cmocka_unit_test_setup_teardown(outside_untouched, setup, teardown),
+        cmocka_unit_test(plain_buffer_follows),
     };
     return cmocka_run_group_tests_name("nvector_window", tests, NULL, NULL);
 }
