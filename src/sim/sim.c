@@ -7,18 +7,11 @@
  */
 #include "sim.h"
 
-#include <cvode/cvode.h>
-
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
-
-double *taper_sim_data(const taper_sim *sim, N_Vector v)
-{
-    return sim->cv.window ? taper_window_data(v) : N_VGetArrayPointer(v);
-}
 
 void taper_sim_log(const taper_sim *sim, int level, const char *fmt, ...)
 {
@@ -383,15 +376,10 @@ static void pulse_init(taper_sim *sim)
     }
     if (m->wall_left) sim->stats.wall_impulse[TAPER_LEFT] = 0.0;
     if (m->wall_right) sim->stats.wall_impulse[TAPER_RIGHT] = 0.0;
+    /* (how they grow depends on the stepper's root finder: taper_events_arm,
+     * when the run starts) */
     p->pass_slots = TAPER_RING_SLOTS;
     p->peak_slots = TAPER_RING_SLOTS;
-    /* Rings that grow need a precursor without crossings, as the Hertzian
-     * one (events.c); below n = 2 the force z^(n-1) is strong at tiny
-     * compressions and the precursor overtakes long before the pulse: there
-     * a pass is a crossing of the granule that leads (events.c, "leading
-     * passes"), which the precursor's crossings are not. */
-    p->arm_all = sim->exponent >= 2.0 && taper_sundials_roots_see_tiny_values();
-    p->lead = sim->exponent < 2.0 && taper_sundials_roots_see_tiny_values();
 }
 
 /* The chain's own checks (taper_chain_alloc: damping needs n >= 2, ...) are
@@ -459,18 +447,9 @@ fail:
 void taper_sim_free(taper_sim *sim)
 {
     if (!sim) return;
-    taper_cvode *cv = &sim->cv;
-    if (cv->mem) CVodeFree(&cv->mem);
-    taper_rk8_free(cv->rk8);
-    if (cv->nonlinear) SUNNonlinSolFree(cv->nonlinear);
-    if (cv->linear) SUNLinSolFree(cv->linear);
-    if (cv->band) SUNMatDestroy(cv->band);
-    if (cv->y) N_VDestroy(cv->y);
-    if (cv->at_root) N_VDestroy(cv->at_root);
-    taper_window_free(cv->window);
-    taper_sundials_context_free(&cv->ctx);
-    free(cv->message);
-    free(cv->roots);
+    /* the stepper first: the state's buffers are registered with the window */
+    if (sim->stepper.memory) sim->stepper.release(sim->stepper.memory);
+    taper_window_free(sim->state.window);
     taper_dyn_release(&sim->dyn);
     taper_model_release(&sim->model);
     for (int i = 0; i < TAPER_N_OBSERVABLES; i++) free(sim->pulse.obs[i]);
@@ -505,8 +484,8 @@ int taper_sim_move_window(taper_sim *sim, size_t lo, size_t hi, double v_left)
         moved.left_decay = sim->model.drag * moved.inv_mass[lo - 2];
         moved.left_since = sim->out.t_free[lo - 2];
     }
-    if (sim->cv.window &&
-        taper_window_set_range(sim->cv.window, taper_dyn_begin(&moved), taper_dyn_end(&moved)) != 0)
+    if (sim->state.window &&
+        taper_window_set_range(sim->state.window, taper_dyn_begin(&moved), taper_dyn_end(&moved)) != 0)
         return -1;
     sim->dyn = moved;
     return 0;
@@ -549,9 +528,8 @@ void taper_sim_flight(const taper_sim *sim, size_t j, double t, double *x, doubl
  * and w vanish to sixth order at u = 0 and 1), and the flight's closed
  * form accounts for the rest: drag v^2 (1 - w) and everything after.  Its
  * integral is taken by Gauss-Legendre quadrature (exact on the polynomial
- * w, to rounding on the exponential).  The length: HANDOVER_STEPS CVODE
- * steps of the departure's size, smooth on the scale the integrator
- * steps at. */
+ * w, to rounding on the exponential).  The length: HANDOVER_STEPS steps
+ * of the departure's size, smooth on the scale the stepper steps at. */
 #define HANDOVER_STEPS 64.0
 
 static double fade(double u)
@@ -665,7 +643,7 @@ static int start_flight_under_drag(taper_sim *sim, size_t j, double t_step, doub
 }
 
 /* Granule j comes back under drag at sim->t: its loss in flight is booked,
- * its handover ends, and CVODE restarts here (the caller), so a handover
+ * its handover ends, and the stepper restarts here (the caller), so a handover
  * that was to start later starts now (the quadrature, read at sim->t, no
  * longer holds the window's motion of those granules beyond it). */
 static void end_flight_under_drag(taper_sim *sim, size_t j)
@@ -685,7 +663,7 @@ static void end_flight_under_drag(taper_sim *sim, size_t j)
 int taper_sim_release_granule(taper_sim *sim, double watch, int at_rest, double t_step, double h_step)
 {
     const taper_dyn *d = &sim->dyn;
-    const double *y = taper_sim_data(sim, sim->cv.y);
+    const double *y = taper_sim_entries(sim);
     const size_t j = d->lo;
     const double v = taper_dyn_v(d, y, j);
     const double x = taper_dyn_position(d, y, j);
@@ -725,7 +703,7 @@ int taper_sim_recall_granule(taper_sim *sim)
     out->energy_free -= 0.5 * sim->mass[j - 1] * v0 * v0;
     out->momentum_free -= sim->mass[j - 1] * v0;
     if (out->t_free) end_flight_under_drag(sim, j);
-    double *y = taper_sim_data(sim, sim->cv.y);
+    double *y = taper_sim_entries(sim);
     y[taper_idx_v(j) - taper_dyn_begin(&sim->dyn)] = v;
     if (j > 1) y[0] = free_position(sim, j - 1) - free_position(sim, j);
     return 0;
@@ -765,12 +743,12 @@ double taper_sim_statistic(const taper_sim *sim, taper_statistic which)
     if (!sim) return NAN;
     const taper_run_statistics *s = &sim->stats;
     switch (which) {
-    case TAPER_STAT_STEPS: return (double)s->cvode.steps;
-    case TAPER_STAT_RHS_EVALS: return (double)s->cvode.rhs_evals;
-    case TAPER_STAT_ROOT_EVALS: return (double)s->cvode.root_evals;
-    case TAPER_STAT_JAC_EVALS: return (double)s->cvode.jac_evals;
-    case TAPER_STAT_NONLIN_ITERS: return (double)s->cvode.nonlin_iters;
-    case TAPER_STAT_ERR_TEST_FAILS: return (double)s->cvode.err_test_fails;
+    case TAPER_STAT_STEPS: return (double)s->counters.steps;
+    case TAPER_STAT_RHS_EVALS: return (double)s->counters.rhs_evals;
+    case TAPER_STAT_ROOT_EVALS: return (double)s->counters.root_evals;
+    case TAPER_STAT_JAC_EVALS: return (double)s->counters.jac_evals;
+    case TAPER_STAT_NONLIN_ITERS: return (double)s->counters.nonlin_iters;
+    case TAPER_STAT_ERR_TEST_FAILS: return (double)s->counters.err_test_fails;
     case TAPER_STAT_WINDOW_CHANGES: return (double)s->window_changes;
     case TAPER_STAT_RESTARTS: return (double)s->restarts;
     case TAPER_STAT_MAX_WINDOW: return (double)s->max_window;
@@ -800,7 +778,7 @@ double taper_sim_statistic(const taper_sim *sim, taper_statistic which)
 static void body_states(const taper_sim *sim, double *x, double *v, size_t first, size_t count)
 {
     const taper_dyn *d = &sim->dyn;
-    const double *y = taper_sim_data(sim, sim->cv.y);
+    const double *y = taper_sim_entries(sim);
     double x_window = 0.0;
     for (size_t k = d->n; k >= 1; k--) {
         double xk = 0.0, vk = 0.0;
@@ -826,7 +804,7 @@ void taper_sim_bodies(const taper_sim *sim, double *x, double *v)
 static taper_status check_ran(const taper_sim *sim, const char *what, taper_error *err)
 {
     if (!sim) return taper_fail(err, TAPER_EINVAL, "%s: sim is NULL", what);
-    if (!sim->cv.y) return taper_fail(err, TAPER_EINVAL, "%s: the sim has not run", what);
+    if (!taper_sim_entries(sim)) return taper_fail(err, TAPER_EINVAL, "%s: the sim has not run", what);
     return TAPER_OK;
 }
 
@@ -842,7 +820,7 @@ double taper_sim_time(const taper_sim *sim) { return sim ? sim->t : NAN; }
 
 double taper_sim_piston_work(const taper_sim *sim)
 {
-    if (!sim || !sim->model.piston || !sim->cv.y) return NAN;
+    if (!sim || !sim->model.piston || !taper_sim_entries(sim)) return NAN;
     return sim->stats.piston_work;
 }
 
@@ -864,7 +842,7 @@ taper_status taper_sim_striker_state(const taper_sim *sim, double *x, double *v,
 static double contact_force_now(const taper_sim *sim, const double *x, const double *v, size_t k)
 {
     const taper_dyn *d = &sim->dyn;
-    if (k >= d->lo) return taper_dyn_window_force(d, taper_sim_data(sim, sim->cv.y), k);
+    if (k >= d->lo) return taper_dyn_window_force(d, taper_sim_entries(sim), k);
     return taper_dyn_contact_force(d, k, x[k - 1] - x[k], v[k - 1] - v[k]);
 }
 
