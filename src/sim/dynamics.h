@@ -22,7 +22,7 @@
  * slot").  It exerts no force on either side: granule lo-1 cannot take the
  * reaction, and a force on lo alone changed the momentum.  The contact
  * joins the equations when lo-1 is taken back, at the root of the gap slot
- * (sim.c, window.c).  With the force applied to lo, the CVODE
+ * (window_flight.c, window.c).  With the force applied to lo, the CVODE
  * step holding that root integrated a one-sided force from the root to its
  * end, and the state interpolated back to the root carried it: a pulse reflected from a
  * right wall into a free end (t_end) lost 8e-8 of the momentum in one

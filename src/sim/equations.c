@@ -30,7 +30,8 @@ void taper_equations_rhs(const taper_sim *sim, double t, const double *y, double
      * itself has none (CVODES has; the build links CVODE). */
     double *q = f + (taper_dyn_end(d) - taper_dyn_begin(d));
     taper_dyn_quadrature_rhs(d, y, q);
-    /* departed granules' drag loss, fading out of the quadrature (sim.c) */
+    /* departed granules' drag loss, fading out of the quadrature
+     * (window_flight.c) */
     if (sim->out.n_handing) q[TAPER_QUAD_DISSIPATED] += taper_sim_handover_power(sim, t);
 }
 

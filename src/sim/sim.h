@@ -30,9 +30,12 @@
  *     v
  *   sim.c          the state: allocation (with the bodies of extended.c),
  *                  free, the theory and tolerance scales, the results'
- *                  accessors (state, striker, forces), the log, and the only
- *                  code that moves the window (taper_sim_move_window) and
- *                  that moves granules out of it and back.
+ *                  accessors (state, striker, forces), the log.
+ *     v
+ *   window_flight.c the window's extent (taper_sim_move_window, the only
+ *                  code that moves it) and the granules that leave it into
+ *                  closed-form flight, free or under drag with the handover
+ *                  of their drag loss, and come back.
  *     v
  *   dynamics.c, dynamics_api.c, extended.c, window_storage.c (leaves: they
  *   call nothing else in src/sim); nvector_window.c and sundials_compat.c,
@@ -40,9 +43,9 @@
  *
  * Who writes what after taper_sim_alloc:
  *   sim->pulse               events.c (taper_events_record, _arm)
- *   sim->dyn.lo/hi/v_left    sim.c, in taper_sim_move_window only
+ *   sim->dyn.lo/hi/v_left    window_flight.c, in taper_sim_move_window only
  *   sim->out, the state's entries of departing and returning granules
- *                            sim.c (taper_sim_release_granule / _recall_granule)
+ *                            window_flight.c (release / recall)
  *   sim->state, sim->stepper the stepper (its storage; set up by solve.c)
  *   sim->t, t_low, stats     solve.c (the budget's statistics: budget.c)
  *   sim->walls               events.c
@@ -178,7 +181,7 @@ typedef struct taper_out {
     /* Drag only: the dissipation quadrature hands a departed granule's
      * drag loss over to its flight's closed form smoothly, from
      * hand_start[j] (the end of the step it left in) over
-     * hand_length[j] (sim.c, "handover"); handing: the granules whose
+     * hand_length[j] (window_flight.c, "handover"); handing: the granules whose
      * handover is under way, n_handing of them (room for handing_size). */
     double *hand_start, *hand_length;
     size_t *handing, n_handing, handing_size;
@@ -283,7 +286,7 @@ void taper_sim_log(const taper_sim *sim, int level, const char *fmt, ...) TAPER_
  * may be NULL): the window, free flight behind it, rest ahead of it. */
 void taper_sim_bodies(const taper_sim *sim, double *x, double *v);
 
-/* ---- sim.c: the window's extent and the granules out of it ------------------- */
+/* ---- window_flight.c: the window's extent and the granules out of it ---------- */
 /* The one place the window's extent changes: granules lo..hi are
  * integrated, v_left is the frozen velocity of granule lo-1.  Moves the
  * window's range (entries newly covered on the right are zero).  0, or -1
@@ -299,7 +302,7 @@ int taper_sim_move_window(taper_sim *sim, size_t lo, size_t hi, double v_left);
 int taper_sim_release_granule(taper_sim *sim, double watch, int at_rest, double t_step, double h_step);
 
 /* The part of the drag loss of departed granules that the dissipation
- * quadrature still integrates at time t (the handover, sim.c):
+ * quadrature still integrates at time t (the handover, window_flight.c):
  * the right-hand side's extra term, 0 without drag. */
 double taper_sim_handover_power(const taper_sim *sim, double t);
 

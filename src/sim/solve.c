@@ -3,7 +3,8 @@
  * solve.c -- the run: the loop that drives the method's stepper (stepper.h)
  * towards the next output, asks events.c what a root return means and
  * window.c what the window must do, and applies the answers (the window
- * moves in sim.c; the stepper is restarted here and nowhere else).  Then the statistics and the end of the run.  It never asks which
+ * moves in window_flight.c; the stepper is restarted here and nowhere
+ * else).  Then the statistics and the end of the run.  It never asks which
  * method integrates.
  *
  * The run starts from the impulse (v_1 = 1, everything else at rest and just

@@ -2,7 +2,8 @@
 /*
  * window.c -- the policy of the active window of granules (see dynamics.h):
  * it decides, the run loop (solve.c) acts.  Every function here only reads
- * the sim; the loop moves the window (sim.c) and restarts the stepper.
+ * the sim; the loop moves the window (window_flight.c) and restarts the
+ * stepper.
  *
  *  grow:      granule hi+1 joins when z_hi reaches the growth threshold.
  *             Its state and Nordsieck history are zero in every vector, which
@@ -31,10 +32,10 @@
  * (v_{lo-1} <= v_lo <= v_{lo+1}).  Granule lo then moves at constant velocity
  * for ever unless the window pushes granule lo+1 back into it, which the gap
  * slot watches at compression 0 (gap_watch = 0): take-back is exact.  Under
- * drag it flies as m dv/dt = -drag v has it (sim.c, taper_sim_flight), and
- * the gap behind must stay open for ever under both flights
- * (drag_gap_stays_open); with Kuwabara-Kono damping open contacts push
- * nothing, so the flight is free as without it.
+ * drag it flies as m dv/dt = -drag v has it (window_flight.c,
+ * taper_sim_flight), and the gap behind must stay open for ever under both
+ * flights (drag_gap_stays_open); with Kuwabara-Kono damping open contacts
+ * push nothing, so the flight is free as without it.
  *
  * Criterion 2, at rest within the tolerance (monodisperse chains, the tails
  * of forward chains, the recoiling train of long backward chains): behind the
