@@ -531,6 +531,23 @@ double taper_sim_statistic(const taper_sim *sim, taper_statistic which)
     return NAN;
 }
 
+/* A body out of the window flies in closed form from where and when it left
+ * (taper_out; window_flight.c releases it). */
+void taper_sim_flight(const taper_sim *sim, size_t j, double t, double *x, double *v)
+{
+    const taper_out *out = &sim->out;
+    const double v0 = out->v_free[j - 1];
+    const double tau = out->t_free ? taper_sim_drag_time(sim, j) : INFINITY;
+    if (!isfinite(tau)) { /* constant velocity (as ever without drag) */
+        if (v) *v = v0;
+        if (x) *x = out->x_free[j - 1] + v0 * t;
+        return;
+    }
+    const double s = t - out->t_free[j - 1];
+    if (v) *v = v0 * exp(-s / tau);
+    if (x) *x = out->x_free[j - 1] - v0 * tau * expm1(-s / tau);
+}
+
 /* Displacements and velocities of bodies first..first+count-1 into x[0..count)
  * and v[0..count) (either may be NULL).  From the right: x_k = z_k + x_{k+1}
  * inside the window, O(bodies) in all. */

@@ -11,35 +11,38 @@
  *                  a root and window.c what the window must do, and applies
  *                  the answers (moving the window, restarting the stepper);
  *                  the statistics and the end of the run, taper_sim_run.
- *     |-> stepper.c  the steppers by method (one row each, stepper.h), and
- *     |   the steppers: stepper_cvode.c (CVODE's Adams and BDF, with
- *     |              stepper_cvode_clock.c: its clock and its roots located
- *     |              again on its interpolant), stepper_rk8.c (GSL's
- *     |              rk8pd).  Each integrates equations.c's right-hand side
- *     |              with events.c's root functions armed.
- *     |-> events.c   pulse events: the root functions, and the recording of
- *     |              a root return (observables, rings), which returns a
- *     |              taper_root_report.
- *     |-> window.c   the window policy, read-only on the sim: growth
- *     |              thresholds, which granule may leave and how
- *     |              (taper_departure), whether one must come back.
- *     |-> sample.c   the sampler: the next sample time, the user's call.
- *     |-> budget.c   the energy budget and the balances at the end.
- *     |-> equations.c the right-hand side and the error weights on the
- *     |              state's entries, for every stepper.
  *     v
- *   sim.c          the state: allocation (with the bodies of extended.c),
- *                  free, the theory and tolerance scales, the results'
- *                  accessors (state, striker, forces), the log.
+ *   steppers.c     the steppers by method (one row each, stepper.h), and
+ *                  the steppers: stepper_cvode.c (CVODE's Adams and BDF,
+ *                  with stepper_cvode_clock.c: its clock and its roots
+ *                  located again on its interpolant; nvector_window.c,
+ *                  sundials_compat.c), stepper_rk8.c (GSL's rk8pd).  Each
+ *                  integrates equations.c's right-hand side with events.c's
+ *                  root functions armed.
+ *     v
+ *   events.c       pulse events: the root functions, and the recording of
+ *                  a root return (observables, rings), which returns a
+ *                  taper_root_report.
+ *   window.c       the window policy, read-only on the sim: growth
+ *                  thresholds, which granule may leave and how
+ *                  (taper_departure), whether one must come back.
+ *   sample.c       the sampler: the next sample time, the user's call.
+ *   budget.c       the energy budget and the balances at the end.
+ *   equations.c    the right-hand side and the error weights on the
+ *                  state's entries, for every stepper.
  *     v
  *   window_flight.c the window's extent (taper_sim_move_window, the only
  *                  code that moves it) and the granules that leave it into
- *                  closed-form flight, free or under drag with the handover
- *                  of their drag loss, and come back.
+ *                  flight, free or under drag with the handover of their
+ *                  drag loss, and come back.
+ *     v
+ *   sim.c          the state: allocation (with the bodies of extended.c),
+ *                  free, the theory and tolerance scales, the results'
+ *                  accessors (state, striker, forces, the closed-form
+ *                  flight of a body out of the window), the log.
  *     v
  *   dynamics.c, dynamics_api.c, extended.c, window_storage.c (leaves: they
- *   call nothing else in src/sim); nvector_window.c and sundials_compat.c,
- *   leaves of the CVODE stepper.
+ *   call nothing else in src/sim).
  *
  * Who writes what after taper_sim_alloc:
  *   sim->pulse               events.c (taper_events_record, _arm)
@@ -55,38 +58,11 @@
 #define TAPER_SIM_H
 
 #include "dynamics.h"
+#include "extended.h"
 #include "settings/specs.h"
 #include "window_storage.h"
 
-/* The chain the sim integrates (extended.c): bodies 1..bodies, granule k
- * of the chain being body k + off.  A striker or a left wall is body 1
- * (off = 1), a right wall body `bodies`; walls have mass 0.  Every array of
- * the sim indexed by granule (observables, scales, events, the window) is
- * indexed by body; the public readers add off. */
-typedef struct taper_model {
-    size_t granules;        /* N                                            */
-    size_t off;             /* bodies before granule 1 (0 or 1)             */
-    size_t bodies;          /* off + N + (1 with a right wall)              */
-    int striker, wall_left, wall_right;
-    /* A piston is a left wall (wall_left is set: body 1, inverse mass 0,
-     * its force and impulse the left wall's) that moves at velocity 1 until
-     * t = piston_duration (INFINITY: never stops), then rests; the body
-     * with the impulse is the piston itself (impulse = 1), granule 1
-     * rests.  docs/physics.md, "Piston". */
-    int piston;
-    double piston_duration;
-    size_t impulse;         /* the body moving at t = 0 (velocity 1)        */
-    double scale_mass;      /* its mass, granule 1's behind a piston: the
-                               scale of energies and impulses              */
-    double load, damping, drag;
-    int options;            /* any option: the general right-hand side      */
-    int free_flight;        /* no load, no drag: bodies that leave the
-                               window fly freely (window.c)                 */
-    int quadratures;        /* walls or losses: the stepper integrates the
-                               wall impulses and the dissipated energy      */
-    double *mass, *contact, *rest; /* per body (contact: with the next)     */
-    double *delta;          /* static overlaps (NULL without a load)        */
-} taper_model;
+#include <math.h>
 
 /* Root-function slots: a ring of pass slots and a ring of peak slots that
  * follow the front, then one slot for growing the window and one for the
@@ -271,12 +247,20 @@ static inline double *taper_sim_quadratures(const taper_sim *sim)
     return y ? y + (taper_dyn_end(&sim->dyn) - taper_dyn_begin(&sim->dyn)) : NULL;
 }
 
+/* The drag's relaxation time m_j / drag of body j (INFINITY: no drag, or a
+ * wall). */
+static inline double taper_sim_drag_time(const taper_sim *sim, size_t j)
+{
+    const double rate = sim->model.drag * sim->dyn.inv_mass[j - 1];
+    return rate > 0.0 ? 1.0 / rate : INFINITY;
+}
+
 /* The true time of time t on the stepper's clock: t plus the clock's low
  * part as of the last advance (CVODE's rounding drift summed exactly, rk8's
  * compensated sum; stepper.h). */
 static inline double taper_sim_true_time(const taper_sim *sim, double t) { return t + sim->t_low; }
 
-/* ---- sim.c: the state ------------------------------------------------------ */
+/* ---- sim.c: the state and its readers ---------------------------------------- */
 /* Hands a message to the caller's taper_log_fn, if any (level 0:
  * information, 1: warning).  Never cut: a long message is formatted into
  * an allocated buffer. */
@@ -285,6 +269,10 @@ void taper_sim_log(const taper_sim *sim, int level, const char *fmt, ...) TAPER_
 /* The state of every body at sim->t (caller-owned arrays of sim->n, either
  * may be NULL): the window, free flight behind it, rest ahead of it. */
 void taper_sim_bodies(const taper_sim *sim, double *x, double *v);
+
+/* Position and velocity at time t of body j < lo, out of the window (see
+ * taper_out); either pointer may be NULL. */
+void taper_sim_flight(const taper_sim *sim, size_t j, double t, double *x, double *v);
 
 /* ---- window_flight.c: the window's extent and the granules out of it ---------- */
 /* The one place the window's extent changes: granules lo..hi are
@@ -311,10 +299,6 @@ double taper_sim_handover_power(const taper_sim *sim, double t);
  * the stepper.  0, or -1 when the window cannot grow. */
 int taper_sim_recall_granule(taper_sim *sim);
 
-/* Position and velocity at time t of body j < lo, out of the window (see
- * taper_out); either pointer may be NULL. */
-void taper_sim_flight(const taper_sim *sim, size_t j, double t, double *x, double *v);
-
 /* Energy the drag has taken from the bodies while they were out of the
  * window, up to sim->t (0 without drag).  O(N): for the end of the run. */
 double taper_sim_dissipated_out(const taper_sim *sim);
@@ -325,13 +309,6 @@ double taper_sim_dissipated_out(const taper_sim *sim);
  * entries). */
 void taper_equations_rhs(const taper_sim *sim, double t, const double *y, double *f);
 void taper_equations_weights(const taper_sim *sim, const double *y, double *w);
-
-/* ---- extended.c: the chain the sim integrates (a leaf) ------------------------- */
-/* 0, or -1 when out of memory (taper_model_release frees what was made). */
-int taper_model_init(taper_model *m, const taper_chain *chain);
-void taper_model_release(taper_model *m);
-/* Copies the options into the equations (dynamics.h). */
-void taper_model_configure(const taper_model *m, taper_dyn *d);
 
 /* ---- sample.c: the sampler ---------------------------------------------------- */
 /* The next sample time, INFINITY without a sampler. */

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * stepper.h -- the integrators of a run as steppers: one file each, the
- * same few operations, chosen by the method (stepper.c, one row per
+ * same few operations, chosen by the method (steppers.c, one row per
  * method), as REBOUND's integrator_*.c.  The loop (solve.c) drives any of
  * them and never asks which one runs:
  *
@@ -26,7 +26,7 @@
  * CVODE's root finding; its clock and its roots located again on its
  * interpolant in stepper_cvode_clock.c), stepper_rk8.c (GSL's rk8pd,
  * single step, with its own root location).  A new one is a file that
- * defines a taper_stepper_type and a row of stepper.c's table, its method
+ * defines a taper_stepper_type and a row of steppers.c's table, its method
  * a row of the settings' table (TAPER_METHOD_LIST).
  */
 #ifndef TAPER_STEPPER_H
@@ -130,7 +130,7 @@ typedef struct taper_stepper_row {
     int on_window;
 } taper_stepper_row;
 
-/* stepper.c: the method's row; NULL for a value outside TAPER_METHOD_LIST. */
+/* steppers.c: the method's row; NULL for a value outside TAPER_METHOD_LIST. */
 const taper_stepper_row *taper_stepper_of(taper_method method);
 
 /* The steppers (each defined in its own file). */

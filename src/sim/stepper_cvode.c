@@ -8,7 +8,7 @@
  * stepper_cvode_clock.c's.  Every call that depends on the SUNDIALS
  * version goes through sundials_compat.c.
  */
-#include "stepper_cvode.h"
+#include "stepper_cvode_memory.h"
 
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>

@@ -4,10 +4,10 @@
  * CVODE's own clock summed exactly (the low part of the time it returns,
  * taper_step.t_low), and a root CVODE returned located again on the step's
  * interpolant (its refine_root).  Both need only CVODE's memory and the
- * stepper's clock fields (stepper_cvode.h).
+ * stepper's clock fields (stepper_cvode_memory.h).
  */
 #include "illinois.h"
-#include "stepper_cvode.h"
+#include "stepper_cvode_memory.h"
 
 #include <cvode/cvode.h>
 

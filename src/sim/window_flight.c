@@ -37,29 +37,6 @@ int taper_sim_move_window(taper_sim *sim, size_t lo, size_t hi, double v_left)
     return 0;
 }
 
-/* The drag's relaxation time m_j / drag of body j (INFINITY: no drag, or a
- * wall). */
-static double drag_time(const taper_sim *sim, size_t j)
-{
-    const double rate = sim->model.drag * sim->dyn.inv_mass[j - 1];
-    return rate > 0.0 ? 1.0 / rate : INFINITY;
-}
-
-void taper_sim_flight(const taper_sim *sim, size_t j, double t, double *x, double *v)
-{
-    const taper_out *out = &sim->out;
-    const double v0 = out->v_free[j - 1];
-    const double tau = out->t_free ? drag_time(sim, j) : INFINITY;
-    if (!isfinite(tau)) { /* constant velocity (as ever without drag) */
-        if (v) *v = v0;
-        if (x) *x = out->x_free[j - 1] + v0 * t;
-        return;
-    }
-    const double s = t - out->t_free[j - 1];
-    if (v) *v = v0 * exp(-s / tau);
-    if (x) *x = out->x_free[j - 1] - v0 * tau * expm1(-s / tau);
-}
-
 /* ---- drag: the handover of a departed granule's loss ------------------------- */
 /* A granule that leaves the window under drag goes on losing drag v^2 in
  * its flight.  Dropping that term from the dissipation quadrature's
@@ -122,7 +99,7 @@ static double handover_integral(const taper_sim *sim, size_t j, double t)
     const double a = sim->out.hand_start[j - 1];
     const double b = fmin(t, a + sim->out.hand_length[j - 1]);
     if (!(b > a)) return 0.0;
-    const double decay = 2.0 / drag_time(sim, j) * (b - a);
+    const double decay = 2.0 / taper_sim_drag_time(sim, j) * (b - a);
     const size_t panels = decay > 2.0 ? (size_t)ceil(decay / 2.0) : 1;
     const double width = (b - a) / (double)panels;
     double sum = 0.0;
@@ -183,7 +160,7 @@ static int start_flight_under_drag(taper_sim *sim, size_t j, double t_step, doub
     out->hand_length[j - 1] = HANDOVER_STEPS * h_step;
     /* when it will move slower than an absorbed pulse (solve.c) */
     const double v = fabs(out->v_free[j - 1]), slow = sim->spec.rtol + sim->spec.atol * sim->v_scale[j - 1];
-    const double tau = drag_time(sim, j);
+    const double tau = taper_sim_drag_time(sim, j);
     if (v > slow && isfinite(tau)) out->quiet_after = fmax(out->quiet_after, sim->t + tau * log(v / slow));
     return 0;
 }

@@ -23,8 +23,8 @@ instead of waiting for a reviewer:
    package build on, includes nothing of theirs: only its own headers and
    taper.h.
 8. The integrators are steppers (src/sim/stepper.h): only the run's loop
-   (src/sim/solve.c) and the stepper files (src/sim/stepper.[ch],
-   src/sim/stepper_*.[ch]) include stepper.h, directly or through another
+   (src/sim/solve.c) and the stepper files (src/sim/stepper.h, the table
+   src/sim/steppers.c, src/sim/stepper_*.[ch]) include stepper.h, directly or through another
    header, so that nothing else in the library can ask which one runs.
 9. SUNDIALS is the CVODE stepper's own: in src/, only its files include a
    SUNDIALS header (<sundials/...>, <cvode/...>, <nvector/...>, ...),
@@ -53,7 +53,7 @@ SYSTEM_INCLUDE = re.compile(r"^\s*#\s*include\s*<([^>]+)>", re.M)
 SUNDIALS_HEADER = re.compile(r"^(sundials|cvodes?|arkode|idas?|kinsol|nvector|sunlinsol|sunmatrix|"
                              r"sunnonlinsol|sunmemory|sunadaptcontroller)/")
 STEPPER_HEADER = "src/sim/stepper.h"
-STEPPER_FILE = re.compile(r"^src/sim/stepper(_\w+)?\.[ch]$")
+STEPPER_FILE = re.compile(r"^src/sim/steppers?(_\w+)?\.[ch]$")
 LOOP = "src/sim/solve.c"
 CVODE_STEPPER_FILE = re.compile(r"^src/sim/(stepper_cvode(_\w+)?|nvector_window|sundials_compat)\.[ch]$")
 

@@ -1,13 +1,13 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * stepper_cvode.h -- the CVODE stepper's memory, shared by its files:
+ * stepper_cvode_memory.h -- the CVODE stepper's memory, shared by its files:
  * stepper_cvode.c (set-up, CVODE's callbacks, the stepper's operations)
  * and stepper_cvode_clock.c (CVODE's clock, and its roots located again on
  * its interpolant).  Private to them: the rest of the run sees a
- * taper_stepper (stepper.h), and SUNDIALS only here.
+ * taper_stepper (stepper.h) and no SUNDIALS type.
  */
-#ifndef TAPER_STEPPER_CVODE_H
-#define TAPER_STEPPER_CVODE_H
+#ifndef TAPER_STEPPER_CVODE_MEMORY_H
+#define TAPER_STEPPER_CVODE_MEMORY_H
 
 #include "nvector_window.h"
 #include "stepper.h"

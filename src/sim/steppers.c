@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * stepper.c -- the steppers by method: one row per method of
+ * steppers.c -- the steppers by method: one row per method of
  * TAPER_METHOD_LIST (taper.h), the only place that ties a method to the
  * file that integrates it (stepper.h).
  */
