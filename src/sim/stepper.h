@@ -6,12 +6,15 @@
  * them and never asks which one runs:
  *
  *   alloc, start   the stepper and the state's storage, then the start at
- *                  t = 0 from the state the loop set, root functions armed;
- *   advance        towards an output time, stopping at the first root;
+ *                  t = 0 from the state the loop set, root functions armed
+ *                  (arm_roots again when their number changes);
+ *   advance        towards an output time, stopping at the first root, or
+ *                  at the stop time (set_stop); where its own state has
+ *                  got to (reached, last_step);
  *   restart        after the loop changed the state (a granule taken back,
  *                  the piston stopped): a history no longer holds;
  *   refine_root    an event's zero located again inside the last step;
- *   counters, free.
+ *   counters, describe_failure, free.
  *
  * A stepper integrates equations.c's right-hand side under its error
  * weights, with events.c's root functions (taper_events_slots of them, in
