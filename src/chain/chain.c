@@ -8,7 +8,7 @@
  * mixed materials (m_k = rho_k R_k^3, r_k 2 c_1 / (c_k + c_{k+1})), the
  * contact factors of walls and of a striker.  With every option at its
  * default the arithmetic is exactly the paper chain's.  The settings are
- * checked in chain_spec.c and chain_options.c; this file only adds the
+ * checked in chain_spec_check.c and chain_options.c; this file only adds the
  * limits of double precision.
  */
 #include "chain/chain_impl.h"

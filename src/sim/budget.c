@@ -5,7 +5,8 @@
  * replace plain conservation:
  *
  *   energy:    E(t) + D(t) = E(0), D the energy dissipated by damping and
- *              drag (a CVODE quadrature with error control, solve.c), E
+ *              drag (an entry of the state integrated under the error
+ *              control, equations.c), E
  *              measured from the loaded equilibrium (dynamics.h), so
  *              TAPER_STAT_ENERGY_ERROR = |E + D - E(0)| / E(0);
  *   momentum:  P(t) - P(0) = J_left - J_right + F0 t (free first body)
@@ -87,7 +88,8 @@ void taper_budget_compute(taper_sim *sim, const double *q)
     s->wall_impulse[TAPER_RIGHT] = m->wall_right && q ? q[TAPER_QUAD_WALL_RIGHT] + static_impulse : NAN;
     s->energy_transmitted = s->energy_reflected = s->energy_in_chain = NAN;
     s->piston_work = taper_budget_piston_work(sim, q);
-    if (!sim->cv.y) return;
+    const double *y = taper_sim_entries(sim);
+    if (!y) return;
     double *x = malloc(n * sizeof(double)), *v = malloc(n * sizeof(double));
     double *phi = malloc(n * sizeof(double));
     if (!x || !v || !phi) {
@@ -95,7 +97,6 @@ void taper_budget_compute(taper_sim *sim, const double *q)
         return;
     }
     const taper_dyn *d = &sim->dyn;
-    const double *y = taper_sim_data(sim, sim->cv.y);
     taper_sim_bodies(sim, x, v);
     /* The clusters: body k starts a new one after an open contact (a wall
      * belongs to none: it does not move). */

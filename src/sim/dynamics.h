@@ -22,9 +22,9 @@
  * slot").  It exerts no force on either side: granule lo-1 cannot take the
  * reaction, and a force on lo alone changed the momentum.  The contact
  * joins the equations when lo-1 is taken back, at the root of the gap slot
- * (sim.c, window.c).  With the force applied to lo, the CVODE step holding
- * that root integrated a one-sided force from the root to its end, and the
- * state interpolated back to the root carried it: a pulse reflected from a
+ * (window_flight.c, window.c).  With the force applied to lo, the CVODE
+ * step holding that root integrated a one-sided force from the root to its
+ * end, and the state interpolated back to the root carried it: a pulse reflected from a
  * right wall into a free end (t_end) lost 8e-8 of the momentum in one
  * collision (momentum error 1.4e-7, energy 3.0e-7, N = 200, against 2e-12
  * and 4.9e-9 for the whole chain; docs/window.md).

@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * equations.c -- the equations every integrator of the run sees, on the
+ * equations.c -- the equations every stepper of the run integrates, on the
  * state's entries (the window's, from absolute index taper_dyn_begin, or
- * the whole chain's): the right-hand side and the error weights.  CVODE's
- * callbacks (solve.c) and method 'rk8' (rk8.c, through solve.c) both call
- * these, so that the two integrate one system under one tolerance.
+ * the whole chain's): the right-hand side and the error weights.  Every
+ * stepper calls these (stepper.h), so that all integrate one system under
+ * one tolerance.
  */
 #include "sim.h"
 
@@ -22,15 +22,16 @@ void taper_equations_rhs(const taper_sim *sim, double t, const double *y, double
     taper_dyn_carry(d, f);
     if (!sim->model.quadratures) return;
     /* With walls or losses the state ends with TAPER_N_QUADRATURES entries
-     * after the window's (the window vector's tail, nvector_window.h; after
-     * the 2 bodies entries of the whole chain): the wall impulses and the
+     * after the window's (the window's tail, window_storage.h; after the
+     * 2 bodies entries of the whole chain): the wall impulses and the
      * dissipated energy, integrated with the motion and under its error
      * control, so that E + D = E(0) holds to the tolerance (budget.c).
-     * CVODE itself has no quadratures (CVODES has; the build links
-     * CVODE). */
+     * They are entries of the state, not a stepper's quadratures: CVODE
+     * itself has none (CVODES has; the build links CVODE). */
     double *q = f + (taper_dyn_end(d) - taper_dyn_begin(d));
     taper_dyn_quadrature_rhs(d, y, q);
-    /* departed granules' drag loss, fading out of the quadrature (sim.c) */
+    /* departed granules' drag loss, fading out of the quadrature
+     * (window_flight.c) */
     if (sim->out.n_handing) q[TAPER_QUAD_DISSIPATED] += taper_sim_handover_power(sim, t);
 }
 

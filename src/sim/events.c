@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * events.c -- pulse events located exactly by CVODE's root finder.  Writes
+ * events.c -- pulse events located exactly by the stepper's root finder
+ * (CVODE's, rk8's: stepper.h), on the root functions defined here.  Writes
  * only sim->pulse (the rings, the references, the observables); tells the
  * run loop what a root return asks of the window (taper_root_report) and
  * leaves the window to it.
@@ -28,10 +29,10 @@
  * of the next granule the pulse must pass is always armed, because at the
  * event that makes it next its velocity equals the pulse velocity.
  *
- * Where CVODE's root finder compares signs (SUNDIALS >= 6.5, or the bundled
- * 6.4.1 with our backport) and the contact exponent is at least 2
- * (pulse.arm_all, sim.c), every event is armed from the start of the
- * pulse: the rings grow (at root returns,
+ * Where the root finder compares signs (rk8's; CVODE's from SUNDIALS 6.5,
+ * or the bundled 6.4.1 with our backport) and the contact exponent is at
+ * least 2 (pulse.arm_all, taper_events_arm), every event is armed from the
+ * start of the pulse: the rings grow (at root returns,
  * taper_events_fit_rings) to cover every window granule whose event is
  * unknown, so their size is bounded by the window's (7-8 slots each on
  * paper chains), and an event several granules ahead of the lowest unknown
@@ -315,14 +316,6 @@ static void record_wall(taper_sim *sim, const double *y, int end)
     }
 }
 
-int taper_events_root_function(double t, N_Vector yv, double *g, void *user)
-{
-    (void)t;
-    const taper_sim *sim = user;
-    taper_events_root_values(sim, taper_sim_data(sim, yv), g);
-    return 0;
-}
-
 void taper_events_root_values(const taper_sim *sim, const double *y, double *g)
 {
     const taper_dyn *d = &sim->dyn;
@@ -338,6 +331,17 @@ void taper_events_root_values(const taper_sim *sim, const double *y, double *g)
 static size_t wall_slots(const taper_sim *sim)
 {
     return (size_t)(sim->model.wall_left != 0) + (size_t)(sim->model.wall_right != 0);
+}
+
+/* Rings that grow need a precursor without crossings, as the Hertzian one
+ * (above); below n = 2 the force z^(n-1) is strong at tiny compressions and
+ * the precursor overtakes long before the pulse: there a pass is a crossing
+ * of the granule that leads ("leading passes"), which the precursor's
+ * crossings are not.  Either needs a root finder that compares signs. */
+void taper_events_arm(taper_sim *sim, int sees_tiny_sign_changes)
+{
+    sim->pulse.arm_all = sim->exponent >= 2.0 && sees_tiny_sign_changes;
+    sim->pulse.lead = sim->exponent < 2.0 && sees_tiny_sign_changes;
 }
 
 size_t taper_events_grow_slot(const taper_sim *sim)
@@ -414,7 +418,8 @@ static int genuine_pass_root(const taper_sim *sim, const double *y, size_t k)
     return (sim->pulse.arm_all || sim->pulse.lead) && g <= ROOT_TIME_RESOLUTION * rate * fabs(sim->t);
 }
 
-/* The root functions' values for taper_sim_refine_root: pass_value above. */
+/* The root functions' values for the stepper's refine_root: pass_value
+ * above. */
 
 static double peak_value(const taper_sim *sim, const double *y, size_t k)
 {
@@ -432,11 +437,12 @@ static void carry_pass(taper_sim *sim, const double *y, size_t k)
     sim->pulse.obs[TAPER_X_PASS][c - 1] = sim->rest[c - 1] + taper_dyn_position(&sim->dyn, y, c);
 }
 
-/* The observables of an event are those of the state at its zero located
- * to a few ulps of t on CVODE's interpolant (taper_sim_refine_root), at
- * the true time (taper_sim_true_time); y, the state CVODE returned, decides
- * only whether the root is genuine. */
-static void record_pass(taper_sim *sim, const double *y, size_t k)
+/* The observables of an event are those of the state at its zero as the
+ * stepper locates it (`where`: to a few ulps of t below
+ * TAPER_REFINE_BELOW_RTOL, CVODE's on its interpolant), at the true time
+ * (taper_sim_true_time); y, the state the stepper returned, decides only
+ * whether the root is genuine. */
+static void record_pass(taper_sim *sim, const double *y, size_t k, taper_root_locator where)
 {
     const taper_dyn *d = &sim->dyn;
     sim->pulse.events[k - 1] |= TAPER_EV_PASS;
@@ -444,7 +450,7 @@ static void record_pass(taper_sim *sim, const double *y, size_t k)
         sim->pulse.untimed_passes++; /* passed before its slot was armed */
         return;
     }
-    const double t = taper_sim_refine_root(sim, pass_value, k, &y);
+    const double t = where.refine(where.stepper, pass_value, k, &y);
     sim->pulse.obs[TAPER_T_PASS][k - 1] = taper_sim_true_time(sim, t);
     sim->pulse.obs[TAPER_X_PASS][k - 1] = sim->rest[k - 1] + taper_dyn_position(d, y, k);
     carry_pass(sim, y, k);
@@ -454,7 +460,7 @@ static void record_pass(taper_sim *sim, const double *y, size_t k)
     if (z > 0.0) sim->pulse.z_ref = z;
 }
 
-static void record_peak(taper_sim *sim, const double *y, size_t k)
+static void record_peak(taper_sim *sim, const double *y, size_t k, taper_root_locator where)
 {
     double v = velocity(sim, y, k);
     if (!(v > 0.0)) return; /* a maximum while moving backwards is no pulse peak */
@@ -463,7 +469,7 @@ static void record_peak(taper_sim *sim, const double *y, size_t k)
         sim->pulse.untimed_peaks++; /* peaked before its slot was armed */
         return;
     }
-    const double t = taper_sim_refine_root(sim, peak_value, k, &y);
+    const double t = where.refine(where.stepper, peak_value, k, &y);
     sim->pulse.obs[TAPER_V_PEAK][k - 1] = velocity(sim, y, k);
     sim->pulse.obs[TAPER_T_PEAK][k - 1] = taper_sim_true_time(sim, t);
     if (carrier(sim, k) && k + 1 <= sim->target && !known(sim, k + 1, TAPER_EV_PEAK)) {
@@ -532,17 +538,17 @@ static void advance_rings(taper_sim *sim, const double *y)
     }
 }
 
-taper_root_report taper_events_record(taper_sim *sim, const int *roots_found)
+taper_root_report taper_events_record(taper_sim *sim, const int *roots_found, taper_root_locator where)
 {
-    const double *y = taper_sim_data(sim, sim->cv.y);
+    const double *y = taper_sim_entries(sim);
     const size_t passed_before = sim->pulse.next_pass;
     /* Granules in increasing order, mapped with the ring as it was when
      * CVODE evaluated the slots. */
     const size_t np = sim->pulse.pass_slots, nk = sim->pulse.peak_slots;
     for (size_t k = sim->pulse.next_pass; k < sim->pulse.next_pass + np; k++)
-        if (roots_found[(k - 1) % np] > 0 && k <= sim->pass_limit) record_pass(sim, y, k);
+        if (roots_found[(k - 1) % np] > 0 && k <= sim->pass_limit) record_pass(sim, y, k, where);
     for (size_t k = sim->pulse.next_peak; k < sim->pulse.next_peak + nk; k++)
-        if (roots_found[np + (k - 1) % nk] < 0 && k <= sim->target) record_peak(sim, y, k);
+        if (roots_found[np + (k - 1) % nk] < 0 && k <= sim->target) record_peak(sim, y, k, where);
     advance_rings(sim, y);
     size_t slot = np + nk + 2;
     if (sim->model.wall_left && roots_found[slot++] < 0) record_wall(sim, y, TAPER_LEFT);
@@ -556,7 +562,7 @@ taper_root_report taper_events_record(taper_sim *sim, const int *roots_found)
 
 void taper_events_piston_stopped(taper_sim *sim)
 {
-    const double *y = taper_sim_data(sim, sim->cv.y);
+    const double *y = taper_sim_entries(sim);
     /* v_2 - v_1 jumps to v_2 > 0 when v_1 did not reach 1: the pass */
     if (sim->pulse.next_pass == 1 && !known(sim, 1, TAPER_EV_PASS)) {
         sim->pulse.events[0] |= TAPER_EV_PASS;
@@ -582,7 +588,7 @@ int taper_events_walls_settled(const taper_sim *sim)
     if (isnan(peak)) return 0;
     size_t k, g;
     if (!wall_contact(sim, TAPER_RIGHT, &k, &g)) return 1;
-    const double force = taper_dyn_window_force(&sim->dyn, taper_sim_data(sim, sim->cv.y), k);
+    const double force = taper_dyn_window_force(&sim->dyn, taper_sim_entries(sim), k);
     const double rest = sim->model.load;
     return force <= rest + 0.5 * (peak - rest);
 }

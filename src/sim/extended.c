@@ -16,7 +16,7 @@
  * with v_left = 0.  Events, the window and the tolerance scales work on
  * body indices; the sim publishes granules 1..N as bodies 1+off..N+off.
  */
-#include "sim.h"
+#include "extended.h"
 
 #include <math.h>
 #include <stdlib.h>

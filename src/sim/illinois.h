@@ -3,8 +3,9 @@
  * illinois.h -- the Illinois method (regula falsi whose end that stays
  * put twice in a row has its value halved): a root finder that keeps its
  * bracket [a, b] and converges superlinearly.  Used where a root is
- * located again on CVODE's interpolant (clock.c) and where rk8 locates
- * its roots on trial steps and on its Hermite interpolant (rk8.c).  A
+ * located again on CVODE's interpolant (stepper_cvode_clock.c) and where
+ * rk8 locates its roots on trial steps and on its Hermite interpolant
+ * (stepper_rk8.c).  A
  * leaf: header-only, nothing of the sim.
  */
 #ifndef TAPER_ILLINOIS_H

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * nvector_window.c -- the sliding-window N_Vector (see nvector_window.h).
- * The operations are the serial ones restricted to the active range.
+ * The operations are the serial ones restricted to the active range; the
+ * buffers and their range are window_storage.c's.
  */
 #include "nvector_window.h"
 
@@ -18,39 +19,11 @@ typedef struct {
 
 double *taper_window_data(N_Vector v)
 {
-    window_content *c = CONTENT(v);
-    return c->buf + (c->w->begin - c->w->base);
+    const window_content *c = CONTENT(v);
+    return taper_window_entries(c->w, c->buf);
 }
 
-size_t taper_window_length(N_Vector v)
-{
-    const taper_window *w = CONTENT(v)->w;
-    return w->end - w->begin + w->tail;
-}
-
-/* ---- registry ------------------------------------------------------- */
-static int register_vector(taper_window *w, N_Vector v)
-{
-    if (w->n_vectors == w->vectors_cap) {
-        size_t cap = w->vectors_cap ? 2 * w->vectors_cap : 32;
-        N_Vector *grown = realloc(w->vectors, cap * sizeof *grown);
-        if (!grown) return -1;
-        w->vectors = grown;
-        w->vectors_cap = cap;
-    }
-    w->vectors[w->n_vectors++] = v;
-    return 0;
-}
-
-static void unregister_vector(taper_window *w, N_Vector v)
-{
-    for (size_t i = 0; i < w->n_vectors; i++) {
-        if (w->vectors[i] == v) {
-            w->vectors[i] = w->vectors[--w->n_vectors];
-            return;
-        }
-    }
-}
+size_t taper_window_length(N_Vector v) { return taper_window_size(CONTENT(v)->w); }
 
 /* ---- required operations -------------------------------------------- */
 static N_Vector_ID window_id(N_Vector v) { (void)v; return SUNDIALS_NVEC_CUSTOM; }
@@ -59,8 +32,7 @@ static void window_destroy(N_Vector v)
 {
     if (!v) return;
     if (v->content) {
-        unregister_vector(CONTENT(v)->w, v);
-        free(CONTENT(v)->buf);
+        taper_window_detach(CONTENT(v)->w, &CONTENT(v)->buf);
         free(v->content);
         v->content = NULL;
     }
@@ -76,15 +48,12 @@ static N_Vector window_new_like(taper_window *w, SUNContext ctx, N_Vector ops_fr
         return NULL;
     }
     window_content *c = malloc(sizeof *c);
-    double *buf = calloc(w->capacity, sizeof(double));
-    if (!c || !buf || register_vector(w, v) != 0) {
+    if (c) c->w = w;
+    if (!c || taper_window_attach(w, &c->buf) != 0) {
         free(c);
-        free(buf);
         N_VFreeEmpty(v);
         return NULL;
     }
-    c->w = w;
-    c->buf = buf;
     v->content = c;
     return v;
 }
@@ -365,31 +334,6 @@ static void set_ops(N_Vector v)
 }
 
 /* ---- the window ------------------------------------------------------ */
-taper_window *taper_window_alloc_tail(size_t begin, size_t end, size_t capacity, size_t tail)
-{
-    if (tail > TAPER_WINDOW_TAIL_MAX) return NULL;
-    taper_window *w = calloc(1, sizeof *w);
-    if (!w) return NULL;
-    w->begin = begin;
-    w->end = end;
-    w->tail = tail;
-    w->base = begin;
-    w->capacity = capacity > end - begin + tail ? capacity : end - begin + tail;
-    return w;
-}
-
-taper_window *taper_window_alloc(size_t begin, size_t end, size_t capacity)
-{
-    return taper_window_alloc_tail(begin, end, capacity, 0);
-}
-
-void taper_window_free(taper_window *w)
-{
-    if (!w) return;
-    free(w->vectors);
-    free(w);
-}
-
 N_Vector taper_window_vector_new(taper_window *w, SUNContext ctx)
 {
     N_Vector v = window_new_like(w, ctx, NULL);
@@ -397,70 +341,4 @@ N_Vector taper_window_vector_new(taper_window *w, SUNContext ctx)
     return v;
 }
 
-/* Copies what old buffers hold of [begin, end) into fresh buffers based at
- * `base`, and the tail from the old end to the new; everything else in the
- * new buffers is zero. */
-static int reposition(taper_window *w, size_t base, size_t capacity, size_t begin, size_t end)
-{
-    size_t n = w->n_vectors;
-    double **fresh = calloc(n ? n : 1, sizeof *fresh);
-    if (!fresh) return -1;
-    for (size_t j = 0; j < n; j++) {
-        fresh[j] = calloc(capacity, sizeof(double));
-        if (!fresh[j]) {
-            for (size_t i = 0; i < j; i++) free(fresh[i]);
-            free(fresh);
-            return -1;
-        }
-    }
-    size_t lo = begin > w->base ? begin : w->base;
-    /* Beyond the old end the old buffers hold the tail, then zeros. */
-    size_t hi = end < w->end ? end : w->end;
-    for (size_t j = 0; j < n; j++) {
-        window_content *c = CONTENT(w->vectors[j]);
-        if (hi > lo) memcpy(fresh[j] + (lo - base), c->buf + (lo - w->base), (hi - lo) * sizeof(double));
-        if (w->tail)
-            memcpy(fresh[j] + (end - base), c->buf + (w->end - w->base), w->tail * sizeof(double));
-        free(c->buf);
-        c->buf = fresh[j];
-    }
-    free(fresh);
-    w->base = base;
-    w->capacity = capacity;
-    return 0;
-}
-
-/* Moves the tail of every vector from the old end to `end`, zeroing where
- * it was (in place: the buffers cover both). */
-static void move_tail(taper_window *w, size_t end)
-{
-    const size_t t = w->tail;
-    if (!t || end == w->end) return;
-    double saved[TAPER_WINDOW_TAIL_MAX];
-    for (size_t j = 0; j < w->n_vectors; j++) {
-        double *b = CONTENT(w->vectors[j])->buf;
-        memcpy(saved, b + (w->end - w->base), t * sizeof(double));
-        memset(b + (w->end - w->base), 0, t * sizeof(double));
-        memcpy(b + (end - w->base), saved, t * sizeof(double));
-    }
-}
-
-int taper_window_set_range(taper_window *w, size_t begin, size_t end)
-{
-    if (begin >= w->base && end + w->tail <= w->base + w->capacity) {
-        /* Keep the zero invariant when the right edge retreats (never in
-         * normal use, but cheap to honour). */
-        for (size_t j = 0; end < w->end && j < w->n_vectors; j++)
-            memset(CONTENT(w->vectors[j])->buf + (end - w->base), 0, (w->end - end) * sizeof(double));
-        move_tail(w, end);
-        w->begin = begin;
-        w->end = end;
-        return 0;
-    }
-    size_t need = end - begin + w->tail;
-    size_t capacity = w->capacity > 2 * need ? w->capacity : 2 * need + 64;
-    if (reposition(w, begin, capacity, begin, end) != 0) return -1;
-    w->begin = begin;
-    w->end = end;
-    return 0;
-}
+double **taper_window_vector_buffer(N_Vector v) { return &CONTENT(v)->buf; }

@@ -1,44 +1,56 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sim.h -- the simulation object (struct taper_sim) and the interfaces of
- * the files of src/sim.  Private to src/sim and its unit tests.
+ * the files of src/sim.  Private to src/sim and its unit tests.  Nothing
+ * here names an integrator: the integrators are steppers (stepper.h), which
+ * only solve.c and the stepper files see.
  *
  * Layering (a file calls only files below it; nothing calls upward):
  *
- *   solve.c        the run: CVODE set-up and callbacks, the loop, statistics,
- *                  taper_sim_run.  Asks events.c what happened at a root and
- *                  window.c what the window must do, and applies the answers
- *                  (moving the window, restarting CVODE).
- *     |-> events.c   pulse events: the root function CVODE calls, and the
- *     |              recording of a root return (observables, rings), which
- *     |              returns a taper_root_report.
- *     |-> window.c   the window policy, read-only on the sim: growth
- *     |              thresholds, which granule may leave and how
- *     |              (taper_departure), whether one must come back.
- *     |-> sample.c   the sampler: the next sample time, the user's call.
- *     |-> budget.c   the energy budget and the balances at the end.
- *     |-> clock.c    CVODE's time: its clock's rounding summed exactly, and
- *     |              a root located again on the step's interpolant (for
- *     |              solve.c and events.c alike).
- *     |-> equations.c the right-hand side and the error weights on the
- *     |              state's entries, for CVODE's callbacks and for rk8.
+ *   solve.c        the run: the loop, which asks events.c what happened at
+ *                  a root and window.c what the window must do, and applies
+ *                  the answers (moving the window, restarting the stepper);
+ *                  the statistics and the end of the run, taper_sim_run.
+ *     v
+ *   steppers.c     the steppers by method (one row each, stepper.h), and
+ *                  the steppers: stepper_cvode.c (CVODE's Adams and BDF,
+ *                  with stepper_cvode_clock.c: its clock and its roots
+ *                  located again on its interpolant; nvector_window.c,
+ *                  sundials_compat.c), stepper_rk8.c (GSL's rk8pd).  Each
+ *                  integrates equations.c's right-hand side with events.c's
+ *                  root functions armed.
+ *     v
+ *   events.c       pulse events: the root functions, and the recording of
+ *                  a root return (observables, rings), which returns a
+ *                  taper_root_report.
+ *   window.c       the window policy, read-only on the sim: growth
+ *                  thresholds, which granule may leave and how
+ *                  (taper_departure), whether one must come back.
+ *   sample.c       the sampler: the next sample time, the user's call.
+ *   budget.c       the energy budget and the balances at the end.
+ *   equations.c    the right-hand side and the error weights on the
+ *                  state's entries, for every stepper.
+ *     v
+ *   window_flight.c the window's extent (taper_sim_move_window, the only
+ *                  code that moves it) and the granules that leave it into
+ *                  flight, free or under drag with the handover of their
+ *                  drag loss, and come back.
  *     v
  *   sim.c          the state: allocation (with the bodies of extended.c),
  *                  free, the theory and tolerance scales, the results'
- *                  accessors (state, striker, forces), the log, and the only
- *                  code that moves the window (taper_sim_move_window) and
- *                  that moves granules out of it and back.
+ *                  accessors (state, striker, forces, the closed-form
+ *                  flight of a body out of the window), the log.
  *     v
- *   dynamics.c, dynamics_api.c, nvector_window.c,
- *   sundials_compat.c, extended.c, rk8.c  (leaves: they call nothing else
- *   in src/sim; rk8.c, method 'rk8', is driven by solve.c through the
- *   callbacks it is given)
+ *   dynamics.c, dynamics_api.c, extended.c, window_storage.c (leaves: they
+ *   call nothing else in src/sim).
  *
  * Who writes what after taper_sim_alloc:
- *   sim->pulse               events.c (taper_events_record)
- *   sim->dyn.lo/hi/v_left    sim.c, in taper_sim_move_window only
- *   sim->out, y's entries    sim.c (taper_sim_release_granule / _recall_granule)
- *   sim->cv, sim->t, stats   solve.c (the budget's statistics: budget.c)
+ *   sim->pulse               events.c (taper_events_record, _arm)
+ *   sim->dyn.lo/hi/v_left    window_flight.c, in taper_sim_move_window only
+ *   sim->out, the state's entries of departing and returning granules
+ *                            window_flight.c (release / recall)
+ *   sim->state, sim->stepper the stepper (its storage; set up by solve.c)
+ *   sim->t, t_low, stats     solve.c (the budget's statistics: budget.c)
  *   sim->walls               events.c
  *   sim->samples_taken       sample.c
  */
@@ -46,44 +58,11 @@
 #define TAPER_SIM_H
 
 #include "dynamics.h"
-#include "nvector_window.h"
-#include "rk8.h"
+#include "extended.h"
 #include "settings/specs.h"
-#include "sundials_compat.h"
+#include "window_storage.h"
 
-#include <sundials/sundials_linearsolver.h>
-#include <sundials/sundials_matrix.h>
-#include <sundials/sundials_nonlinearsolver.h>
-
-/* The chain the sim integrates (extended.c): bodies 1..bodies, granule k
- * of the chain being body k + off.  A striker or a left wall is body 1
- * (off = 1), a right wall body `bodies`; walls have mass 0.  Every array of
- * the sim indexed by granule (observables, scales, events, the window) is
- * indexed by body; the public readers add off. */
-typedef struct taper_model {
-    size_t granules;        /* N                                            */
-    size_t off;             /* bodies before granule 1 (0 or 1)             */
-    size_t bodies;          /* off + N + (1 with a right wall)              */
-    int striker, wall_left, wall_right;
-    /* A piston is a left wall (wall_left is set: body 1, inverse mass 0,
-     * its force and impulse the left wall's) that moves at velocity 1 until
-     * t = piston_duration (INFINITY: never stops), then rests; the body
-     * with the impulse is the piston itself (impulse = 1), granule 1
-     * rests.  docs/physics.md, "Piston". */
-    int piston;
-    double piston_duration;
-    size_t impulse;         /* the body moving at t = 0 (velocity 1)        */
-    double scale_mass;      /* its mass, granule 1's behind a piston: the
-                               scale of energies and impulses              */
-    double load, damping, drag;
-    int options;            /* any option: the general right-hand side      */
-    int free_flight;        /* no load, no drag: bodies that leave the
-                               window fly freely (window.c)                 */
-    int quadratures;        /* walls or losses: CVODE integrates the wall
-                               impulses and the dissipated energy           */
-    double *mass, *contact, *rest; /* per body (contact: with the next)     */
-    double *delta;          /* static overlaps (NULL without a load)        */
-} taper_model;
+#include <math.h>
 
 /* Root-function slots: a ring of pass slots and a ring of peak slots that
  * follow the front, then one slot for growing the window and one for the
@@ -97,21 +76,21 @@ typedef struct taper_model {
 #define TAPER_EV_PASS 1u
 #define TAPER_EV_PEAK 2u
 
-/* CVODE's counters.  CVodeReInit resets them, so the run keeps the sum of
- * those of earlier restarts. */
-typedef struct taper_cvode_counters {
+/* The stepper's counters over the whole run (taper.h, TAPER_STAT_STEPS to
+ * _ERR_TEST_FAILS: what each counts for each method). */
+typedef struct taper_step_counters {
     long steps;
     long rhs_evals;
     long root_evals;
     long jac_evals;
     long nonlin_iters;
     long err_test_fails;
-} taper_cvode_counters;
+} taper_step_counters;
 
 /* The statistics of a run (taper_sim_statistic reads them by
  * TAPER_STAT_*). */
 typedef struct taper_run_statistics {
-    taper_cvode_counters cvode;
+    taper_step_counters counters;
     long window_changes;
     long restarts;
     size_t max_window;
@@ -132,7 +111,7 @@ typedef struct taper_walls {
     double peak_force[TAPER_N_ENDS], peak_time[TAPER_N_ENDS];
 } taper_walls;
 
-/* Quadratures (solve.c): the wall impulses and the dissipated energy, the
+/* Quadratures (equations.c): the wall impulses and the dissipated energy, the
  * last entries of the whole-chain state, after the 2 bodies entries. */
 #define TAPER_QUAD_WALL_LEFT 0
 #define TAPER_QUAD_WALL_RIGHT 1
@@ -152,7 +131,8 @@ typedef struct taper_pulse {
     size_t untimed_passes, untimed_peaks;
     /* Root slots: pass ring [0, pass_slots), peak ring [pass_slots,
      * pass_slots + peak_slots), then grow and gap.  arm_all: every pending
-     * event of the window is armed (taper_sundials_roots_see_tiny_values);
+     * event of the window is armed (a root finder that compares signs:
+     * taper_events_arm);
      * otherwise fixed rings of TAPER_RING_SLOTS armed near the front. */
     size_t pass_slots, peak_slots;
     int arm_all;
@@ -176,8 +156,8 @@ typedef struct taper_out {
     double *t_free;         /* departure times (drag only, else NULL)       */
     /* Drag only: the dissipation quadrature hands a departed granule's
      * drag loss over to its flight's closed form smoothly, from
-     * hand_start[j] (the end of the CVODE step it left in) over
-     * hand_length[j] (sim.c, "handover"); handing: the granules whose
+     * hand_start[j] (the end of the step it left in) over
+     * hand_length[j] (window_flight.c, "handover"); handing: the granules whose
      * handover is under way, n_handing of them (room for handing_size). */
     double *hand_start, *hand_length;
     size_t *handing, n_handing, handing_size;
@@ -191,31 +171,27 @@ typedef struct taper_out {
     long left_resting;      /* granules that left at rest within tolerance  */
 } taper_out;
 
-/* CVODE and its state vector (set up by solve.c, freed by sim.c). */
-typedef struct taper_cvode {
-    SUNContext ctx;
-    void *mem;
-    N_Vector y;
-    taper_window *window;   /* NULL: plain serial vector, whole chain       */
-    SUNMatrix band;
-    SUNLinearSolver linear;
-    SUNNonlinearSolver nonlinear;
-    taper_solver_messages messages;
-    char *message;          /* CVODE's last message (NULL: none yet)        */
-    taper_cvode_counters before_restart; /* summed over earlier restarts    */
-    int *roots;             /* CVodeGetRootInfo's answer, roots_size slots  */
-    size_t roots_size;
-    N_Vector at_root;       /* the state at a refined root (events.c)       */
-    /* Method 'rk8': the integrator in place of CVODE (mem is NULL then);
-     * its counters are the run's, its time's low part is t_shift. */
-    taper_rk8 *rk8;
-    /* CVODE's time drifts: it advances tn += h rounded to double, and at a
-     * fixed h each step rounds the same way (clock.c, taper_clock_track).  The
-     * rounding errors summed exactly: true time = CVODE's time + t_shift. */
-    double t_shift;
-    double tn_seen;         /* CVODE's tn and step count when last tracked  */
-    long nst_seen;
-} taper_cvode;
+/* The state the stepper integrates: its entries from absolute index
+ * taper_dyn_begin (the window's, or the whole chain's from 0), then the
+ * quadratures (TAPER_N_QUADRATURES of them with walls or losses).  The
+ * stepper keeps it (set up by solve.c): in the window's buffers
+ * (window_storage.h) where the run has a window, else in an array of the
+ * whole chain's 2 n entries and the quadratures. */
+typedef struct taper_state {
+    taper_window *window;   /* NULL: the whole chain                        */
+    double **buffer;        /* where the storage's pointer is kept: a buffer
+                               of the window (its entry 0 at absolute index
+                               window->base, moved with the window) or the
+                               whole chain's entries; NULL: none yet        */
+} taper_state;
+
+/* The run's stepper, opaque below solve.c (stepper.h); release: how sim.c
+ * frees it (the stepper's own free, set by solve.c). */
+struct taper_stepper;
+typedef struct taper_run_stepper {
+    struct taper_stepper *memory;
+    void (*release)(struct taper_stepper *s);
+} taper_run_stepper;
 
 struct taper_sim {
     /* read-only after taper_sim_alloc */
@@ -241,47 +217,54 @@ struct taper_sim {
     taper_walls walls;
     size_t samples_taken;   /* sampler calls so far (sample.c)              */
     taper_out out;
-    taper_cvode cv;
-    double t;               /* time of the current state                    */
+    taper_state state;
+    taper_run_stepper stepper;
+    double t;               /* time of the current state, on the stepper's
+                               clock                                        */
+    double t_low;           /* that clock's low part: the true time is
+                               t + t_low (stepper.h, taper_step)            */
     int piston_moving;      /* the piston has not stopped yet (solve.c)     */
-    double phase_stop;      /* CVODE stop time of the run's phase (solve.c) */
+    double phase_stop;      /* stop time of the run's phase (solve.c)       */
     double piston_work;     /* W at the stop: the impulse J(duration)       */
     int ran;
     taper_run_statistics stats;
 };
 
-/* ---- sim.c: the state ------------------------------------------------------ */
-/* Pointer to the entry at absolute index taper_dyn_begin() of a state vector. */
-double *taper_sim_data(const taper_sim *sim, N_Vector v);
+/* ---- the state's entries and time ------------------------------------------ */
+/* The state's entries from absolute index taper_dyn_begin (taper_state);
+ * NULL before the run has made the state. */
+static inline double *taper_sim_entries(const taper_sim *sim)
+{
+    const taper_state *s = &sim->state;
+    if (!s->buffer) return NULL;
+    return s->window ? taper_window_entries(s->window, *s->buffer) : *s->buffer;
+}
 
+/* The quadratures' entries (after the window's; NULL before the run). */
+static inline double *taper_sim_quadratures(const taper_sim *sim)
+{
+    double *y = taper_sim_entries(sim);
+    return y ? y + (taper_dyn_end(&sim->dyn) - taper_dyn_begin(&sim->dyn)) : NULL;
+}
+
+/* The drag's relaxation time m_j / drag of body j (INFINITY: no drag, or a
+ * wall). */
+static inline double taper_sim_drag_time(const taper_sim *sim, size_t j)
+{
+    const double rate = sim->model.drag * sim->dyn.inv_mass[j - 1];
+    return rate > 0.0 ? 1.0 / rate : INFINITY;
+}
+
+/* The true time of time t on the stepper's clock: t plus the clock's low
+ * part as of the last advance (CVODE's rounding drift summed exactly, rk8's
+ * compensated sum; stepper.h). */
+static inline double taper_sim_true_time(const taper_sim *sim, double t) { return t + sim->t_low; }
+
+/* ---- sim.c: the state and its readers ---------------------------------------- */
 /* Hands a message to the caller's taper_log_fn, if any (level 0:
  * information, 1: warning).  Never cut: a long message is formatted into
  * an allocated buffer. */
 void taper_sim_log(const taper_sim *sim, int level, const char *fmt, ...) TAPER_PRINTF(3, 4);
-
-/* The one place the window's extent changes: granules lo..hi are
- * integrated, v_left is the frozen velocity of granule lo-1.  Moves the
- * window vector's range (entries newly covered on the right are zero).
- * 0, or -1 when the vector cannot grow (nothing changed then). */
-int taper_sim_move_window(taper_sim *sim, size_t lo, size_t hi, double v_left);
-
-/* Granule lo leaves the window, flying freely at its velocity from now on;
- * `watch` is the gap compression that takes it back (window.c).  t_step:
- * CVODE's internal time, the end of the step that held the root (>=
- * sim->t), up to which the quadratures hold the granule's drag loss; h_step:
- * that step's size (the handover's time scale).  0, or -1 when out of
- * memory (the granule stays in the window then). */
-int taper_sim_release_granule(taper_sim *sim, double watch, int at_rest, double t_step, double h_step);
-
-/* The part of the drag loss of departed granules that the dissipation
- * quadrature still integrates at time t (the handover, sim.c): the
- * right-hand side's extra term, 0 without drag. */
-double taper_sim_handover_power(const taper_sim *sim, double t);
-
-/* Granule lo-1 returns with its ballistic state (its gap closed).  The
- * Nordsieck history is then wrong for that component: the caller restarts
- * CVODE.  0, or -1 when the window cannot grow. */
-int taper_sim_recall_granule(taper_sim *sim);
 
 /* The state of every body at sim->t (caller-owned arrays of sim->n, either
  * may be NULL): the window, free flight behind it, rest ahead of it. */
@@ -291,23 +274,41 @@ void taper_sim_bodies(const taper_sim *sim, double *x, double *v);
  * taper_out); either pointer may be NULL. */
 void taper_sim_flight(const taper_sim *sim, size_t j, double t, double *x, double *v);
 
+/* ---- window_flight.c: the window's extent and the granules out of it ---------- */
+/* The one place the window's extent changes: granules lo..hi are
+ * integrated, v_left is the frozen velocity of granule lo-1.  Moves the
+ * window's range (entries newly covered on the right are zero).  0, or -1
+ * when the window cannot grow (nothing changed then). */
+int taper_sim_move_window(taper_sim *sim, size_t lo, size_t hi, double v_left);
+
+/* Granule lo leaves the window, flying freely at its velocity from now on;
+ * `watch` is the gap compression that takes it back (window.c).  t_step:
+ * the stepper's time reached, the end of the step that held the root (>=
+ * sim->t), up to which the quadratures hold the granule's drag loss; h_step:
+ * that step's size (the handover's time scale).  0, or -1 when out of
+ * memory (the granule stays in the window then). */
+int taper_sim_release_granule(taper_sim *sim, double watch, int at_rest, double t_step, double h_step);
+
+/* The part of the drag loss of departed granules that the dissipation
+ * quadrature still integrates at time t (the handover, window_flight.c):
+ * the right-hand side's extra term, 0 without drag. */
+double taper_sim_handover_power(const taper_sim *sim, double t);
+
+/* Granule lo-1 returns with its ballistic state (its gap closed).  A
+ * multistep history is then wrong for that component: the caller restarts
+ * the stepper.  0, or -1 when the window cannot grow. */
+int taper_sim_recall_granule(taper_sim *sim);
+
 /* Energy the drag has taken from the bodies while they were out of the
  * window, up to sim->t (0 without drag).  O(N): for the end of the run. */
 double taper_sim_dissipated_out(const taper_sim *sim);
 
-/* ---- equations.c: what every integrator integrates ---------------------------- */
+/* ---- equations.c: what every stepper integrates -------------------------------- */
 /* The right-hand side f = y' and the error weights w on the state's entries
  * (from absolute index taper_dyn_begin; the quadratures after the window's
  * entries). */
 void taper_equations_rhs(const taper_sim *sim, double t, const double *y, double *f);
 void taper_equations_weights(const taper_sim *sim, const double *y, double *w);
-
-/* ---- extended.c: the chain the sim integrates (a leaf) ------------------------- */
-/* 0, or -1 when out of memory (taper_model_release frees what was made). */
-int taper_model_init(taper_model *m, const taper_chain *chain);
-void taper_model_release(taper_model *m);
-/* Copies the options into the equations (dynamics.h). */
-void taper_model_configure(const taper_model *m, taper_dyn *d);
 
 /* ---- sample.c: the sampler ---------------------------------------------------- */
 /* The next sample time, INFINITY without a sampler. */
@@ -324,33 +325,6 @@ void taper_budget_compute(taper_sim *sim, const double *q);
 /* The piston's work W(sim->t) from the quadratures q (NaN: no piston). */
 double taper_budget_piston_work(const taper_sim *sim, const double *q);
 
-/* ---- clock.c: CVODE's time for solve.c and events.c ----------------------------- */
-/* Sums the rounding of CVODE's clock over the steps taken since the last
- * call into taper_cvode.t_shift (solve.c calls it before every step and at
- * each root return). */
-void taper_clock_track(taper_sim *sim);
-
-/* The true time of CVODE's time t: t plus the rounding drift of CVODE's
- * own clock summed so far (taper_cvode.t_shift). */
-double taper_sim_true_time(const taper_sim *sim, double t);
-
-/* A root function's value for granule k at the state y (events.c). */
-typedef double (*taper_root_value)(const taper_sim *sim, const double *y, size_t k);
-
-/* Below this rtol roots are located to a few ulps of t (CVODE's, by
- * taper_sim_refine_root; rk8's by rk8.c itself); above it the integration
- * error of an event time (~10-100 rtol) dwarfs CVODE's root tolerance, and
- * the search (~10 interpolations per event, 8 % of a default monodisperse
- * run's instructions) buys nothing. */
-#define TAPER_REFINE_BELOW_RTOL 1e-11
-
-/* The zero of g(k) that CVODE returned at sim->t, located again on CVODE's
- * interpolant of the step that holds it, to a few ulps of t instead of
- * CVODE's 100 uround (|t| + |h|).  Returns its time (CVODE's clock) and
- * sets *y to the state there (sim->cv.at_root's data); where the bracket
- * cannot be formed it returns sim->t and leaves *y as it was. */
-double taper_sim_refine_root(taper_sim *sim, taper_root_value g, size_t k, const double **y);
-
 /* ---- events.c: pulse events -------------------------------------------------- */
 /* What a root return asks of the window. */
 typedef struct taper_root_report {
@@ -359,30 +333,50 @@ typedef struct taper_root_report {
     int passed;      /* a pass event moved next_pass: the back may leave     */
 } taper_root_report;
 
-int taper_events_root_function(double t, N_Vector y, double *g, void *user);
-/* The same on the state's entries (method 'rk8'). */
+/* A root function's value for granule k at the state y (events.c). */
+typedef double (*taper_root_value)(const taper_sim *sim, const double *y, size_t k);
+
+/* Where an event lies, as the stepper that returned it can say: its
+ * refine_root (stepper.h), handed to events.c by the loop so that events.c
+ * never sees a stepper.  It returns the zero's time on the stepper's clock
+ * and points *y at the state there, or returns sim->t and leaves *y. */
+typedef struct taper_root_locator {
+    double (*refine)(struct taper_stepper *s, taper_root_value g, size_t k, const double **y);
+    struct taper_stepper *stepper;
+} taper_root_locator;
+
+/* Chooses how the root functions are armed for the run (pulse.arm_all,
+ * pulse.lead), before the stepper first evaluates them:
+ * sees_tiny_sign_changes says whether the stepper's root finder sees a
+ * sign change between two tiny values whose product underflows. */
+void taper_events_arm(taper_sim *sim, int sees_tiny_sign_changes);
+/* The root functions' values at the state's entries y (taper_events_slots
+ * of them). */
 void taper_events_root_values(const taper_sim *sim, const double *y, double *g);
-/* Slots in all: the two rings, grow and gap. */
+/* Slots in all: the two rings, grow and gap, and the walls'. */
 size_t taper_events_slots(const taper_sim *sim);
 /* The slot of the window's growth (its root need not be located: the
- * window grows where the integrator's step ends, solve.c). */
+ * window grows where the stepper's step ends, solve.c). */
 size_t taper_events_grow_slot(const taper_sim *sim);
-/* CVodeSetRootDirection's array for taper_events_slots(sim) slots. */
+/* The direction of each slot's crossing (+1: from below, -1: from above),
+ * for taper_events_slots(sim) slots. */
 void taper_events_directions(const taper_sim *sim, int *directions);
 /* Where every root is armed: enlarges the rings to cover every window
- * granule whose event is unknown, after a root return (CVODE then
+ * granule whose event is unknown, after a root return (the stepper then
  * re-evaluates every root function before it looks for the next root, so
- * slots may be re-mapped).  1 if the slot count changed (the caller calls
- * CVodeRootInit again), else 0. */
+ * slots may be re-mapped).  1 if the slot count changed (the caller arms
+ * the stepper's roots again), else 0. */
 int taper_events_fit_rings(taper_sim *sim);
-/* Records the events of one CVODE root return at the current state. */
-taper_root_report taper_events_record(taper_sim *sim, const int *roots_found);
+/* Records the events of one root return at the current state: roots_found
+ * holds each slot's crossing (+1 up, -1 down, 0 none); each event's time
+ * and state are those `where` locates. */
+taper_root_report taper_events_record(taper_sim *sim, const int *roots_found, taper_root_locator where);
 int taper_events_complete(const taper_sim *sim);
 /* A right wall's force has peaked and fallen back (1 without a right wall). */
 int taper_events_walls_settled(const taper_sim *sim);
 /* At the piston's stop (solve.c, before v_1 is set to 0): the jump of
  * dz_1/dt from v_1 - v_2 to -v_2 is a maximum of the piston's compression
- * and force that no root function sees (CVODE restarts there); the
+ * and force that no root function sees (the stepper restarts there); the
  * piston's pass, if still unknown, and its force are recorded here. */
 void taper_events_piston_stopped(taper_sim *sim);
 int taper_events_passes_complete(const taper_sim *sim);

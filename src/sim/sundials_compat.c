@@ -30,9 +30,9 @@ static void forward_error(int code, const char *module, const char *function, ch
                           void *data)
 {
     (void)module;
-    /* solve.c asks for a bounded number of steps per CVode call, to call the
-     * progress monitor in between: "mxstep steps taken" is the normal end of
-     * such a call, not something to warn a user about. */
+    /* The CVODE stepper asks for a bounded number of steps per CVode call,
+     * to call the progress monitor in between: "mxstep steps taken" is the
+     * normal end of such a call, not something to warn a user about. */
     if (code == CV_TOO_MUCH_WORK) return;
     const taper_solver_messages *sink = data;
     sink->fn(msg, function, code, sink->user);

@@ -2,13 +2,14 @@
 /*
  * window.c -- the policy of the active window of granules (see dynamics.h):
  * it decides, the run loop (solve.c) acts.  Every function here only reads
- * the sim; the loop moves the window (sim.c) and restarts CVODE.
+ * the sim; the loop moves the window (window_flight.c) and restarts the
+ * stepper.
  *
  *  grow:      granule hi+1 joins when z_hi reaches the growth threshold.
  *             Its state and Nordsieck history are zero in every vector, which
  *             is exact for a granule at rest: no solver restart.  It joins
- *             at CVODE's internal time (the end of the step holding the
- *             root), so the contact's impulse from the root to there is
+ *             at the stepper's internal time (the end of the step holding
+ *             the root), so the contact's impulse from the root to there is
  *             neglected: the thresholds keep its force far below the
  *             tolerance, and the window starts with two bodies (the first
  *             contact closes at t = 0+, see taper_window_growth_thresholds).
@@ -17,7 +18,7 @@
  *             others' Nordsieck history exact: no restart.
  *  take back: if the gap behind the window closes after all, granule lo-1
  *             returns with its ballistic state; this changes the history of
- *             a component, so CVODE is re-initialised (rare).
+ *             a component, so the stepper is restarted (rare).
  *
  * Error scales (from the tolerance):
  *     v_eps = REST_FACTOR (rtol v_ref + atol v_scale),
@@ -31,10 +32,10 @@
  * (v_{lo-1} <= v_lo <= v_{lo+1}).  Granule lo then moves at constant velocity
  * for ever unless the window pushes granule lo+1 back into it, which the gap
  * slot watches at compression 0 (gap_watch = 0): take-back is exact.  Under
- * drag it flies as m dv/dt = -drag v has it (sim.c, taper_sim_flight), and
- * the gap behind must stay open for ever under both flights
- * (drag_gap_stays_open); with Kuwabara-Kono damping open contacts push
- * nothing, so the flight is free as without it.
+ * drag it flies as m dv/dt = -drag v has it (window_flight.c,
+ * taper_sim_flight), and the gap behind must stay open for ever under both
+ * flights (drag_gap_stays_open); with Kuwabara-Kono damping open contacts
+ * push nothing, so the flight is free as without it.
  *
  * Criterion 2, at rest within the tolerance (monodisperse chains, the tails
  * of forward chains, the recoiling train of long backward chains): behind the
@@ -183,7 +184,7 @@ void taper_window_growth_thresholds(const taper_sim *sim, double *grow_z)
         grow_z[k - 1] = fmax(fmin(per_time, per_collision), GROW_FLOOR);
     }
     /* No threshold for the contact of the body with the impulse: it is in
-     * the window from the start (solve.c, make_state).  Starting with that
+     * the window from the start (solve.c, setup_stepper).  Starting with that
      * body alone, the first growth root fell inside CVODE's first step
      * (h = 1e-4) and granule 2 joined at its end, at rest, short of the
      * impulse r h^n / n (energy error 1.3e-6 for n = 3/2); for n >= 12 a
@@ -204,7 +205,7 @@ taper_window_plan taper_window_plan_for(const taper_sim *sim, taper_root_report 
     return (taper_window_plan){
         .take_back = report.gap_closed && sim->dyn.lo > 1,
         .grow = report.grow && sim->dyn.hi < sim->dyn.n,
-        .shrink = report.passed && sim->cv.window != NULL,
+        .shrink = report.passed && sim->state.window != NULL,
     };
 }
 
@@ -264,9 +265,9 @@ taper_departure taper_window_departure(const taper_sim *sim)
      * chain; the damping part of a compression left at rest (criterion 2)
      * has the impulse r damping z^(n-1) while it closes, a fixed multiple
      * of the elastic force bound below. */
-    if (!sim->cv.window || !sim->model.free_flight) return stays;
+    if (!sim->state.window || !sim->model.free_flight) return stays;
     const taper_dyn *d = &sim->dyn;
-    const double *y = taper_sim_data(sim, sim->cv.y);
+    const double *y = taper_sim_entries(sim);
     const size_t j = d->lo;
     if (j + 2 >= d->hi || j >= sim->pulse.next_pass || j >= sim->pulse.next_peak) return stays;
     /* A moving piston stays: its stop sets its velocity in the state

@@ -22,6 +22,16 @@ instead of waiting for a reviewer:
 7. drivers/scenes, the scenes' library that the programs and the Python
    package build on, includes nothing of theirs: only its own headers and
    taper.h.
+8. The integrators are steppers (src/sim/stepper.h): only the run's loop
+   (src/sim/solve.c) and the stepper files (src/sim/stepper.h, the table
+   src/sim/steppers.c, src/sim/stepper_*.[ch]) include stepper.h, directly or through another
+   header, so that nothing else in the library can ask which one runs.
+9. SUNDIALS is the CVODE stepper's own: in src/, only its files include a
+   SUNDIALS header (<sundials/...>, <cvode/...>, <nvector/...>, ...),
+   directly or through another header: stepper_cvode*.[ch], the window's
+   N_Vector (nvector_window.[ch]) and the SUNDIALS compatibility layer it
+   uses (sundials_compat.[ch]).  The sim's state (sim.h), the loop and the
+   other steppers see no SUNDIALS type.
 
 Quoted includes are resolved as the build does: the including file's folder,
 then src/, drivers/scenes, drivers/taper, drivers/bench, tests/ (the include roots of the
@@ -38,6 +48,14 @@ PARTS = ["src/core", "src/settings", "src/chain", "src/sim", "src/analysis"]
 SHARED = {"src/settings/specs.h"}
 PRIVATE = re.compile(r"(_impl\.h$|^src/sim/sim\.h$)")
 
+
+SYSTEM_INCLUDE = re.compile(r"^\s*#\s*include\s*<([^>]+)>", re.M)
+SUNDIALS_HEADER = re.compile(r"^(sundials|cvodes?|arkode|idas?|kinsol|nvector|sunlinsol|sunmatrix|"
+                             r"sunnonlinsol|sunmemory|sunadaptcontroller)/")
+STEPPER_HEADER = "src/sim/stepper.h"
+STEPPER_FILE = re.compile(r"^src/sim/steppers?(_\w+)?\.[ch]$")
+LOOP = "src/sim/solve.c"
+CVODE_STEPPER_FILE = re.compile(r"^src/sim/(stepper_cvode(_\w+)?|nvector_window|sundials_compat)\.[ch]$")
 
 MAIN = re.compile(r"^\s*int\s+main\s*\(", re.M)
 FORTRAN_PROGRAM = re.compile(r"^\s*program\s+\w+", re.M | re.I)
@@ -59,10 +77,12 @@ def resolve(path, name):
     return None
 
 
-graph, problems = {}, []
+graph, sundials, problems = {}, {}, []
 for path in sorted(sources()):
     with open(os.path.join(root, path), encoding="utf-8", errors="replace") as f:
-        names = INCLUDE.findall(f.read())
+        text = f.read()
+    names = INCLUDE.findall(text)
+    sundials[path] = [h for h in SYSTEM_INCLUDE.findall(text) if SUNDIALS_HEADER.match(h)]
     graph[path] = []
     for name in names:
         target = resolve(path, name)
@@ -82,6 +102,33 @@ for path in sorted(sources()):
             problems.append(f"{path}: includes {target}, outside the library's tree")
         if path.startswith("drivers/scenes/") and not target.startswith("drivers/scenes/"):
             problems.append(f"{path}: includes {target}, a caller of the scenes' library")
+
+# The steppers (rules 8 and 9): what each file of src/ reaches through its
+# quoted includes, itself included.
+def reach(start):
+    seen, todo = {start: [start]}, [start]
+    while todo:
+        node = todo.pop()
+        for nxt in graph.get(node, []):
+            if nxt not in seen:
+                seen[nxt] = seen[node] + [nxt]
+                todo.append(nxt)
+    return seen
+
+
+for path in sorted(p for p in graph if p.startswith("src/")):
+    reached = reach(path)
+    if STEPPER_HEADER in reached and path != LOOP and not STEPPER_FILE.match(path):
+        problems.append(f"{path}: includes {STEPPER_HEADER} ("
+                        + " -> ".join(reached[STEPPER_HEADER]) + "): only the loop ("
+                        f"{LOOP}) and the stepper files drive the steppers")
+    if CVODE_STEPPER_FILE.match(path):
+        continue
+    for node, chain in sorted(reached.items()):
+        for header in sundials.get(node, []):
+            problems.append(f"{path}: includes SUNDIALS' <{header}> ("
+                            + " -> ".join(chain) + "): only the CVODE stepper's files "
+                            "(stepper_cvode*, nvector_window, sundials_compat) may")
 
 # Programs: none in the library's tree.
 for path in sorted(sources((".c", ".f90", ".F90"), ("src",))):

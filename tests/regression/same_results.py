@@ -1,19 +1,23 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""same_results.py TAPER_BINARY [REFERENCE_COMMIT] -- does this taper write
-the same results as a reference commit, for every shipped scene?
+"""same_results.py TAPER_BINARY [REFERENCE_COMMIT] [--set GROUP.KEY=VALUE]... -- does
+this taper write the same results as a reference commit, for every shipped scene?
 
     python3 tests/regression/same_results.py build/drivers/taper/taper 043b797
+    python3 tests/regression/same_results.py build/drivers/taper/taper 043b797 --set "solver.method='rk8'"
 
 The reference is built from the git history of this checkout (git archive,
 meson setup -Dtests=false, the driver target only), against the same
-optimised SUNDIALS as TAPER_BINARY (the `sundials` folder of its build
-directory, when there is one), and cached in $TAPER_REGRESSION_CACHE/HASH
-(default ${TMPDIR:-/tmp}/taper-regression).  Every scene of
-share/scenes/**/*.nml that both trees have is run by the reference driver
-(its own copy of the scene) and by TAPER_BINARY (this checkout's copy: a
-scene rewritten here, for example to give its inputs in SI, is compared
-with what it was), each in a working directory of its own with `-o out`.
+optimised SUNDIALS as TAPER_BINARY (the sundials_prefix its build directory
+was configured with, else the `sundials` folder of that build directory,
+when there is one), and cached in $TAPER_REGRESSION_CACHE/HASH (default
+${TMPDIR:-/tmp}/taper-regression; a reference built against another SUNDIALS
+is another entry).  Every scene of share/scenes/**/*.nml that both trees
+have is run by the reference driver (its own copy of the scene) and by
+TAPER_BINARY (this checkout's copy: a scene rewritten here, for example to
+give its inputs in SI, is compared with what it was), each in a working
+directory of its own with `-o out` and every `--set GROUP.KEY=VALUE` given
+(the driver's own override, passed to both: another method, tolerance, ...).
 
 Compared: the exit statuses, the set of result files (granules.tsv,
 granules.partial.tsv, sweep.tsv, runs.tsv, fits.tsv, table.tsv,
@@ -33,6 +37,7 @@ and the last line counts them.  Exit status 0 when no scene differs, 1
 otherwise, 2 for a usage or build error.  Standard library only.
 """
 
+import json
 import math
 import os
 import re
@@ -58,6 +63,22 @@ def git(top, *args):
                           text=True).stdout.strip()
 
 
+def sundials_of(binary):
+    """The install prefix of the SUNDIALS the binary's build links, or None
+    (the system's): the build directory's sundials_prefix, else its own
+    `sundials` folder."""
+    build = os.path.dirname(os.path.dirname(os.path.dirname(binary)))
+    prefix = os.path.join(build, "sundials")
+    try:
+        with open(os.path.join(build, "meson-info", "intro-buildoptions.json")) as f:
+            options = {o["name"]: o["value"] for o in json.load(f)}
+        if options.get("sundials") != "system" and options.get("sundials_prefix"):
+            prefix = options["sundials_prefix"]
+    except (OSError, ValueError, KeyError):
+        pass
+    return prefix if os.path.exists(os.path.join(prefix, "lib")) else None
+
+
 def build_reference(top, commit, binary):
     """The reference driver's path, building it once into the cache."""
     try:
@@ -66,7 +87,11 @@ def build_reference(top, commit, binary):
         die(f"'{commit}' is not a commit of {top}")
     cache = os.environ.get("TAPER_REGRESSION_CACHE",
                            os.path.join(os.environ.get("TMPDIR", "/tmp"), "taper-regression"))
-    ref = os.path.join(cache, full)
+    # The same SUNDIALS as the binary under test: another build of it
+    # (Debian's, unoptimised) changes the last digits.
+    sundials = sundials_of(binary)
+    ref = os.path.join(cache, full + ("" if sundials is None else
+                                      "-" + re.sub(r"[^\w.-]", "_", sundials.strip("/"))))
     ok = os.path.join(ref, "ok")
     if os.path.exists(ok):
         with open(ok) as f:
@@ -83,11 +108,7 @@ def build_reference(top, commit, binary):
                        check=True)
         setup = ["meson", "setup", "-Dtests=false", os.path.join(work, "build"),
                  os.path.join(work, "src")]
-        # The same SUNDIALS as the binary under test: another build of it
-        # (Debian's, unoptimised) changes the last digits.
-        sundials = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(binary))),
-                                "sundials")
-        if os.path.exists(os.path.join(sundials, "lib")):
+        if sundials is not None:
             setup[2:2] = ["-Dsundials=bundled", "-Dsundials_prefix=" + sundials]
         for cmd in (setup, ["meson", "compile", "-C", os.path.join(work, "build")]):
             if subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode != 0:
@@ -110,11 +131,25 @@ def scenes(root):
     return sorted(found)
 
 
-def run(binary, scene, where):
+def run(binary, scene, where, overrides):
     os.makedirs(where)
-    p = subprocess.run([binary, scene, "-o", "out"], cwd=where, stdin=subprocess.DEVNULL,
+    sets = [a for o in overrides for a in ("--set", o)]
+    p = subprocess.run([binary, scene, "-o", "out", *sets], cwd=where, stdin=subprocess.DEVNULL,
                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     return p.returncode, p.stderr
+
+
+def check_overrides(binaries, scene, overrides):
+    """Every override is one the drivers take (their --get reads it back):
+    a refused one would fail every scene alike in both, which compares as
+    the same."""
+    for binary in binaries:
+        for o in overrides:
+            key = o.split("=", 1)[0]
+            p = subprocess.run([binary, scene, "--set", o, "--get", key], stdin=subprocess.DEVNULL,
+                               capture_output=True, text=True)
+            if p.returncode != 0:
+                die(f"{binary} refuses --set {o}: {p.stderr.strip()[-300:]}")
 
 
 def results(out):
@@ -188,28 +223,55 @@ def compare_file(a, b):
     return verdict, worst, where
 
 
+def arguments(argv):
+    """(binary, commit, overrides) from the command line."""
+    positional, overrides = [], []
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        if a in ("-h", "--help"):
+            print("\n".join(__doc__.strip().splitlines()[3:5]))
+            sys.exit(0)
+        if a == "--set" or a.startswith("--set="):
+            value = a[len("--set="):] if a.startswith("--set=") else None
+            if value is None:
+                i += 1
+                value = argv[i] if i < len(argv) else ""
+            if not re.match(r"\w+\.\w+=", value):
+                die(f"--set needs GROUP.KEY=VALUE (--set \"solver.method='rk8'\"), not '{value}'")
+            overrides.append(value)
+        else:
+            positional.append(a)
+        i += 1
+    if len(positional) not in (1, 2):
+        print("\n".join(__doc__.strip().splitlines()[3:5]), file=sys.stderr)
+        sys.exit(2)
+    return positional[0], positional[1] if len(positional) == 2 else "043b797", overrides
+
+
 def main():
-    if len(sys.argv) not in (2, 3) or sys.argv[1] in ("-h", "--help"):
-        print(__doc__.strip().splitlines()[3])
-        sys.exit(0 if len(sys.argv) == 2 else 2)
-    binary = os.path.abspath(sys.argv[1])
+    given, commit, overrides = arguments(sys.argv[1:])
+    binary = os.path.abspath(given)
     if not os.access(binary, os.X_OK):
-        die(f"TAPER_BINARY '{sys.argv[1]}' is not an executable file")
+        die(f"TAPER_BINARY '{given}' is not an executable file")
     top = git(os.path.dirname(os.path.abspath(__file__)), "rev-parse", "--show-toplevel")
-    full, refbin = build_reference(top, sys.argv[2] if len(sys.argv) == 3 else "043b797", binary)
+    full, refbin = build_reference(top, commit, binary)
     refsrc = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(refbin))))
     refsrc = os.path.join(refsrc, "src")
     common = sorted(set(scenes(refsrc)) & set(scenes(top)))
     for only in sorted(set(scenes(top)) - set(scenes(refsrc))):
         print(f"note: {only} is not at {full[:7]}: not compared")
-    print(f"reference: {full[:7]} ({refbin})\nbinary:    {binary}\nscenes:    {len(common)}\n")
+    if common:
+        check_overrides([refbin, binary], os.path.join(top, common[0]), overrides)
+    print(f"reference: {full[:7]} ({refbin})\nbinary:    {binary}\nscenes:    {len(common)}")
+    print(f"overrides: {' '.join(overrides) if overrides else 'none'}\n")
     tally = {"same": 0, "equal": 0, "agree": 0, "differ": 0}
     work = tempfile.mkdtemp(prefix="taper-same-results.")
     keep = False
     for n, scene in enumerate(common):
         d = os.path.join(work, f"{n:02d}")
-        rc_ref, _ = run(refbin, os.path.join(refsrc, scene), os.path.join(d, "ref"))
-        rc_new, err = run(binary, os.path.join(top, scene), os.path.join(d, "new"))
+        rc_ref, _ = run(refbin, os.path.join(refsrc, scene), os.path.join(d, "ref"), overrides)
+        rc_new, err = run(binary, os.path.join(top, scene), os.path.join(d, "new"), overrides)
         ra, rb = results(os.path.join(d, "ref", "out")), results(os.path.join(d, "new", "out"))
         verdict, worst, where = "same", 0.0, ""
         if rc_ref != rc_new:

@@ -4,7 +4,9 @@
  * against plain loops over the active range, through SUNDIALS' own
  * N_V* entry points (which is how CVODE calls them), including the cases
  * CVODE's Adams steps use most: the predictor's in-place sum
- * zn[j-1] += zn[j] and the fused array operations of the Nordsieck rescale.
+ * zn[j-1] += zn[j] and the fused array operations of the Nordsieck rescale;
+ * and the window's storage they share with plain buffers
+ * (src/sim/window_storage.c): the tail, and a buffer that is no vector.
  */
 #include "sim/nvector_window.h"
 #include "sim/sundials_compat.h"
@@ -141,6 +143,72 @@ static void outside_untouched(void **state)
         for (int i = LEN; i < LEN + 4; i++) assert_true(data(f, j)[i] == 0.0);
 }
 
+/* The window vector's tail (the quadratures of walls and losses): it
+ * follows end when the window grows, in place and when the buffers move,
+ * the entries it leaves are zero, and every operation covers it. */
+static void window_tail(void **state)
+{
+    (void)state;
+    SUNContext ctx;
+    assert_int_equal(taper_sundials_context_new(&ctx), 0);
+    taper_window *w = taper_window_alloc_tail(0, 4, 8, 3);
+    assert_non_null(w);
+    N_Vector a = taper_window_vector_new(w, ctx), b = N_VClone(a);
+    assert_true(a && b);
+    assert_int_equal((int)N_VGetLength(a), 7);
+    double *x = taper_window_data(a);
+    for (int i = 0; i < 7; i++) x[i] = i + 1.0; /* state 1..4, tail 5, 6, 7 */
+    N_VScale(2.0, a, b);
+    /* grow in place by one granule: the tail moves, the new entries are 0 */
+    assert_int_equal(taper_window_set_range(w, 0, 6), 0);
+    x = taper_window_data(a);
+    const double expect[9] = {1, 2, 3, 4, 0, 0, 5, 6, 7};
+    for (int i = 0; i < 9; i++) assert_true(x[i] == expect[i]);
+    assert_true(taper_window_data(b)[8] == 14.0 && taper_window_data(b)[4] == 0.0);
+    /* leave on the left, grow past the capacity: the buffers move */
+    assert_int_equal(taper_window_set_range(w, 2, 40), 0);
+    x = taper_window_data(a);
+    assert_int_equal((int)N_VGetLength(a), 41);
+    assert_true(x[0] == 3.0 && x[1] == 4.0 && x[2] == 0.0 && x[37] == 0.0);
+    assert_true(x[38] == 5.0 && x[39] == 6.0 && x[40] == 7.0);
+    /* operations see the tail: the max norm is the tail's 7 */
+    assert_true(N_VMaxNorm(a) == 7.0 && N_VMaxNorm(b) == 14.0);
+    N_VDestroy(a);
+    N_VDestroy(b);
+    taper_window_free(w);
+    taper_sundials_context_free(&ctx);
+}
+
+/* A plain buffer of the window (rk8's state, window_storage.h) follows the
+ * range with the window's vectors: in place, when the buffers move, and
+ * with the tail; detached, it is gone from the window's list and freed. */
+static void plain_buffer_follows(void **state)
+{
+    (void)state;
+    SUNContext ctx;
+    assert_int_equal(taper_sundials_context_new(&ctx), 0);
+    taper_window *w = taper_window_alloc_tail(0, 4, 8, 2);
+    assert_non_null(w);
+    N_Vector a = taper_window_vector_new(w, ctx);
+    double *plain = NULL;
+    assert_true(a && taper_window_attach(w, &plain) == 0 && plain);
+    assert_int_equal((int)w->n_buffers, 2);
+    for (int i = 0; i < 6; i++) taper_window_data(a)[i] = taper_window_entries(w, plain)[i] = i + 1.0;
+    assert_int_equal(taper_window_set_range(w, 2, 6), 0); /* in place */
+    assert_int_equal(taper_window_set_range(w, 4, 50), 0); /* the buffers move */
+    assert_int_equal((int)taper_window_size(w), 48);
+    const double *p = taper_window_entries(w, plain), *v = taper_window_data(a);
+    for (int i = 0; i < 48; i++) assert_true(p[i] == v[i]);
+    assert_true(p[46] == 5.0 && p[47] == 6.0 && p[0] == 0.0); /* the tail; entry 4 was cleared */
+    taper_window_detach(w, &plain);
+    assert_null(plain);
+    assert_int_equal((int)w->n_buffers, 1);
+    N_VDestroy(a);
+    assert_int_equal((int)w->n_buffers, 0);
+    taper_window_free(w);
+    taper_sundials_context_free(&ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -149,6 +217,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(predictor_pascal_triangle, setup, teardown),
         cmocka_unit_test_setup_teardown(fused_array_operations, setup, teardown),
         cmocka_unit_test_setup_teardown(outside_untouched, setup, teardown),
+        cmocka_unit_test(window_tail),
+        cmocka_unit_test(plain_buffer_follows),
     };
     return cmocka_run_group_tests_name("nvector_window", tests, NULL, NULL);
 }

@@ -737,42 +737,6 @@ static void reflection_takes_granules_back(void **state)
     taper_chain_spec_free(spec);
 }
 
-/* The window vector's tail (the quadratures of walls and losses): it
- * follows end when the window grows, in place and when the buffers move,
- * the entries it leaves are zero, and every operation covers it. */
-static void window_tail(void **state)
-{
-    (void)state;
-    SUNContext ctx;
-    assert_int_equal(taper_sundials_context_new(&ctx), 0);
-    taper_window *w = taper_window_alloc_tail(0, 4, 8, 3);
-    assert_non_null(w);
-    N_Vector a = taper_window_vector_new(w, ctx), b = N_VClone(a);
-    assert_true(a && b);
-    assert_int_equal((int)N_VGetLength(a), 7);
-    double *x = taper_window_data(a);
-    for (int i = 0; i < 7; i++) x[i] = i + 1.0; /* state 1..4, tail 5, 6, 7 */
-    N_VScale(2.0, a, b);
-    /* grow in place by one granule: the tail moves, the new entries are 0 */
-    assert_int_equal(taper_window_set_range(w, 0, 6), 0);
-    x = taper_window_data(a);
-    const double expect[9] = {1, 2, 3, 4, 0, 0, 5, 6, 7};
-    for (int i = 0; i < 9; i++) assert_true(x[i] == expect[i]);
-    assert_true(taper_window_data(b)[8] == 14.0 && taper_window_data(b)[4] == 0.0);
-    /* leave on the left, grow past the capacity: the buffers move */
-    assert_int_equal(taper_window_set_range(w, 2, 40), 0);
-    x = taper_window_data(a);
-    assert_int_equal((int)N_VGetLength(a), 41);
-    assert_true(x[0] == 3.0 && x[1] == 4.0 && x[2] == 0.0 && x[37] == 0.0);
-    assert_true(x[38] == 5.0 && x[39] == 6.0 && x[40] == 7.0);
-    /* operations see the tail: the max norm is the tail's 7 */
-    assert_true(N_VMaxNorm(a) == 7.0 && N_VMaxNorm(b) == 14.0);
-    N_VDestroy(a);
-    N_VDestroy(b);
-    taper_window_free(w);
-    taper_sundials_context_free(&ctx);
-}
-
 /* A striker is body 1: it leaves the window like a granule once it flies
  * back freely, and the window agrees with the whole chain. */
 static void striker_leaves_window(void **state)
@@ -880,7 +844,6 @@ int main(int argc, char **argv)
         cmocka_unit_test(damping_window),
         cmocka_unit_test(drag_flight),
         cmocka_unit_test(drag_handover),
-        cmocka_unit_test(window_tail),
         cmocka_unit_test(reflection_takes_granules_back),
     };
     const struct CMUnitTest long_tests[] = {

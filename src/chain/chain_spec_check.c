@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * chain_spec.c -- the relations between the settings of a chain of the
+ * chain_spec_check.c -- the relations between the settings of a chain of the
  * paper's model (taper_chain_spec_check): what makes one setting's value
  * wrong for another's.  Each single value is checked against its row of
  * the table of settings when it is set (src/settings).  Every refusal names

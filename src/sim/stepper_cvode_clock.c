@@ -1,13 +1,13 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * clock.c -- CVODE's time, as the run (solve.c) and the events (events.c)
- * read it: the rounding drift of CVODE's own clock summed exactly, and a
- * root located again on the step's interpolant.  Both need only CVODE's
- * memory and the sim's clock fields; this file calls nothing else in
- * src/sim, so that solve.c and events.c both sit above it.
+ * stepper_cvode_clock.c -- the CVODE stepper's time: the rounding drift of
+ * CVODE's own clock summed exactly (the low part of the time it returns,
+ * taper_step.t_low), and a root CVODE returned located again on the step's
+ * interpolant (its refine_root).  Both need only CVODE's memory and the
+ * stepper's clock fields (stepper_cvode_memory.h).
  */
 #include "illinois.h"
-#include "sim.h"
+#include "stepper_cvode_memory.h"
 
 #include <cvode/cvode.h>
 
@@ -27,12 +27,11 @@
  * t_shift; the error-weight function, which CVODE calls before every step,
  * and the root return call this.  A step whose tn is not tn + h (CVODE
  * clipped it to a stop time) only re-synchronises. */
-void taper_clock_track(taper_sim *sim)
+void cvode_clock_track(cvode_stepper *cv)
 {
-    taper_cvode *cv = &sim->cv;
     long nst = 0;
     double tn = 0.0, h = 0.0;
-    if (!cv->mem) return; /* method 'rk8' keeps its own low part (rk8.c) */
+    if (!cv->mem) return;
     if (CVodeGetNumSteps(cv->mem, &nst) != CV_SUCCESS || nst == cv->nst_seen) return;
     CVodeGetCurrentTime(cv->mem, &tn);
     if (nst == cv->nst_seen + 1 && CVodeGetLastStep(cv->mem, &h) == CV_SUCCESS) {
@@ -45,8 +44,6 @@ void taper_clock_track(taper_sim *sim)
     cv->tn_seen = tn;
     cv->nst_seen = nst;
 }
-
-double taper_sim_true_time(const taper_sim *sim, double t) { return t + sim->cv.t_shift; }
 
 /* CVODE's root finder (cvRootfind) stops once its bracket is below
  * ttol = 100 uround (|t| + |h|) and returns the end past the zero: at
@@ -61,15 +58,16 @@ double taper_sim_true_time(const taper_sim *sim, double t) { return t + sim->cv.
 
 static int sign_of(double g) { return g > 0.0 ? 1 : g < 0.0 ? -1 : 0; }
 
-double taper_sim_refine_root(taper_sim *sim, taper_root_value g, size_t k, const double **y)
+double cvode_refine_root(taper_stepper *s, taper_root_value g, size_t k, const double **y)
 {
-    void *mem = sim->cv.mem;
-    N_Vector at = sim->cv.at_root;
+    cvode_stepper *cv = (cvode_stepper *)s;
+    const taper_sim *sim = cv->sim;
+    void *mem = cv->mem;
+    N_Vector at = cv->at_root;
     double tn = sim->t, hu = 0.0;
-    /* rk8 stops on its roots, located to a few ulps on order-8 steps */
     if (!mem || !at || !(sim->spec.rtol < TAPER_REFINE_BELOW_RTOL) || CVodeGetCurrentTime(mem, &tn) != CV_SUCCESS || CVodeGetLastStep(mem, &hu) != CV_SUCCESS)
         return sim->t;
-    const double *data = taper_sim_data(sim, at);
+    const double *data = cvode_entries(cv, at);
     double b = sim->t, gb = g(sim, *y, k);
     double a = fmax(b - ROOT_BRACKET * (fabs(b) + fabs(hu)), tn - fabs(hu));
     if (!(a < b) || CVodeGetDky(mem, a, 0, at) != CV_SUCCESS) return sim->t;

@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * rk8.c -- method 'rk8': an explicit single-step integrator, GSL's rk8pd
- * (Prince-Dormand 8(7), 13 stages), with root finding, answering solve.c
- * as CVODE does.  A leaf: it calls GSL and the callbacks it was given (the
- * sim's equations, error weights and root functions), nothing else in
- * src/sim.
+ * stepper_rk8.c -- method 'rk8': an explicit single-step integrator, GSL's
+ * rk8pd (Prince-Dormand 8(7), 13 stages), with root finding, as a stepper
+ * (stepper.h).  It integrates the sim's equations under their error
+ * weights (equations.c) with events.c's root functions armed, on its own
+ * entries of the state (the window's buffer, window_storage.h, or the
+ * whole chain's), and calls GSL; nothing else.
  *
  * Why a single-step method: a contact's force has a kink where the contact
  * opens or closes (r z^n for z > 0, 0 otherwise), and every kink costs a
@@ -29,14 +30,15 @@
  *   then cut at the earliest root, so that at a root return the state is
  *   the state at the root (CVODE's is interpolated there, its internal
  *   time ahead), and every slot that changed sign up to it is reported.
- * - A step never goes past tout: it is shortened to end there (a sample,
- *   a stop time), and the step-size controller keeps its own proposal.
+ * - A step never goes past the stop time (a discontinuity, the end of the
+ *   run's phase): it is shortened to end there, and the step-size
+ *   controller keeps its own proposal.  An output time inside a step (a
+ *   sample) does not shorten it (advance_to).
  * - Time is a compensated sum of the steps: t plus a low part (the
  *   rounding of each t += h, Knuth's TwoSum), read as the true time.
  */
-#include "rk8.h"
-
 #include "illinois.h"
+#include "stepper.h"
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
@@ -52,18 +54,30 @@
 #define SAFETY 0.9
 #define GROW_MAX 4.0
 #define SHRINK_MAX 0.2
-/* Root location: at most this many trial steps per root; by default down
- * to this many ulps of t (taper_rk8_set_root_tolerance). */
+/* Root location: at most this many trial steps per root; below
+ * TAPER_REFINE_BELOW_RTOL down to this many ulps of t (rk8_start). */
 #define LOCATE_ITERATIONS 100
 #define LOCATE_ULPS 4.0
 /* The seed's bracket, relative to the step (see locate). */
 #define SEED_BRACKET 1e-4
 
-struct taper_rk8 {
-    taper_rk8_rhs rhs;
-    taper_rk8_weights weights;
-    taper_rk8_roots roots;
-    void *user;
+typedef struct rk8_counters {
+    long steps;          /* accepted steps                                   */
+    long rhs_evals;      /* right-hand sides, root location's included       */
+    long root_evals;     /* evaluations of the root functions                */
+    long err_test_fails; /* rejected steps                                   */
+} rk8_counters;
+
+typedef enum rk8_result {
+    RK8_REACHED,         /* at tout                                          */
+    RK8_ROOT,            /* at a root: found[] holds its slots               */
+    RK8_WORK,            /* max_steps taken, short of tout                   */
+    RK8_FAILED           /* rk->failure says why                             */
+} rk8_result;
+
+typedef struct rk8_stepper {
+    taper_sim *sim;
+    double *state;          /* the state's storage (sim->state.buffer)      */
     gsl_odeiv2_step *step;  /* rk8pd for up to step_capacity entries        */
     size_t step_capacity, dim; /* dim: the current state's entries          */
     double *y1, *y_root, *y_trial, *err, *w, *f0, *f1; /* `capacity` each  */
@@ -73,51 +87,29 @@ struct taper_rk8 {
     double *g0, *g1, *g_trial; /* `slot_capacity` entries each             */
     int *found_ahead;
     size_t slot_capacity;
-    /* Output inside a step (see taper_rk8_advance): the caller holds the
-     * state at t_out, the integrator's is y_ahead at t; the step began at
-     * y_start, t_start, and found_ahead holds the roots at its end if
-     * root_ahead. */
+    int *directions, *found; /* per root slot: taper_events_directions, and
+                               the crossings of a root return              */
+    size_t root_capacity;
+    /* Output inside a step (see advance_to): the caller holds the state at
+     * t_out, the integrator's is y_ahead at t; the step began at y_start,
+     * t_start, and found_ahead holds the roots at its end if root_ahead. */
     int ahead, root_ahead;
     double *y_start, *y_ahead, t_start, t_out;
     double t, t_low;        /* the time: t + t_low                          */
     double h, h_last;       /* the controller's proposal; the last step     */
     double root_tol;        /* roots to root_tol (|t| + |h|)                */
-    taper_rk8_counters count;
+    double stop;            /* the stop time set (INFINITY: none)           */
+    rk8_counters count;
     const char *failure;
-};
+} rk8_stepper;
 
-taper_rk8 *taper_rk8_alloc(taper_rk8_rhs rhs, taper_rk8_weights weights, taper_rk8_roots roots,
-                           void *user, double h0)
-{
-    taper_rk8 *rk = calloc(1, sizeof *rk);
-    if (!rk) return NULL;
-    rk->rhs = rhs, rk->weights = weights, rk->roots = roots, rk->user = user;
-    rk->h = h0;
-    rk->root_tol = LOCATE_ULPS * DBL_EPSILON;
-    return rk;
-}
-
-void taper_rk8_free(taper_rk8 *rk)
-{
-    if (!rk) return;
-    if (rk->step) gsl_odeiv2_step_free(rk->step);
-    free(rk->y1), free(rk->y_root), free(rk->y_trial), free(rk->err), free(rk->w);
-    free(rk->f0), free(rk->f1);
-    free(rk->g0), free(rk->g1), free(rk->g_trial), free(rk->found_ahead);
-    free(rk->y_start), free(rk->y_ahead);
-    free(rk);
-}
-
-double taper_rk8_time(const taper_rk8 *rk, double *low)
+/* The time of the state last returned, t + low (low: the rounding of the
+ * sum of the steps). */
+static double rk8_time(const rk8_stepper *rk, double *low)
 {
     if (low) *low = rk->ahead ? 0.0 : rk->t_low;
     return rk->ahead ? rk->t_out : rk->t;
 }
-
-double taper_rk8_last_step(const taper_rk8 *rk) { return rk->h_last; }
-void taper_rk8_set_root_tolerance(taper_rk8 *rk, double rel) { rk->root_tol = fmax(rel, LOCATE_ULPS * DBL_EPSILON); }
-taper_rk8_counters taper_rk8_get_counters(const taper_rk8 *rk) { return rk->count; }
-const char *taper_rk8_failure(const taper_rk8 *rk) { return rk->failure ? rk->failure : ""; }
 
 /* ---- storage, grown with the window --------------------------------------- */
 static int grow_array(double **a, size_t n)
@@ -128,7 +120,7 @@ static int grow_array(double **a, size_t n)
     return 0;
 }
 
-static int fit(taper_rk8 *rk, size_t dim, size_t slots)
+static int fit(rk8_stepper *rk, size_t dim, size_t slots)
 {
     if (dim > rk->capacity) {
         size_t c = 2 * dim;
@@ -165,9 +157,10 @@ static int fit(taper_rk8 *rk, size_t dim, size_t slots)
 /* ---- one step -------------------------------------------------------------- */
 static int system_rhs(double t, const double y[], double dydt[], void *params)
 {
-    taper_rk8 *rk = params;
+    rk8_stepper *rk = params;
     rk->count.rhs_evals++;
-    return rk->rhs(t, y, dydt, rk->user) == 0 ? GSL_SUCCESS : GSL_EBADFUNC;
+    taper_equations_rhs(rk->sim, t, y, dydt);
+    return GSL_SUCCESS;
 }
 
 /* One rk8pd step of size h from (t, y) into out; 0, or -1 if the
@@ -175,7 +168,7 @@ static int system_rhs(double t, const double y[], double dydt[], void *params)
  * the start is computed once per start state (rk->f0) and handed to every
  * step from it: the retries after a failed error test and the trial steps
  * of root location. */
-static int step(taper_rk8 *rk, const double *y, double t, double h, double *out)
+static int step(rk8_stepper *rk, const double *y, double t, double h, double *out)
 {
     if (!rk->f0_valid) {
         if (system_rhs(t, y, rk->f0, rk) != GSL_SUCCESS) return -1;
@@ -194,7 +187,7 @@ static int step(taper_rk8 *rk, const double *y, double t, double h, double *out)
 /* The error estimate in units of the tolerance: max_i |err_i| w_i, the
  * weights of the step's start state (as CVODE's, set before each step).
  * Not a number counts as too large. */
-static double error_norm(const taper_rk8 *rk)
+static double error_norm(const rk8_stepper *rk)
 {
     double e = 0.0;
     for (size_t i = 0; i < rk->dim; i++) {
@@ -216,15 +209,15 @@ static int crossing(double a, double b, int direction)
     return 0;
 }
 
-static void root_values(taper_rk8 *rk, const double *y, double *g)
+static void root_values(rk8_stepper *rk, const double *y, double *g)
 {
     rk->count.root_evals++;
-    rk->roots(y, g, rk->user);
+    taper_events_root_values(rk->sim, y, g);
 }
 
 /* The cubic Hermite interpolant of the step of size h from (y, f0) to
  * (y1, f1) at tau, into out. */
-static void hermite(const taper_rk8 *rk, const double *y, double h, double tau, double *out)
+static void hermite(const rk8_stepper *rk, const double *y, double h, double tau, double *out)
 {
     const double th = tau / h, u = 1.0 - th;
     const double h00 = (1.0 + 2.0 * th) * u * u, h10 = th * u * u * h;
@@ -236,7 +229,7 @@ static void hermite(const taper_rk8 *rk, const double *y, double h, double tau, 
 /* Where the interpolant puts slot i's crossing in (0, b]: the Illinois
  * method on the interpolated states, whose root functions cost a fraction
  * of a step each. */
-static double seed(taper_rk8 *rk, const double *y, double t, double h, size_t i, int direction,
+static double seed(rk8_stepper *rk, const double *y, double t, double h, size_t i, int direction,
                    double g_start, double b, double gb)
 {
     taper_bracket br = {0.0, g_start, b, gb, 0};
@@ -259,7 +252,7 @@ static double seed(taper_rk8 *rk, const double *y, double t, double h, size_t i,
  * close, the search starts from that narrow bracket and ends within a few
  * more steps (3.3 to 5.3 trial steps per event, docs/design.md); where it
  * is not, the trials still narrow the bracket. */
-static double locate(taper_rk8 *rk, const double *y, double t, double h, size_t i, int direction,
+static double locate(rk8_stepper *rk, const double *y, double t, double h, size_t i, int direction,
                      double g_start, double b, double gb)
 {
     const double guess = seed(rk, y, t, h, i, direction, g_start, b, gb);
@@ -287,7 +280,7 @@ static double locate(taper_rk8 *rk, const double *y, double t, double h, size_t 
  * rk->g0, rk->g1): the earliest crossing's time tau (h if none), with
  * rk->y_root the state there and found[] every slot that crossed up to
  * it.  Returns the number of slots found. */
-static size_t find_roots(taper_rk8 *rk, const double *y, double t, double h, const int *directions,
+static size_t find_roots(rk8_stepper *rk, const double *y, double t, double h, const int *directions,
                          size_t slots, size_t unlocated, int *found, double *tau)
 {
     *tau = h;
@@ -317,14 +310,14 @@ static size_t find_roots(taper_rk8 *rk, const double *y, double t, double h, con
 }
 
 /* ---- the run --------------------------------------------------------------- */
-static void add_time(taper_rk8 *rk, double h)
+static void add_time(rk8_stepper *rk, double h)
 {
     const double s = rk->t + h, h_part = s - rk->t; /* TwoSum(t, h) */
     rk->t_low += (rk->t - (s - h_part)) + (h - h_part);
     rk->t = s;
 }
 
-void taper_rk8_set_time(taper_rk8 *rk, double t)
+static void set_time(rk8_stepper *rk, double t)
 {
     rk->t = t;
     rk->t_low = 0.0;
@@ -332,66 +325,78 @@ void taper_rk8_set_time(taper_rk8 *rk, double t)
 
 /* The state at time `at` inside the step held ahead: a fresh step from
  * its start (whose y' rk->f0 still holds). */
-static int output_inside(taper_rk8 *rk, double at, double *y)
+static int output_inside(rk8_stepper *rk, double at, double *y)
 {
     return step(rk, rk->y_start, rk->t_start, at - rk->t_start, y);
 }
 
 /* Leaves the step held ahead: the caller's state becomes the integrator's. */
-static void catch_up(taper_rk8 *rk, double *y)
+static void catch_up(rk8_stepper *rk, double *y)
 {
     memcpy(y, rk->y_ahead, rk->dim * sizeof *y);
     rk->ahead = 0;
     rk->f0_valid = 0;
 }
 
-taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const int *directions,
-                                   size_t slots, size_t unlocated, int *found, double tout,
-                                   double tstop, long max_steps)
+/* Steps y (dim entries, overwritten) towards tout, taking at most
+ * max_steps steps, never past tstop (>= tout: a discontinuity, the end of
+ * a phase); stops at the first root of the `slots` root functions that
+ * changes sign in its direction (+1: from below, -1: from above, 0:
+ * either).  found[]: per slot, the sign of its crossing (0: none), set on
+ * RK8_ROOT.  Slot `unlocated` (none if >= slots) is not located: its root
+ * is reported at the end of the step that holds it (or at an earlier root
+ * of another slot in that step, if already crossed there).  A tout inside
+ * a step does not shorten it: y is the state at tout (a fresh step from
+ * the step's start), and the stepper keeps its own state ahead; the next
+ * call goes on from there (y must be left as returned, as CVODE's
+ * interpolated output). */
+static rk8_result advance_to(rk8_stepper *rk, double *y, size_t dim, const int *directions,
+                             size_t slots, size_t unlocated, int *found, double tout,
+                             double tstop, long max_steps)
 {
     rk->failure = NULL;
     if (rk->ahead && dim != rk->dim) { /* (the window moved: cannot happen) go on from y */
         rk->ahead = 0;
-        taper_rk8_set_time(rk, rk->t_out);
+        set_time(rk, rk->t_out);
     }
     if (rk->ahead) {
         if (tout < rk->t && tout <= tstop) { /* another output inside the step held */
             if (output_inside(rk, tout, y) != 0) goto rhs_failed;
             rk->t_out = tout;
-            return TAPER_RK8_REACHED;
+            return RK8_REACHED;
         }
         if (tstop < rk->t) { /* a stop inside it, before its roots: the step ends there */
             if (output_inside(rk, tstop, y) != 0) goto rhs_failed;
             rk->ahead = 0;
             rk->f0_valid = 0;
-            taper_rk8_set_time(rk, tstop);
+            set_time(rk, tstop);
             rk->h_last = tstop - rk->t_start;
-            return TAPER_RK8_REACHED;
+            return RK8_REACHED;
         }
         catch_up(rk, y);
         if (rk->root_ahead) {
             memcpy(found, rk->found_ahead, slots * sizeof *found);
-            return TAPER_RK8_ROOT;
+            return RK8_ROOT;
         }
     }
     rk->f0_valid = rk->g0_valid = 0; /* the caller may have changed y and the slots */
     if (fit(rk, dim, slots) != 0) {
         rk->failure = "out of memory";
-        return TAPER_RK8_FAILED;
+        return RK8_FAILED;
     }
     for (long n = 0; n < max_steps; n++) {
-        if (!(rk->t < tout)) return TAPER_RK8_REACHED;
+        if (!(rk->t < tout)) return RK8_REACHED;
         const int last = rk->t + rk->h >= tstop;
         const double h = last ? tstop - rk->t : rk->h;
         if (step(rk, y, rk->t, h, rk->y1) != 0) goto rhs_failed;
-        rk->weights(y, rk->w, rk->user);
+        taper_equations_weights(rk->sim, y, rk->w);
         const double e = error_norm(rk);
         if (!(e <= 1.0)) {
             rk->count.err_test_fails++;
             rk->h = h * fmax(SHRINK_MAX, SAFETY * pow(e, -ERROR_EXPONENT));
             if (!(rk->h > 8.0 * DBL_EPSILON * fabs(rk->t))) {
                 rk->failure = "the step size fell below the resolution of t (t + h = t)";
-                return TAPER_RK8_FAILED;
+                return RK8_FAILED;
             }
             continue;
         }
@@ -405,7 +410,7 @@ taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const i
         if (!n_found && !last) rk->h = h * fmin(GROW_MAX, SAFETY * pow(fmax(e, 1e-30), -ERROR_EXPONENT));
         const double t_start = rk->t;
         const int reaches_stop = last && !n_found;
-        if (reaches_stop) taper_rk8_set_time(rk, tstop);
+        if (reaches_stop) set_time(rk, tstop);
         else add_time(rk, tau);
         if (tout < rk->t) {
             /* tout (a sample) falls inside the step: the step is kept, as
@@ -419,18 +424,175 @@ taper_rk8_result taper_rk8_advance(taper_rk8 *rk, double *y, size_t dim, const i
             rk->ahead = 1;
             rk->t_out = tout;
             if (output_inside(rk, tout, y) != 0) goto rhs_failed;
-            return TAPER_RK8_REACHED;
+            return RK8_REACHED;
         }
         memcpy(y, n_found ? rk->y_root : rk->y1, dim * sizeof *y);
         rk->f0_valid = 0;
-        if (n_found) return TAPER_RK8_ROOT;
+        if (n_found) return RK8_ROOT;
         /* the step's end is the next one's start: its root values too */
         double *g = rk->g0;
         rk->g0 = rk->g1, rk->g1 = g;
         rk->g0_valid = 1;
     }
-    return TAPER_RK8_WORK;
+    return RK8_WORK;
 rhs_failed:
     rk->failure = "the right-hand side failed";
-    return TAPER_RK8_FAILED;
+    return RK8_FAILED;
 }
+
+/* ---- the stepper ------------------------------------------------------------ */
+static void rk8_free(taper_stepper *s)
+{
+    rk8_stepper *rk = (rk8_stepper *)s;
+    if (!rk) return;
+    if (rk->step) gsl_odeiv2_step_free(rk->step);
+    free(rk->y1), free(rk->y_root), free(rk->y_trial), free(rk->err), free(rk->w);
+    free(rk->f0), free(rk->f1);
+    free(rk->g0), free(rk->g1), free(rk->g_trial), free(rk->found_ahead);
+    free(rk->y_start), free(rk->y_ahead);
+    free(rk->directions), free(rk->found);
+    taper_state *state = &rk->sim->state;
+    if (state->buffer == &rk->state) state->buffer = NULL;
+    if (state->window) taper_window_detach(state->window, &rk->state);
+    else free(rk->state);
+    free(rk);
+}
+
+/* The state's entries: the window's (with the quadratures' tail) or the
+ * whole chain's. */
+static size_t state_length(const rk8_stepper *rk)
+{
+    const taper_sim *sim = rk->sim;
+    if (sim->state.window) return taper_window_size(sim->state.window);
+    return 2 * sim->n + (sim->model.quadratures ? TAPER_N_QUADRATURES : 0);
+}
+
+static taper_stepper *rk8_alloc(taper_sim *sim, taper_error *err)
+{
+    rk8_stepper *rk = calloc(1, sizeof *rk);
+    if (!rk) {
+        taper_fail(err, TAPER_ENOMEM, "cannot create the rk8 integrator");
+        return NULL;
+    }
+    rk->sim = sim;
+    rk->h = TAPER_STEPPER_FIRST_STEP;
+    rk->root_tol = LOCATE_ULPS * DBL_EPSILON;
+    rk->stop = INFINITY;
+    const int made = sim->state.window ? taper_window_attach(sim->state.window, &rk->state)
+                                       : (rk->state = calloc(state_length(rk), sizeof(double))) ? 0 : -1;
+    if (made != 0) {
+        taper_fail(err, TAPER_ENOMEM, "cannot allocate the state");
+        rk8_free((taper_stepper *)rk);
+        return NULL;
+    }
+    sim->state.buffer = &rk->state;
+    return (taper_stepper *)rk;
+}
+
+/* Root directions and answers for every slot events.c has now. */
+static taper_status rk8_arm_roots(taper_stepper *s, taper_error *err)
+{
+    rk8_stepper *rk = (rk8_stepper *)s;
+    const size_t slots = taper_events_slots(rk->sim);
+    if (slots > rk->root_capacity) {
+        const size_t c = 2 * slots;
+        int *d = realloc(rk->directions, c * sizeof *d);
+        if (d) rk->directions = d;
+        int *f = d ? realloc(rk->found, c * sizeof *f) : NULL;
+        if (f) rk->found = f;
+        if (!f) return taper_fail(err, TAPER_ENOMEM, "cannot allocate %zu root slots", slots);
+        rk->root_capacity = c;
+    }
+    taper_events_directions(rk->sim, rk->directions);
+    return TAPER_OK;
+}
+
+/* Roots as CVODE locates them: to 100 uround (|t| + |h|) (cvRootfind's
+ * ttol), and below rtol TAPER_REFINE_BELOW_RTOL, where that would dwarf
+ * the integration error, to a few ulps (where CVODE's are refined). */
+static taper_status rk8_start(taper_stepper *s, taper_error *err)
+{
+    rk8_stepper *rk = (rk8_stepper *)s;
+    if (!(rk->sim->spec.rtol < TAPER_REFINE_BELOW_RTOL)) rk->root_tol = 100.0 * DBL_EPSILON;
+    return rk8_arm_roots(s, err);
+}
+
+static void rk8_set_stop(taper_stepper *s, double t_stop) { ((rk8_stepper *)s)->stop = t_stop; }
+
+/* A single step is as cheap to cut as to take: no step goes past the end
+ * of the run's phase either.  The growth root is not located: CVODE too
+ * grows the window at the end of the step that holds it (solve.c), and
+ * rk8 saves the ~5 trial steps a located root costs. */
+static taper_step_outcome rk8_advance(taper_stepper *s, double tout, double t_end, taper_step *step)
+{
+    rk8_stepper *rk = (rk8_stepper *)s;
+    taper_sim *sim = rk->sim;
+    const double tstop = rk->stop < t_end ? rk->stop : t_end;
+    const rk8_result r = advance_to(rk, taper_sim_entries(sim), state_length(rk), rk->directions,
+                                    taper_events_slots(sim), taper_events_grow_slot(sim), rk->found,
+                                    tout, tstop, TAPER_STEPPER_STEPS_PER_CALL);
+    step->t = rk8_time(rk, &step->t_low);
+    step->found = r == RK8_ROOT ? rk->found : NULL;
+    switch (r) {
+    case RK8_REACHED: return TAPER_STEP_REACHED;
+    case RK8_ROOT: return TAPER_STEP_ROOT;
+    case RK8_WORK: return TAPER_STEP_WORK;
+    case RK8_FAILED: break;
+    }
+    return TAPER_STEP_FAILED;
+}
+
+/* The state returned is the stepper's own (a root, a stop) or inside the
+ * step held ahead, where a stop may still end that step: its time. */
+static double rk8_reached(const taper_stepper *s) { return rk8_time((const rk8_stepper *)s, NULL); }
+static double rk8_last_step(const taper_stepper *s) { return ((const rk8_stepper *)s)->h_last; }
+
+/* A single-step method starts afresh at every step: nothing to forget. */
+static taper_status rk8_restart(taper_stepper *s, taper_error *err)
+{
+    (void)s, (void)err;
+    return TAPER_OK;
+}
+
+/* The roots are located already, on order-8 trial steps (locate). */
+static double rk8_refine_root(taper_stepper *s, taper_root_value g, size_t k, const double **y)
+{
+    (void)g, (void)k, (void)y;
+    return ((rk8_stepper *)s)->sim->t;
+}
+
+/* crossing() compares signs, never a product. */
+static int rk8_sees_tiny_sign_changes(const taper_stepper *s)
+{
+    (void)s;
+    return 1;
+}
+
+static taper_step_counters rk8_run_counters(const taper_stepper *s)
+{
+    const rk8_counters r = ((const rk8_stepper *)s)->count;
+    return (taper_step_counters){.steps = r.steps, .rhs_evals = r.rhs_evals, .root_evals = r.root_evals,
+                                 .err_test_fails = r.err_test_fails};
+}
+
+static void rk8_describe_failure(const taper_stepper *s, taper_error *err, taper_status status)
+{
+    const rk8_stepper *rk = (const rk8_stepper *)s;
+    taper_fail(err, status, "rk8 failed: %s", rk->failure ? rk->failure : "");
+}
+
+const taper_stepper_type taper_stepper_rk8 = {
+    .alloc = rk8_alloc,
+    .start = rk8_start,
+    .arm_roots = rk8_arm_roots,
+    .set_stop = rk8_set_stop,
+    .advance = rk8_advance,
+    .reached = rk8_reached,
+    .last_step = rk8_last_step,
+    .restart = rk8_restart,
+    .refine_root = rk8_refine_root,
+    .sees_tiny_sign_changes = rk8_sees_tiny_sign_changes,
+    .counters = rk8_run_counters,
+    .describe_failure = rk8_describe_failure,
+    .free = rk8_free,
+};
