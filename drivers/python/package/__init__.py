@@ -58,7 +58,7 @@ from .result import COLUMNS, THEORY_COLUMNS, Result, read_granules
 
 __all__ = [
     "simulate", "theory", "run_scene", "read_granules", "plot", "collision_time", "version",
-    "build_info", "chain", "fit", "asymptotic", "variables", "taper_from_radii",
+    "build_info", "chain", "cite", "fit", "asymptotic", "variables", "taper_from_radii",
     "radii_from_taper",
     "Result", "Chain", "FitResult", "Variable", "TaperError", "InvalidArgumentError",
     "SceneError", "PROFILES", "METHODS", "STATISTICS", "OBSERVABLES", "THEORY_QUANTITIES",
@@ -199,6 +199,22 @@ def chain(**variables: Any) -> Chain:
     return _chain(**variables)
 
 
+def cite(**variables: Any) -> str:
+    """BibTeX for what a run of the scene of the keywords uses, as
+    ``taper --cite`` prints it: taper, the paper (Harbola, Rosas, Esposito
+    and Lindenberg, Phys. Rev. E 80, 031303 (2009), arXiv:0905.4512), and
+    SUNDIALS where CVODE integrates (methods adams, bdf), GSL where the
+    theory, rk8 or a fit runs, and the papers of the contact models the
+    scene switches on (viscoelastic damping, a static load, the decorated
+    chains' effective chain).  ``taper.cite()``: the defaults'.  Nothing is
+    run.  Keywords as for simulate().
+    {parameters}
+    """
+    if not _DRIVER_ONLY.isdisjoint(variables):
+        _signature.refuse_driver_only("cite", variables)
+    return _core.cite(**variables)
+
+
 def run_scene(path: Union[str, "os.PathLike[str]"]) -> List[Result]:
     """Runs a scene file as the driver ``taper`` does: read and validated by
     the driver's own scene reader (compiled into this package), one Result per
@@ -228,7 +244,7 @@ _from_core = Result._from_core
 _TABLE = _core.variables()
 _DRIVER_ONLY = frozenset(_signature.driver_only(_TABLE))
 chain.__doc__ = (_chain.__doc__ or "") + "    {parameters}\n    "
-for _func, _returns in ((simulate, Result), (theory, Result), (chain, Chain)):
+for _func, _returns in ((simulate, Result), (theory, Result), (chain, Chain), (cite, str)):
     _func.__signature__ = _signature.signature(_TABLE, _func.__name__, _returns)
     _func.__doc__ = (_func.__doc__ or "").replace("{rule}", _RULE).replace(
         "{parameters}", "\n    Keyword-only parameters (name: type = default  [SI unit with "

@@ -55,6 +55,12 @@ static PyObject *py_check(PyObject *self, PyObject *args, PyObject *kwargs)
     return WITH_NUMPY(pyscene_call(PYSCENE_CHECK, args, kwargs));
 }
 
+static PyObject *py_cite(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    return pyscene_call(PYSCENE_CITE, args, kwargs);
+}
+
 static PyObject *py_run_scene(PyObject *self, PyObject *arg)
 {
     (void)self;
@@ -146,6 +152,8 @@ static PyMethodDef methods[] = {
     {"chain", (PyCFunction)(void (*)(void))py_chain, METH_VARARGS | METH_KEYWORDS,
      "chain(**variables) -> dict: the scene's chain: columns k R m X0 r mu, no theory times, "
      "no integration."},
+    {"cite", (PyCFunction)(void (*)(void))py_cite, METH_VARARGS | METH_KEYWORDS,
+     "cite(**variables) -> str: BibTeX for what the scene's run uses (taper --cite)."},
     {"check", (PyCFunction)(void (*)(void))py_check, METH_VARARGS | METH_KEYWORDS,
      "check(**variables) -> None: the scene of the keywords validated, nothing run (the "
      "errors of simulate())."},

@@ -39,7 +39,7 @@
 
 #define CAPSULE_NAME "taper._core.scene"
 
-static const char *const call_names[] = {"simulate", "theory", "chain", "check"};
+static const char *const call_names[] = {"simulate", "theory", "chain", "check", "cite"};
 
 /* {keyword: row} of the table, made on first use (the GIL held). */
 static PyObject *keyword_rows;
@@ -537,6 +537,21 @@ fail:
     return NULL;
 }
 
+/* The BibTeX of taper --cite for the scene, as str; frees sc. */
+static PyObject *citations_of(scene *sc)
+{
+    char *text = NULL;
+    size_t size = 0;
+    FILE *fp = open_memstream(&text, &size);
+    unsigned works = 0;
+    int failed = !fp || scene_cite_mark(sc, &works) != 0 || scene_write_citations(works, fp) != 0;
+    if (fp) failed |= fclose(fp) != 0;
+    scene_free(sc);
+    PyObject *str = failed ? PyErr_NoMemory() : PyUnicode_FromStringAndSize(text, (Py_ssize_t)size);
+    free(text);
+    return str;
+}
+
 PyObject *pyscene_call(pyscene_kind kind, PyObject *args, PyObject *kwargs)
 {
     PyObject *progress;
@@ -546,6 +561,7 @@ PyObject *pyscene_call(pyscene_kind kind, PyObject *args, PyObject *kwargs)
         scene_free(sc);
         Py_RETURN_NONE;
     }
+    if (kind == PYSCENE_CITE) return citations_of(sc);
     PyObject *capsule = PyCapsule_New(sc, CAPSULE_NAME, capsule_free);
     if (!capsule) {
         scene_free(sc);

@@ -16,7 +16,8 @@ typedef enum pyscene_kind {
     PYSCENE_SIMULATE = 0, /* the scene's one run                          */
     PYSCENE_THEORY = 1,   /* the same with numerics = .false.             */
     PYSCENE_CHAIN = 2,    /* its chain alone                              */
-    PYSCENE_CHECK = 3     /* validated only: None (taper_from_radii)      */
+    PYSCENE_CHECK = 3,    /* validated only: None (taper_from_radii)      */
+    PYSCENE_CITE = 4      /* what to cite, as BibTeX (taper --cite)       */
 } pyscene_kind;
 
 /* simulate(**kw), theory(**kw), chain(**kw): the dict a Result (Chain) is
