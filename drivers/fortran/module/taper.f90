@@ -146,7 +146,8 @@ module taper_binding
             taper_solver_spec_atol, taper_solver_spec_last_granule, taper_solver_spec_window, &
             taper_solver_spec_max_order, taper_solver_spec_t_max, taper_solver_spec_max_steps, &
             taper_solver_spec_set_t_end, taper_solver_spec_t_end, taper_solver_spec_set_sampler, &
-            taper_solver_spec_sample_interval
+            taper_solver_spec_sample_interval, taper_solver_spec_set_sample_times, &
+            taper_solver_spec_sample_times
   public :: taper_sim_alloc, taper_sim_free, taper_sim_run, taper_sim_observable, &
             taper_sim_theory, taper_sim_statistic, taper_sim_state, taper_sim_time, &
             taper_sim_striker_state, taper_sim_forces, taper_sim_piston_work
@@ -860,6 +861,28 @@ module taper_binding
        type(c_ptr), value :: spec
        real(c_double) :: x
      end function taper_solver_spec_sample_interval
+     ! The sampler at n given times (finite, >= 0, strictly increasing):
+     ! times is c_loc of an array the caller keeps, unchanged, while a sim
+     ! made from this spec runs (it is not copied).
+     function taper_solver_spec_set_sample_times(spec, times, n, fn, user, err) &
+          bind(C, name="taper_solver_spec_set_sample_times") result(status)
+       import :: c_ptr, c_funptr, c_int, c_size_t, taper_error
+       type(c_ptr), value :: spec
+       type(c_ptr), value :: times
+       integer(c_size_t), value :: n
+       type(c_funptr), value :: fn
+       type(c_ptr), value :: user
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_solver_spec_set_sample_times
+     ! c_loc of the times given (c_null_ptr: none), their number in n.
+     function taper_solver_spec_sample_times(spec, n) &
+          bind(C, name="taper_solver_spec_sample_times") result(times)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: spec
+       integer(c_size_t), intent(out) :: n
+       type(c_ptr) :: times
+     end function taper_solver_spec_sample_times
      ! monitor: c_funloc of a bind(C) function
      !   integer(c_int) function f(progress, user) bind(C)
      !     type(taper_progress), intent(in) :: progress; type(c_ptr), value :: user
