@@ -163,7 +163,7 @@ static int write_script(const calibration *c, const char *dir, const size_t *ord
             "this directory) -> calibration.png\n", taper_version());
     fprintf(fp, "set terminal pngcairo size 900,%zu enhanced font ',11'\n",
             (size_t)(300 * m->n_quantities + 100));
-    fputs("set output 'calibration.png'\n", fp);
+    fputs("set output 'calibration.png'\nset termoption noenhanced\n", fp);
     fprintf(fp, "set multiplot layout %zu,1 title ", m->n_quantities);
     char *title = NULL;
     size_t len = 0;

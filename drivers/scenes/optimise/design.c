@@ -16,9 +16,8 @@
 #define PI 3.14159265358979323846
 /* What a failed run counts as: worse than any. */
 #define OUTSIDE 1e300
-/* The simplex's first step along each setting, in w (a fifth of the way
- * from one bound to the other is w = 0.3). */
-#define SIMPLEX_STEP 0.2
+/* Points of the coarse grid in all, at most. */
+#define MAX_GRID 10000
 /* A setting within this fraction of its range from a bound is at it. */
 #define AT_BOUND 1e-3
 
@@ -62,6 +61,24 @@ design_problem *design_new(const scene *sc, opt_error *e)
         e->keyword = "design_objective";
         goto fail;
     }
+    if (cfg->design.method == SCENE_GRID && cfg->design.grid < 2) {
+        e->message = text_printf("method = 'grid' runs the grid alone: give grid >= 2 points per "
+                                 "setting");
+        e->keyword = "design_grid";
+        goto fail;
+    }
+    size_t reals = 0, points = 1;
+    for (size_t i = 0; i < d->space->n; i++) reals += !d->space->p[i].integer;
+    for (size_t j = 0; j < reals && cfg->design.grid > 1; j++) {
+        points *= (size_t)cfg->design.grid;
+        if (points > MAX_GRID) {
+            e->message = text_printf("%lld points per setting make a grid of more than %d points "
+                                     "for %zu real settings: give fewer (1: none)",
+                                     cfg->design.grid, MAX_GRID, reals);
+            e->keyword = "design_grid";
+            goto fail;
+        }
+    }
     scene_config at;
     scene_config_at(cfg, 0, &at);
     d->unit = d->objective.dim == TAPER_DIM_NUMBER ? NULL : scene_unit_suffix(&at, d->objective.dim);
@@ -92,6 +109,7 @@ typedef struct search {
     size_t real[64];         /* their indices                                 */
     double point[64];        /* the full point: integers fixed                */
     double h;                /* the gradient's step in w (BFGS)               */
+    double step;             /* the simplex's first step in w                 */
     size_t runs;             /* of this optimisation                          */
     size_t max_runs;
     int interrupted;
@@ -123,7 +141,11 @@ static void point_of(search *s, const double *w, double *point)
  * failed runs.  Keeps the best. */
 static void values_at(search *s, size_t k, const double *points, double *f)
 {
-    opt_result r[65];
+    opt_result *r = calloc(k, sizeof *r);
+    if (!r) {
+        for (size_t i = 0; i < k; i++) f[i] = OUTSIDE;
+        return;
+    }
     if (opt_evaluate_batch(&s->d->pb, k, points, r)) s->interrupted = 1;
     for (size_t i = 0; i < k; i++) {
         f[i] = OUTSIDE;
@@ -136,6 +158,7 @@ static void values_at(search *s, size_t k, const double *points, double *f)
         }
         opt_result_free(&r[i]);
     }
+    free(r);
     s->runs += k;
 }
 
@@ -222,14 +245,14 @@ static int nelder_mead(search *s, const double *w0, double tolerance, size_t *it
     point_of(s, w0, points);
     for (size_t j = 0; j < m; j++) {
         memcpy(w, w0, m * sizeof *w);
-        w[j] += SIMPLEX_STEP;
+        w[j] += s->step;
         point_of(s, w, points + (j + 1) * p);
     }
     values_at(s, m + 1, points, fs);
     s->runs -= m + 1; /* counted again as nmsimplex2 asks for them */
     for (size_t j = 0; j < m; j++) {
         gsl_vector_set(x, j, w0[j]);
-        gsl_vector_set(step, j, SIMPLEX_STEP);
+        gsl_vector_set(step, j, s->step);
     }
     gsl_multimin_function fn = {.f = f_of_w, .n = m, .params = s};
     int rc = 1;
@@ -294,6 +317,38 @@ static int bfgs(search *s, const double *w0, double tolerance, size_t *iteration
     gsl_vector_free(x);
     gsl_vector_free(prev);
     return rc;
+}
+
+/* The coarse grid of the real settings (k points each, lower to upper)
+ * and (with_start) the start, all at once: s->best is the best of them. */
+static void grid(search *s, size_t k, int with_start)
+{
+    const size_t m = s->m, p = s->p;
+    size_t n = 1;
+    for (size_t j = 0; j < m; j++) n *= k;
+    if (k < 2) n = 0;
+    double *points = malloc((n + 1) * p * sizeof *points), *f = malloc((n + 1) * sizeof *f);
+    if (!points || !f) {
+        free(points);
+        free(f);
+        return;
+    }
+    memcpy(points, s->point, p * sizeof *points);
+    for (size_t j = 0; j < m; j++) points[s->real[j]] = s->d->space->p[s->real[j]].start;
+    for (size_t g = 0; g < n; g++) {
+        double *x = points + (g + 1) * p;
+        memcpy(x, s->point, p * sizeof *x);
+        size_t c = g;
+        for (size_t j = m; j-- > 0;) {
+            const opt_param *q = &s->d->space->p[s->real[j]];
+            x[s->real[j]] = q->lower + (q->upper - q->lower) * (double)(c % k) / (double)(k - 1);
+            c /= k;
+        }
+    }
+    for (size_t g = with_start ? 0 : 1; g < n + 1 && !s->interrupted; g += 256)
+        values_at(s, n + 1 - g < 256 ? n + 1 - g : 256, points + g * p, f + g);
+    free(points);
+    free(f);
 }
 
 /* ---- the design --------------------------------------------------------------------------- */
@@ -364,6 +419,11 @@ opt_outcome design_run(design_problem *d, const opt_options *o)
     for (size_t i = 0; i < p; i++)
         if (!d->space->p[i].integer) s.real[s.m++] = i;
     s.h = sqrt(fmax(scene_setting(cfg, "rtol"), DBL_EPSILON));
+    /* The simplex's first step in w: half the coarse grid's spacing (about
+     * a quarter of a grid cell in the setting near the middle of its
+     * range), from 0.05 to 0.2. */
+    s.step = cfg->design.grid > 1 ? 0.5 / (double)(cfg->design.grid - 1) : 0.2;
+    s.step = s.step < 0.05 ? 0.05 : s.step > 0.2 ? 0.2 : s.step;
     const size_t n_comb = combinations(d);
     d->n_scan = s.m && n_comb > 1 ? n_comb : 0;
     if (n_comb > 1) {
@@ -404,15 +464,22 @@ opt_outcome design_run(design_problem *d, const opt_options *o)
     for (size_t c = 0; s.m && c < n_comb && worst != 2; c++) {
         for (size_t i = 0; i < p; i++) s.point[i] = d->space->p[i].start;
         combination(d, c, s.point);
-        for (size_t j = 0; j < s.m; j++) {
-            const opt_param *q = &d->space->p[s.real[j]];
-            w0[j] = w_of_theta(q, q->start);
-        }
         s.max_runs = s.runs + (size_t)cfg->design.max_runs;
         double before = s.best_f, best_here[64];
         memcpy(best_here, s.best, sizeof best_here);
         s.best_f = INFINITY;
-        int rc = cfg->design.method == SCENE_BFGS
+        /* The basin: the best of the coarse grid and the start. */
+        grid(&s, (size_t)cfg->design.grid, cfg->design.method != SCENE_GRID);
+        if (s.interrupted) {
+            worst = 2;
+            break;
+        }
+        for (size_t j = 0; j < s.m; j++) {
+            const opt_param *q = &d->space->p[s.real[j]];
+            w0[j] = w_of_theta(q, isinf(s.best_f) ? q->start : s.best[s.real[j]]);
+        }
+        int rc = cfg->design.method == SCENE_GRID ? 0
+                 : cfg->design.method == SCENE_BFGS
                      ? bfgs(&s, w0, cfg->design.tolerance, &d->iterations)
                      : nelder_mead(&s, w0, cfg->design.tolerance, &d->iterations);
         if (n_comb > 1) {
@@ -448,6 +515,7 @@ opt_outcome design_run(design_problem *d, const opt_options *o)
         else if (q->upper - d->best[i] <= room) d->at_bound[i] = 2;
     }
     const char *method = cfg->design.method == SCENE_BFGS ? "BFGS" : "Nelder-Mead";
+    const size_t per = (size_t)cfg->design.grid;
     if (worst == 3)
         set_reason(d, OPT_NOT_CONVERGED, text_printf("%s stopped without converging (GSL "
                    "refused a step): the best run so far is reported", method));
@@ -456,6 +524,9 @@ opt_outcome design_run(design_problem *d, const opt_options *o)
                    "(raise it, or the tolerance)", cfg->design.max_runs));
     else if (s.m == 0)
         set_reason(d, OPT_CONVERGED, text_printf("every combination of the integer settings run"));
+    else if (cfg->design.method == SCENE_GRID)
+        set_reason(d, OPT_CONVERGED, text_printf("the grid of %zu points per setting run (its best "
+                   "point: the answer to within a grid cell)", per));
     else
         set_reason(d, OPT_CONVERGED, text_printf("%s: the %s shrank below tolerance = %g of each "
                    "setting's range", method, cfg->design.method == SCENE_BFGS ? "step" : "simplex",

@@ -52,9 +52,15 @@ static int write_design(const design_problem *d, const char *dir, char **msg)
     fputs(" = ", fp);
     out_cell(fp, d->best_objective, 1);
     fprintf(fp, "# outcome: %s: %s\n", outcome_word(d->outcome), d->reason ? d->reason : "");
-    fprintf(fp, "# method: %s (GSL %s), tolerance %g, in variables mapped onto the bounds\n",
-            cfg->design.method == SCENE_BFGS ? "bfgs" : "nelder_mead",
-            cfg->design.method == SCENE_BFGS ? "vector_bfgs2" : "nmsimplex2", cfg->design.tolerance);
+    if (cfg->design.method == SCENE_GRID)
+        fprintf(fp, "# method: grid, %lld points per setting from lower to upper\n",
+                cfg->design.grid);
+    else
+        fprintf(fp, "# method: %s (GSL %s) from the best of a grid of %lld points per setting, "
+                "tolerance %g, in variables mapped onto the bounds\n",
+                cfg->design.method == SCENE_BFGS ? "bfgs" : "nelder_mead",
+                cfg->design.method == SCENE_BFGS ? "vector_bfgs2" : "nmsimplex2",
+                cfg->design.grid, cfg->design.tolerance);
     if (d->space->hold != SCENE_HOLD_NONE)
         fprintf(fp, "# hold: the chain's %s at %.17g %s (&material radius scaled at every run)\n",
                 d->space->hold == SCENE_HOLD_LENGTH ? "length (sum of diameters)" : "mass",
@@ -126,7 +132,7 @@ static int write_script(const design_problem *d, const char *dir, char **msg)
     fprintf(fp, "# taper %s: the objective through the optimum along each setting; render: "
             "gnuplot design.gp (in this directory) -> design.png\n", taper_version());
     fprintf(fp, "set terminal pngcairo size %zu,450 enhanced font ',11'\n", 450 * p + 100);
-    fputs("set output 'design.png'\n", fp);
+    fputs("set output 'design.png'\nset termoption noenhanced\n", fp);
     char *title = text_printf("%s of %s: %s = %.6g%s%s at the optimum",
                               d->maximise ? "maximising" : "minimising", scene_path(d->sc),
                               d->objective.name, d->best_objective, d->unit ? " " : "",

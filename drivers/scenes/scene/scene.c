@@ -59,7 +59,7 @@ static const char *const chain_params[] = {"s", "q", NULL};
 static const char *const sweep_modes[] = {"grid", "zip", NULL};
 static const char *const units[] = {"rescaled", "si", NULL};
 static const char *const design_goals[] = {"minimise", "maximise", NULL};
-static const char *const design_methods[] = {"nelder_mead", "bfgs", NULL};
+static const char *const design_methods[] = {"nelder_mead", "bfgs", "grid", NULL};
 static const char *const design_holds[] = {"none", "length", "mass", NULL};
 static const char *const columns[SCENE_N_COLUMNS + 1] = {
     "k", "R", "m", "X0", "t_pass", "T_res", "v_peak", "t_peak", "X_pass",
@@ -425,11 +425,18 @@ static const scene_var own[] = {
     {.group = "design", .keyword = "design_upper", .type = SCENE_REAL_LIST, .flags = SCENE_EXTRA,
      .offset = AT(design.upper), .lib = SCENE_OWN,
      .doc = "upper bounds, one per free setting (finite)"},
+    {.group = "design", .keyword = "design_grid", .type = SCENE_INTEGER, .flags = SCENE_EXTRA,
+     .offset = AT(design.grid), .def = "5", .lib = SCENE_OWN, .lo = 1, .hi = 1001,
+     .doc = "points per real setting of a coarse grid run first, all at once, lower to upper "
+            "(at most 10000 points in all); the optimiser starts from the best of them and the "
+            "start: a local method finds the optimum of the basin it starts in, the grid picks "
+            "the basin; 1: start at the start alone"},
     {.group = "design", .keyword = "design_method", .type = SCENE_CHOICE, .flags = SCENE_EXTRA,
      .offset = AT(design.method), .def = "'nelder_mead'", .lib = SCENE_OWN,
      .choices = design_methods,
-     .doc = "'nelder_mead' (GSL's nmsimplex2: no derivatives) or 'bfgs' (GSL's vector_bfgs2, "
-            "the gradient by finite differences, its runs in parallel)"},
+     .doc = "'nelder_mead' (GSL's nmsimplex2: no derivatives), 'bfgs' (GSL's vector_bfgs2, "
+            "the gradient by finite differences, its runs in parallel), each from the best point "
+            "of the coarse grid; or 'grid': the grid alone, its best point the answer (a scan)"},
     {.group = "design", .keyword = "design_tolerance", .type = SCENE_REAL,
      .flags = SCENE_LO_OPEN | SCENE_EXTRA, .offset = AT(design.tolerance), .def = "1e-3",
      .lib = SCENE_OWN, .lo = 0, .hi = 0.5,

@@ -229,7 +229,7 @@ typedef struct scene_calibrate_config {
 typedef enum scene_design_goal { SCENE_MINIMISE = 0, SCENE_MAXIMISE = 1 } scene_design_goal;
 /* &design method. */
 typedef enum scene_design_method {
-    SCENE_NELDER_MEAD = 0, SCENE_BFGS = 1
+    SCENE_NELDER_MEAD = 0, SCENE_BFGS = 1, SCENE_GRID = 2
 } scene_design_method;
 /* &design hold: what stays fixed while the free settings change. */
 typedef enum scene_design_hold {
@@ -250,6 +250,8 @@ typedef struct scene_design_config {
     int hold;               /* scene_design_hold                             */
     scene_reals log_radii;  /* c_j of ln(R_k/R_1) = sum c_j x^j; empty: none */
     long long profile_points; /* points of each cut through the optimum      */
+    long long grid;         /* points per real setting of the first, coarse
+                               grid; 1: none                                 */
 } scene_design_config;
 
 /* At most this many variables swept at once. */
