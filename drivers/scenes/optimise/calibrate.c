@@ -383,12 +383,14 @@ static void uncertainties(fit *f, const double *y)
     if (!J || !C) goto out;
     for (size_t j = 0; j < n; j++)
         for (size_t i = 0; i < p; i++) gsl_matrix_set(J, j, i, f->J_y[j * p + i]);
-    gsl_multifit_nlinear_covar(J, 1e-12, C);
+    /* A column that the others give to within the Jacobian's own error
+     * (about its step, sqrt(rtol), relative) is no information: GSL's
+     * pivoted QR drops it (variance 0), and the setting is undetermined. */
+    gsl_multifit_nlinear_covar(J, 10.0 * c->jacobian_step, C);
     double scale = c->absolute ? 1.0 : c->chi2 / (double)c->dof;
     for (size_t i = 0; i < p; i++) {
         double v = gsl_matrix_get(C, i, i);
-        /* A column GSL's pivoted QR drops (rank deficient) has variance 0:
-         * the data do not determine that setting. */
+        /* dropped: the data do not determine that setting */
         c->error[i] = v > 0 ? sqrt(v * scale) * fabs(f->s[i].size) : NAN;
     }
     for (size_t i = 0; i < p; i++)
