@@ -10,6 +10,7 @@
 #define TAPER_CORE_IMPORTS_NUMPY
 #include "_core.h"
 
+#include "_optimise.h"
 #include "_scene.h"
 
 /* ---- the scenes (_scene.c) --------------------------------------------------- */
@@ -43,6 +44,20 @@ static PyObject *py_variables(PyObject *self, PyObject *unused)
     (void)self;
     (void)unused;
     return pyscene_variables();
+}
+
+/* ---- calibration and design (_optimise.c) --------------------------------------- */
+
+static PyObject *py_calibrate(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    return pyopt_calibrate(args, kwargs);
+}
+
+static PyObject *py_design(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    return pyopt_design(args, kwargs);
 }
 
 static PyObject *py_scene_text(PyObject *self, PyObject *args)
@@ -101,6 +116,12 @@ static PyMethodDef methods[] = {
     {"variables", py_variables, METH_NOARGS,
      "variables() -> tuple of dict: every scene variable (the keywords), from the scene's "
      "table."},
+    {"calibrate", (PyCFunction)(void (*)(void))py_calibrate, METH_VARARGS | METH_KEYWORDS,
+     "calibrate(**variables) -> dict: the scene's &calibrate: its free settings fitted to "
+     "its data by the driver's optimiser (GIL released, runs on threads)."},
+    {"design", (PyCFunction)(void (*)(void))py_design, METH_VARARGS | METH_KEYWORDS,
+     "design(**variables) -> dict: the scene's &design: its objective optimised over its "
+     "free settings by the driver's optimiser."},
     {"scene_text", py_scene_text, METH_VARARGS,
      "scene_text(scene, point) -> str: the resolved scene of a result, as a namelist (the "
      "driver's echo)."},

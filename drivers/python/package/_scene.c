@@ -35,7 +35,7 @@
 
 #define CAPSULE_NAME "taper._core.scene"
 
-static const char *const call_names[] = {"simulate", "theory", "chain"};
+static const char *const call_names[] = {"simulate", "theory", "chain", "calibrate", "design"};
 
 static void capsule_free(PyObject *capsule)
 {
@@ -255,6 +255,11 @@ static scene *scene_of(pyscene_kind kind, PyObject *args, PyObject *kwargs)
 fail:
     scene_free(sc);
     return NULL;
+}
+
+scene *pyscene_scene(pyscene_kind kind, PyObject *args, PyObject *kwargs)
+{
+    return scene_of(kind, args, kwargs);
 }
 
 /* ---- results in the scene's units -------------------------------------------------- */

@@ -15,7 +15,9 @@
 typedef enum pyscene_kind {
     PYSCENE_SIMULATE = 0, /* the scene's one run                          */
     PYSCENE_THEORY = 1,   /* the same with numerics = .false.             */
-    PYSCENE_CHAIN = 2     /* its chain alone                              */
+    PYSCENE_CHAIN = 2,    /* its chain alone                              */
+    PYSCENE_CALIBRATE = 3, /* its &calibrate (_optimise.c)                */
+    PYSCENE_DESIGN = 4    /* its &design (_optimise.c)                    */
 } pyscene_kind;
 
 /* simulate(**kw), theory(**kw), chain(**kw): the dict a Result (Chain) is
@@ -23,6 +25,11 @@ typedef enum pyscene_kind {
  * wrong Python type), InvalidArgumentError (a value the scene or the
  * library refuses: .field the keyword) or another exception. */
 PyObject *pyscene_call(pyscene_kind kind, PyObject *args, PyObject *kwargs);
+/* The validated scene of a call's keywords (named after the call kind in
+ * its echo), or NULL with TypeError or InvalidArgumentError as
+ * pyscene_call raises them.  Free with scene_free. */
+struct scene;
+struct scene *pyscene_scene(pyscene_kind kind, PyObject *args, PyObject *kwargs);
 /* run_scene(path): one dict per point of the scene's sweep; SceneError
  * with the reader's diagnostics for an invalid scene. */
 PyObject *pyscene_run_file(PyObject *path);

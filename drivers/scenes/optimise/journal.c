@@ -137,6 +137,14 @@ static int remember(opt_journal *j, const double *values, const opt_result *r)
 }
 
 size_t opt_journal_count(const opt_journal *j) { return j ? j->n : 0; }
+const double *opt_journal_point(const opt_journal *j, size_t i)
+{
+    return j && i < j->n ? j->entries[i].values : NULL;
+}
+const opt_result *opt_journal_result(const opt_journal *j, size_t i)
+{
+    return j && i < j->n ? &j->entries[i].result : NULL;
+}
 
 /* ---- the files ------------------------------------------------------------------------ */
 

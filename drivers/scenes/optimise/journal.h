@@ -63,6 +63,10 @@ int opt_journal_add(opt_journal *j, const double *values, const opt_result *r, d
                     char **msg);
 /* Runs recorded, earlier attempts' included. */
 size_t opt_journal_count(const opt_journal *j);
+/* Run i (0 <= i < count, in the order recorded): its point, and what it
+ * gave. */
+const double *opt_journal_point(const opt_journal *j, size_t i);
+const opt_result *opt_journal_result(const opt_journal *j, size_t i);
 
 /* A key of what the runs depend on: the scene's echo, the bytes of the
  * file at data_path (NULL: none) and taper's version, as hex.  malloc'd. */
