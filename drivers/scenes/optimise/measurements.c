@@ -5,6 +5,7 @@
  */
 #include "optimise/measurements.h"
 
+#include "util/number.h"
 #include "util/text.h"
 
 #include <ctype.h>
@@ -567,15 +568,21 @@ int meas_check(const measurements *m, const meas_run_limits *lim, char **msg)
             return fail_point(m, p, p->column, msg, "force_right: the scene has no right wall "
                               "(&ends right = 'wall')");
         if (m->form == MEAS_GRANULES) continue;
-        if (lim->t_max > 0 && p->t >= lim->t_max)
-            return fail_point(m, p, m->time_column, msg, "time %.17g%s is beyond the run: it ends "
-                              "at &solver t_max = %.17g%s; raise t_max (0: no limit)", p->t, unit,
-                              lim->t_max, unit);
-        if (lim->t_end > 0 && p->t > lim->t_end)
-            return fail_point(m, p, m->time_column, msg, "time %.17g%s is beyond the run: it ends "
-                              "at &solver t_end = %.17g%s; raise t_end, or leave it out (the "
-                              "calibration then runs to the last measured time)", p->t, unit,
-                              lim->t_end, unit);
+        char t[NUMBER_SIZE], end[NUMBER_SIZE];
+        number_shortest(t, p->t);
+        if (lim->t_max > 0 && p->t >= lim->t_max) {
+            number_shortest(end, lim->t_max);
+            return fail_point(m, p, m->time_column, msg, "time %s%s is beyond the run: it ends "
+                              "at &solver t_max = %s%s; raise t_max (0: no limit)", t, unit, end,
+                              unit);
+        }
+        if (lim->t_end > 0 && p->t > lim->t_end) {
+            number_shortest(end, lim->t_end);
+            return fail_point(m, p, m->time_column, msg, "time %s%s is beyond the run: it ends "
+                              "at &solver t_end = %s%s; raise t_end, or leave it out (the "
+                              "calibration then runs to the last measured time)", t, unit, end,
+                              unit);
+        }
     }
     return 0;
 }
