@@ -82,13 +82,15 @@ static int record(const taper_sim *sim, void *user)
 }
 
 static double peak_force;
+static double truth_rtol = 1e-12; /* the measurement's integration */
 
 /* data.tsv: the sensor's force in SI with Gaussian noise of `noise` times
  * the peak (seed), the way an experiment's table would come. */
 static const char *measure(double noise, unsigned long seed)
 {
     char *text = text_printf("%s          young = %.17g /\n&losses damping = %.17g /\n"
-                             "&solver rtol = 1e-12, atol = 1e-15 /\n", physics, YOUNG, DAMPING);
+                             "&solver rtol = %g, atol = %g /\n", physics, YOUNG, DAMPING,
+                             truth_rtol, truth_rtol * 1e-3);
     scene *sc = scene_of("truth.nml", text);
     free(text);
     scene_config at;
@@ -138,11 +140,12 @@ typedef struct fitted {
     char reason[512];
 } fitted;
 
-static fitted calibrate(const char *path, double young, double damping, const char *extra)
+static fitted calibrate_at(const char *path, double young, double damping, const char *extra,
+                           const char *solver)
 {
-    char *text = text_printf("%s          young = %.17g /\n&losses damping = %.17g /\n"
+    char *text = text_printf("%s          young = %.17g /\n&losses damping = %.17g /\n%s"
                              "&calibrate data = '%s', free = 'young damping' %s /\n",
-                             physics, young, damping, path, extra);
+                             physics, young, damping, solver, path, extra);
     scene *sc = scene_of("fit.nml", text);
     free(text);
     opt_error e;
@@ -160,6 +163,11 @@ static fitted calibrate(const char *path, double young, double damping, const ch
     calibration_free(c);
     scene_free(sc);
     return f;
+}
+
+static fitted calibrate(const char *path, double young, double damping, const char *extra)
+{
+    return calibrate_at(path, young, damping, extra, "");
 }
 
 static void print(const char *what, const fitted *f)
@@ -288,11 +296,33 @@ static int setup(void **state)
     return 0;
 }
 
+/* --accuracy: how the integration's tolerance limits the fit (noise-free
+ * data made at rtol 1e-13; docs/calibration.md, "Accuracy"). */
+static int accuracy(void)
+{
+    const char *path = measure(0.0, 0);
+    printf("rtol\tyoung_error\tdamping_error\toutcome\truns\n");
+    int rc = 0;
+    for (double rtol = 1e-6; rtol > 1e-13; rtol /= 100) {
+        char *solver = text_printf("&solver rtol = %g, atol = %g /\n", rtol, rtol * 1e-3);
+        fitted f = calibrate_at(path, 0.8 * YOUNG, 2 * DAMPING, "", solver);
+        free(solver);
+        printf("%g\t%.2e\t%.2e\t%s\t%zu\n", rtol, fabs(f.value[0] / YOUNG - 1),
+               fabs(f.value[1] / DAMPING - 1), f.outcome == OPT_CONVERGED ? "converged" : f.reason,
+               f.runs);
+        rc |= f.outcome != OPT_CONVERGED;
+    }
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     if (!mkdtemp(dir)) return 1;
     int rc;
-    if (argc > 1 && strcmp(argv[1], "--coverage") == 0) {
+    if (argc > 1 && strcmp(argv[1], "--accuracy") == 0) {
+        truth_rtol = 1e-13;
+        rc = accuracy();
+    } else if (argc > 1 && strcmp(argv[1], "--coverage") == 0) {
         rc = coverage();
     } else {
         const struct CMUnitTest tests[] = {
