@@ -20,6 +20,8 @@
  *  - --coverage (suite 'slow'): over 40 seeds the true values fall within
  *    1 and 2 standard errors as often as a Gaussian says (binomial bounds):
  *    the errors are the fit's uncertainty, not decoration;
+ *  - Young's modulus from the wall's force alone (walls.tsv) and from
+ *    the pulse's pass times (granules.tsv), to the same precision;
  *  - settings the data cannot tell apart (Young's modulus and the Poisson
  *    ratio of one material against a rigid wall: only (1 - nu^2)/E enters
  *    Hertz's law) are refused as undetermined (OPT_NOT_CONVERGED);
@@ -65,7 +67,7 @@ static scene *scene_of(const char *path, const char *text)
 /* ---- the measurement --------------------------------------------------------------------- */
 
 typedef struct signal {
-    double t[SAMPLES], force[SAMPLES]; /* rescaled */
+    double t[SAMPLES], force[SAMPLES], wall[SAMPLES]; /* rescaled */
     size_t n;
 } signal;
 
@@ -76,10 +78,15 @@ static int record(const taper_sim *sim, void *user)
     assert_int_equal(taper_sim_forces(sim, f, NULL), TAPER_OK);
     if (s->n < SAMPLES) {
         s->t[s->n] = taper_sim_time(sim);
+        s->wall[s->n] = f[8];
         s->force[s->n++] = 0.5 * (f[SENSOR - 1] + f[SENSOR]);
     }
     return 0;
 }
+
+/* The other forms of a table, noise-free: walls.tsv's (the wall's force)
+ * and granules.tsv's (pass times), written by measure() too. */
+static char walls_path[256], passes_path[256];
 
 static double peak_force;
 static double truth_rtol = 1e-12; /* the measurement's integration */
@@ -121,6 +128,20 @@ static const char *measure(double noise, unsigned long seed)
                 s.force[j] * unit_f + (noise > 0 ? gsl_ran_gaussian(rng, noise * peak_force) : 0.0));
     fclose(fp);
     gsl_rng_free(rng);
+    snprintf(walls_path, sizeof walls_path, "%s/walls.tsv", dir);
+    fp = fopen(walls_path, "w");
+    assert_non_null(fp);
+    fputs("t[s]\tforce_right[N]\n", fp);
+    for (size_t j = 0; j < SAMPLES; j++)
+        fprintf(fp, "%.17g\t%.17g\n", (double)j * INTERVAL, s.wall[j] * unit_f);
+    fclose(fp);
+    snprintf(passes_path, sizeof passes_path, "%s/granules.tsv", dir);
+    fp = fopen(passes_path, "w");
+    assert_non_null(fp);
+    fputs("k\tt_pass[s]\n", fp);
+    const double *t_pass = taper_sim_observable(sim, TAPER_T_PASS);
+    for (size_t k = 1; k < 8; k++) fprintf(fp, "%zu\t%.17g\n", k, t_pass[k - 1] * unit_t);
+    fclose(fp);
     taper_sim_free(sim);
     taper_solver_spec_free(ss);
     taper_chain_free(chain);
@@ -218,6 +239,32 @@ static void noisy_data_within_two_errors(void **state)
     assert_true(fabs(b.value[0] - YOUNG) < 2 * b.error[0]);
     assert_true(fabs(b.value[1] - DAMPING) < 2 * b.error[1]);
     for (int i = 0; i < 2; i++) assert_double_rel(b.error[i], a.error[i], 0.2);
+}
+
+/* Young's modulus from the wall's force alone (walls.tsv), and from the
+ * pulse's pass times (granules.tsv). */
+static void the_other_tables(void **state)
+{
+    (void)state;
+    measure(0.0, 0);
+    const char *paths[] = {walls_path, passes_path};
+    for (int i = 0; i < 2; i++) {
+        char *text = text_printf("%s          young = 1.5e11 /\n&losses damping = %.17g /\n"
+                                 "&calibrate data = '%s', free = 'young' /\n",
+                                 physics, DAMPING, paths[i]);
+        scene *sc = scene_of("fit.nml", text);
+        free(text);
+        opt_error e;
+        calibration *c = calibration_new(sc, &e);
+        if (!c) fail_msg("%s", e.message);
+        opt_options o = {.threads = 2};
+        assert_int_equal(calibration_run(c, &o), OPT_CONVERGED);
+        printf("%s: young = %.12g (%.2e), %zu runs\n", paths[i], c->value[0],
+               fabs(c->value[0] / YOUNG - 1), c->runs);
+        assert_double_rel(c->value[0], YOUNG, 1e-8);
+        calibration_free(c);
+        scene_free(sc);
+    }
 }
 
 /* A start beyond a tight bound: the optimum wants to leave it. */
@@ -328,6 +375,7 @@ int main(int argc, char **argv)
         const struct CMUnitTest tests[] = {
             cmocka_unit_test(noise_free_data_to_the_tolerance),
             cmocka_unit_test(noisy_data_within_two_errors),
+            cmocka_unit_test(the_other_tables),
             cmocka_unit_test(a_setting_at_its_bound_says_so),
             cmocka_unit_test(settings_the_data_cannot_tell_apart),
         };

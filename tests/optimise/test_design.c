@@ -20,7 +20,10 @@
  *    (its optimum a corner), and the energy dissipated (maximised);
  *  - Nelder-Mead and BFGS agree, and a design resumed from its journal
  *    (the same problem run again) reuses every run and finds the same
- *    optimum to the last bit.
+ *    optimum to the last bit;
+ *  - an integer setting (n_granules) is scanned, alone (every value run)
+ *    and with a real one (optimised at each value): the best of the scan
+ *    is the answer.
  */
 #include "optimise/design.h"
 #include "test_util.h"
@@ -146,6 +149,55 @@ static int against_scan(const char *keys, double sign)
                    opt.runs < scan.runs ? 0 : 1;
 }
 
+/* An integer setting is scanned: every value, the real ones optimised at
+ * each; the best of the scan is the answer. */
+static void integers_are_scanned(void **state)
+{
+    (void)state;
+    const char *chain = "&chain n_granules = 8 /\n&ends right = 'wall' /\n"
+                        "&striker radius = 2.38e-3 /\n&losses damping = 1e-7 /\n"
+                        "&solver t_end = 3e-4 /\n"
+                        "&material young = 193e9, poisson = 0.3, density = 8000, "
+                        "radius = 2.38e-3, velocity = 0.5 /\n";
+    const char *keys[] = {
+        /* integers alone: every value run, at once */
+        "&design objective = 'wall_peak_force_right', free = 'n_granules', lower = 5, "
+        "upper = 9, profile_points = 0 /\n",
+        /* with a real setting: optimised at each of the 3 values */
+        "&design objective = 'wall_peak_force_right', free = 'n_granules log_radii(1)', "
+        "log_radii = 0, lower = 6, -1, upper = 8, 1, hold = 'length', profile_points = 0 /\n"};
+    for (int k = 0; k < 2; k++) {
+        char *text = text_printf("%s%s", chain, keys[k]);
+        scene *sc = scene_new("scan.nml");
+        assert_non_null(sc);
+        if (scene_parse(sc, text, strlen(text)) || scene_validate(sc)) {
+            scene_print_diags(sc, stderr);
+            fail();
+        }
+        opt_error e;
+        design_problem *d = design_new(sc, &e);
+        if (!d) fail_msg("%s", e.message);
+        opt_options o = {.threads = 2};
+        assert_int_equal(design_run(d, &o), OPT_CONVERGED);
+        const size_t values = k == 0 ? 5 : 3;
+        assert_int_equal(d->n_scan, values);
+        double best = INFINITY;
+        for (size_t c = 0; c < d->n_scan; c++) {
+            /* each combination's integer, in order */
+            assert_true(d->scan_values[c * d->space->n] == (k == 0 ? 5.0 : 6.0) + (double)c);
+            best = fmin(best, d->scan_objective[c]);
+        }
+        assert_true(d->best_objective == best);
+        if (k == 0) assert_int_equal(d->runs, 5);
+        printf("%s: best %.8g N at n_granules = %g (%zu runs)\n",
+               k == 0 ? "n_granules alone" : "n_granules and log_radii(1)", d->best_objective,
+               d->best[0], d->runs);
+        design_free(d);
+        scene_free(sc);
+        free(text);
+    }
+}
+
 static int two_settings(void)
 {
     /* the wall's peak force: the steepest shrinking chain the box allows */
@@ -166,6 +218,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(one_setting_against_a_scan),
         cmocka_unit_test(an_optimum_inside_the_bounds),
         cmocka_unit_test(resumed_from_the_journal),
+        cmocka_unit_test(integers_are_scanned),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
