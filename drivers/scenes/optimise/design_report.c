@@ -6,6 +6,7 @@
 
 #include "results/output.h"
 #include "results/plot.h"
+#include "util/number.h"
 #include "util/text.h"
 
 #include <math.h>
@@ -61,10 +62,13 @@ static int write_design(const design_problem *d, const char *dir, char **msg)
                 cfg->design.method == SCENE_BFGS ? "bfgs" : "nelder_mead",
                 cfg->design.method == SCENE_BFGS ? "vector_bfgs2" : "nmsimplex2",
                 cfg->design.grid, cfg->design.tolerance);
-    if (d->space->hold != SCENE_HOLD_NONE)
-        fprintf(fp, "# hold: the chain's %s at %.17g %s (&material radius scaled at every run)\n",
+    if (d->space->hold != SCENE_HOLD_NONE) {
+        char held[NUMBER_SIZE];
+        number_shortest(held, d->space->hold_target);
+        fprintf(fp, "# hold: the chain's %s at %s %s (&material radius scaled at every run)\n",
                 d->space->hold == SCENE_HOLD_LENGTH ? "length (sum of diameters)" : "mass",
-                d->space->hold_target, d->space->hold == SCENE_HOLD_LENGTH ? "m" : "kg");
+                held, d->space->hold == SCENE_HOLD_LENGTH ? "m" : "kg");
+    }
     fprintf(fp, "# iterations = %zu\n# runs = %zu (the optimiser's, made here)\n"
             "# runs_reused = %zu\n# profile_runs = %zu\n", d->iterations, d->runs, d->reused,
             d->profile_runs);
