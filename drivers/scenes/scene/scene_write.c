@@ -435,7 +435,15 @@ static const char doc_intro[] =
     "granules.tsv header ends with its energy budget (`energy_initial`, `_dissipated`,\n"
     "`_transmitted`, `_reflected`, `_in_chain`), also printed on stdout.  Where the\n"
     "binary-collision theory does not describe the chain (a static load, losses), its\n"
-    "columns are nan, and the header (`# theory: nan: ...`) and stderr say why.\n";
+    "columns are nan, and the header (`# theory: nan: ...`) and stderr say why.\n"
+    "\n"
+    "**Calibration and design.** `&calibrate data` makes the scene a calibration: the\n"
+    "settings named by `free` fitted to a table of measurements in the form of taper's\n"
+    "own files (docs/calibration.md).  `&design objective` makes it a design: a result of\n"
+    "the run minimised or maximised over the settings named by `free` within bounds\n"
+    "(docs/optimal-design.md).  Either runs the scene at every point it tries, writes its\n"
+    "result files and the scene at the optimum (`fitted.nml`, `optimum.nml`), and exits\n"
+    "with status 6 when it has no answer to trust.\n";
 
 /* After the tables: the driver's contract around the scene (exit status,
  * result files, signals, concurrent runs, limits). */
