@@ -162,3 +162,36 @@ def test_python_and_the_driver_agree_on_a_calibration(driver, tmp_path):
         assert fit.errors[name] == float(rows[name][2])
     # the fitted scene, run by the driver, is the fitted run
     assert (out / "fitted.nml").is_file() and (out / "fitted" / "granules.tsv").is_file()
+
+
+INTERRUPTED = """
+import taper
+print("started", flush=True)
+d = None
+try:
+    d = taper.design("wall_peak_force_right", "log_radii(1)", method="grid", grid=1001,
+                     log_radii=[0], lower=[-2], upper=[2], hold="length", profile_points=0,
+                     n_granules=20, right="wall", striker_radius=2.38e-3, t_end=1e-3,
+                     young=193e9, poisson=0.3, density=8000, radius=2.38e-3, velocity=0.5)
+except KeyboardInterrupt:
+    print("interrupted, result:", d, flush=True)
+    print("after:", taper.simulate(n_granules=10).complete, flush=True)
+    raise
+"""
+
+
+def test_ctrl_c_stops_a_design():
+    import signal
+    import sys
+    import time
+    proc = subprocess.Popen([sys.executable, "-c", INTERRUPTED], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    assert proc.stdout.readline().strip() == "started"
+    time.sleep(1.5)  # well into its 1001 runs (about 25 s of them)
+    sent = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert "interrupted, result: None" in out, (out, err)
+    assert "after: True" in out, (out, err)
+    assert "KeyboardInterrupt" in err
+    assert time.monotonic() - sent < 10
