@@ -222,8 +222,8 @@ static const scene_var own[] = {
      .doc = "show a progress line on stderr when it is a terminal"},
     {.group = "output", .keyword = "threads", .type = SCENE_INTEGER, .offset = AT(output.threads),
      .def = "0", .lib = SCENE_OWN, .lo = 0, .hi = 256,
-     .doc = "runs of a sweep computed at once (results identical to one at a time); 0: one per "
-            "core"},
+     .doc = "runs of a sweep, or of a calibration's or a design's batch, computed at once "
+            "(results identical to one at a time); 0: one per core"},
     {.group = "output", .keyword = "columns", .type = SCENE_STRING, .offset = AT(output.columns),
      .def = "''", .lib = SCENE_OWN,
      .doc = "columns of granules.tsv and sweep.tsv, names separated by blanks or commas, "
