@@ -116,6 +116,16 @@ status() {
     # the fitted scene runs alone, without &calibrate
     grep -q '&calibrate' good/fitted.nml && fail "good: fitted.nml has &calibrate"
     "$TAPER" good/fitted.nml -o refit > /dev/null 2>&1 || fail "good: fitted.nml does not run"
+    # two measured columns, the file's order not taper's: a panel each, the
+    # blocks of residuals.tsv in the panels they belong to
+    cut -f1,2,4,7 truth/sensors.tsv | awk -F'\t' 'BEGIN { OFS = "\t" } { print $1, $2, $4, $3 }' > two.tsv
+    calibrate two two.tsv ", free = 'young', start = 150e9"
+    "$TAPER" two.nml -o two > /dev/null 2> two.err || fail "two columns: $(cat two.err)"
+    [ "$(grep -c '^plot' two/calibration.gp)" -eq 2 ] || fail "two columns: not two panels"
+    sed -n '/ylabel .v \[m\/s\]/,/^plot/p' two/calibration.gp | grep -q "index 0" ||
+        fail "two columns: v's panel does not draw block 0"
+    awk -F'\t' '$1 ~ /^[0-9]/ { print $4 }' two/residuals.tsv | uniq | tr '\n' ' ' | grep -q '^v force $' ||
+        fail "two columns: residuals.tsv's blocks are not v then force"
     # a setting pushed to its bound: exit 6, the files say so
     calibrate bound data.tsv ", free = 'young damping', start = 150e9, 2e-7, lower = 1e11, 0, upper = 1.6e11, 1e-6"
     "$TAPER" bound.nml -o bound > bound.out 2> bound.err

@@ -178,11 +178,15 @@ static int write_script(const calibration *c, const char *dir, const size_t *ord
     plot_gp_string(fp, title ? title : "calibration");
     free(title);
     fputs("\nset key outside right top\nset grid\n", fp);
-    /* one panel per quantity: its signals' blocks */
+    /* one panel per quantity, in the order of the blocks (signal_order:
+     * by quantity), its signals' blocks */
     size_t block = 0;
     size_t o = 0;
-    for (size_t qi = 0; qi < m->n_quantities; qi++) {
-        meas_quantity q = m->quantity[qi];
+    for (int qi = 0; qi < MEAS_N_QUANTITIES; qi++) {
+        meas_quantity q = (meas_quantity)qi;
+        int fitted = 0;
+        for (size_t k = 0; k < m->n_quantities; k++) fitted |= m->quantity[k] == q;
+        if (!fitted) continue;
         const char *unit = m->si ? taper_dimension_unit(meas_quantity_dimension(q)) : NULL;
         fprintf(fp, "set xlabel '%s'\n", per_granule ? "granule k"
                                                      : m->si ? "t [s]" : "t [rescaled, eq. (5)]");
