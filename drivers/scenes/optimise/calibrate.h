@@ -43,31 +43,9 @@
 
 #include "optimise/evaluate.h"
 #include "optimise/measurements.h"
+#include "optimise/options.h"
 #include "optimise/space.h"
 #include "scene/scene.h"
-
-/* How an optimisation is run: threads, interruption, journal, progress. */
-typedef struct opt_options {
-    unsigned threads;                 /* runs at once; 0: one per core         */
-    int (*stop)(void *user);          /* polled by every run: non-zero stops   */
-    void *stop_user;
-    const char *dir;                  /* the journal's directory (evaluations.tsv,
-                                         resume); NULL: none                   */
-    /* One line per iteration, without '\n'; NULL: quiet. */
-    void (*progress)(const char *line, void *user);
-    void *progress_user;
-} opt_options;
-
-/* How an optimisation ended. */
-typedef enum opt_outcome {
-    OPT_CONVERGED = 0,      /* an answer                                       */
-    OPT_NOT_CONVERGED = 1,  /* iterations or runs exhausted, a setting the
-                               data do not determine, or (a calibration) a
-                               setting at its bound: reason says which         */
-    OPT_INTERRUPTED = 2,    /* stopped by opt_options.stop: resume it          */
-    OPT_FAILED = 3          /* a run failed where no other could stand in, a
-                               journal could not be written: reason           */
-} opt_outcome;
 
 typedef struct calibration {
     const scene *sc;

@@ -28,8 +28,8 @@
 #ifndef TAPER_OPT_DESIGN_H
 #define TAPER_OPT_DESIGN_H
 
-#include "optimise/calibrate.h" /* opt_options, opt_outcome */
 #include "optimise/evaluate.h"
+#include "optimise/options.h"
 #include "optimise/space.h"
 
 typedef struct design_problem {
