@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-3.0-or-later
-# driver.sh TAPER SECTION -- calibration and design through the driver,
+# driver.sh TAPER SECTION SOURCE -- calibration and design through the driver,
 # one section per test (tests/optimise/meson.build):
 #   errors   bad &calibrate / &design keys at FILE:LINE: &group key, bad
 #            data at FILE:LINE:COLUMN (wrong units, unknown column, nan, a
@@ -9,7 +9,8 @@
 #   status   a converged calibration (exit 0) and its files; a fitted
 #            setting at its bound and an undetermined one (exit 6, the files
 #            saying NOT CONVERGED); a design's files and its optimum's scene,
-#            which run alone gives the optimum's objective to the last bit
+#            which run alone gives the optimum's objective to the last bit;
+#            hold = 'length' and 'mass' kept by the optimum's chain
 #   resume   a design stopped by SIGTERM (exit 3, its runs in
 #            evaluations.tsv) and run again: it reuses them and ends where
 #            an uninterrupted one does, to the last bit
@@ -17,6 +18,7 @@ set -u
 absolute() { case $1 in /*) echo "$1" ;; *) echo "$(pwd)/$1" ;; esac; }
 TAPER=$(absolute "$1")
 SECTION=$2
+SRC=$(absolute "$3") # the source tree: share/scenes
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/taper_optimise.XXXXXX") || exit 1
 trap 'rm -rf "$WORK"' EXIT
 cd "$WORK" || exit 1
@@ -146,6 +148,17 @@ status() {
     [ "$s" -eq 0 ] || fail "design: exit status $s ($(cat design.err))"
     for f in design.tsv profile.tsv design.gp evaluations.tsv optimum.nml optimum/granules.tsv; do
         [ -s "design/$f" ] || fail "design: no $f"
+    done
+    # hold = 'length' and 'mass': the optimum's chain keeps the scene's (20
+    # beads of 2.38 mm: 95.2 mm, 9.035 g), summed from its granules.tsv
+    for h in length mass; do
+        "$TAPER" "$SRC/share/scenes/optimise/design_taper.nml" -o "hold_$h" design.hold="'$h'" \
+            design.profile_points=0 design.grid=3 design.tolerance=0.01 > /dev/null 2>&1 ||
+            fail "hold $h: the design failed"
+        awk -F'\t' -v h="$h" '$1 ~ /^[0-9]/ { L += 2 * $2; M += $3 }
+            END { x = h == "length" ? L / 0.0952 : M / (20 * 8000 * 4 / 3 * 3.14159265358979 * 2.38e-3 ^ 3)
+                  exit !(x > 1 - 1e-12 && x < 1 + 1e-12) }' "hold_$h/optimum/granules.tsv" ||
+            fail "hold $h: the optimum's chain does not keep it"
     done
     best=$(sed -n 's/^# objective: minimise wall_peak_force_right\[N\] = //p' design/design.tsv)
     again=$(sed -n 's/^# wall_peak_force_right\[N\] = //p' design/optimum/granules.tsv)
