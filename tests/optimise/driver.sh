@@ -149,6 +149,14 @@ status() {
     for f in design.tsv profile.tsv design.gp evaluations.tsv optimum.nml optimum/granules.tsv; do
         [ -s "design/$f" ] || fail "design: no $f"
     done
+    # the shipped worked example: E and A of the synthetic record within 2
+    # standard errors of what made it (193 GPa, 0.1 us)
+    "$TAPER" "$SRC/share/scenes/optimise/calibrate_sensor.nml" -o shipped > /dev/null 2> shipped.err ||
+        fail "calibrate_sensor.nml: $(cat shipped.err)"
+    awk -F'\t' '$1 == "young" { if (($2 - 193e9) ^ 2 >= (2 * $3) ^ 2) exit 1; n++ }
+                 $1 == "damping" { if (($2 - 1e-7) ^ 2 >= (2 * $3) ^ 2) exit 1; n++ }
+                 END { exit n != 2 }' shipped/calibration.tsv ||
+        fail "calibrate_sensor.nml: not within 2 errors of the truth: $(grep -v '^#' shipped/calibration.tsv)"
     # hold = 'length' and 'mass': the optimum's chain keeps the scene's (20
     # beads of 2.38 mm: 95.2 mm, 9.035 g), summed from its granules.tsv
     for h in length mass; do
