@@ -179,6 +179,7 @@ resume() {
     chain 193e9 | sed -e '1s/8/20/' -e 's/1.2e-4/1e-3/' > scan.nml
     printf "&design objective = 'wall_peak_force_right', free = 'log_radii(1)', log_radii = 0, lower = -2, upper = 2, hold = 'length', method = 'grid', grid = 201, profile_points = 0 /\n&output threads = 1 /\n" >> scan.nml
     "$TAPER" scan.nml -o whole > /dev/null 2>&1 || fail "resume: the uninterrupted scan failed"
+    cp whole/design.tsv stopped/ 2> /dev/null || { mkdir stopped && cp whole/design.tsv stopped/; }
     "$TAPER" scan.nml -o stopped > /dev/null 2> stopped.err &
     pid=$!
     sleep 1
@@ -187,6 +188,7 @@ resume() {
     s=$?
     [ "$s" -eq 3 ] || fail "resume: stopped with exit status $s, wanted 3"
     grep -q "design interrupted" stopped.err || fail "resume: $(cat stopped.err)"
+    [ -e stopped/design.tsv ] && fail "resume: an interrupted design wrote design.tsv"
     done=$(grep -c '^[0-9]' stopped/evaluations.tsv)
     [ "$done" -gt 0 ] && [ "$done" -lt 201 ] || fail "resume: $done runs before the stop"
     "$TAPER" scan.nml -o stopped > again.out 2> again.err || fail "resume: $(cat again.err)"

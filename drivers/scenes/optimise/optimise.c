@@ -71,6 +71,28 @@ out:
     return rc;
 }
 
+/* The result files of an earlier calibration or design in DIR go before
+ * this one starts: an interrupted one leaves none to be taken for its own
+ * (its runs stay in evaluations.tsv, for the resume).  0, or -1 after
+ * printing why. */
+static int remove_earlier(const scene *sc)
+{
+    static const char *const names[] = {"calibration.tsv", "residuals.tsv", "calibration.gp",
+                                        "calibration.png", "fitted.nml", "design.tsv",
+                                        "profile.tsv", "scan.tsv", "design.gp", "design.png",
+                                        "optimum.nml"};
+    const char *dir = scene_cfg(sc)->output.dir;
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        char *msg = NULL;
+        if (out_remove(dir, names[i], &msg) != 0) {
+            scene_print_output_error(sc, msg ? msg : "out of memory", stderr);
+            free(msg);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 static opt_options options_of(const scene_config *cfg, const char *what)
 {
     return (opt_options){.threads = (unsigned)cfg->output.threads, .stop = stop,
@@ -105,7 +127,7 @@ static int calibrate(const scene *sc)
         opt_error_clear(&e);
         return RUN_INPUT;
     }
-    if (run_lock_dir(sc, cfg->output.dir, 0) != 0) {
+    if (run_lock_dir(sc, cfg->output.dir, 0) != 0 || remove_earlier(sc) != 0) {
         calibration_free(c);
         return RUN_INPUT;
     }
@@ -139,7 +161,7 @@ static int design(const scene *sc)
         opt_error_clear(&e);
         return RUN_INPUT;
     }
-    if (run_lock_dir(sc, cfg->output.dir, 0) != 0) {
+    if (run_lock_dir(sc, cfg->output.dir, 0) != 0 || remove_earlier(sc) != 0) {
         design_free(d);
         return RUN_INPUT;
     }
