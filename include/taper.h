@@ -610,7 +610,24 @@ typedef int (*taper_sample_fn)(const taper_sim *sim, void *user);
 TAPER_API taper_status taper_solver_spec_set_sampler(taper_solver_spec *spec, double interval,
                                                      taper_sample_fn fn, void *user,
                                                      taper_error *err);
+/* 0 when there is no sampler or it samples at given times. */
 TAPER_API double taper_solver_spec_sample_interval(const taper_solver_spec *spec);
+/* The sampler at n given times instead of a grid: fn is called at times[0],
+ * times[1], ... (the sim positioned there as above) while the run lasts,
+ * e.g. at the times of a measurement.  The times are finite, >= 0 and
+ * strictly increasing (TAPER_EINVAL, field "sample_times", otherwise; n >=
+ * 1).  The array is the caller's, not copied, as `user` is: it must stay
+ * valid and unchanged while a sim made from this spec runs.  Replaces a
+ * sampler set by taper_solver_spec_set_sampler, and the other way round;
+ * fn NULL removes the sampler.  A run that ends before a time (give t_end,
+ * taper_solver_spec_set_t_end, to reach it) does not call fn there. */
+TAPER_API taper_status taper_solver_spec_set_sample_times(taper_solver_spec *spec,
+                                                          const double *times, size_t n,
+                                                          taper_sample_fn fn, void *user,
+                                                          taper_error *err);
+/* The times of taper_solver_spec_set_sample_times and their number (*n);
+ * NULL and 0 without them (n may be NULL). */
+TAPER_API const double *taper_solver_spec_sample_times(const taper_solver_spec *spec, size_t *n);
 
 /* Either may be NULL (none). */
 TAPER_API void taper_solver_spec_set_monitor(taper_solver_spec *spec, taper_monitor_fn monitor,

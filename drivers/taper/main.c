@@ -15,14 +15,16 @@
  * t_max or max_steps: granules.partial.tsv is written and no granules.tsv
  * exists); 4 complete but UNTRUSTED (conservation errors beyond &output
  * max_energy_error / max_momentum_error); 5 a sweep whose runs all ran, some
- * of them failing (sweep.tsv and runs.tsv name them; run/sweep.h).  With
- * several scenes, the gravest.
+ * of them failing (sweep.tsv and runs.tsv name them; run/sweep.h); 6 a
+ * calibration or design without an answer to trust (optimise/optimise.h).
+ * With several scenes, the gravest.
  *
  * Sweeps: `--part I/N` computes part I of N of a sweep's runs (a job array;
  * the same command without it merges them), and `mpirun -np K taper ...`
  * spreads the runs over K ranks when taper is built with MPI (sweep_mpi.h,
  * docs/cluster.md).
  */
+#include "optimise/optimise.h"
 #include "run/run.h"
 #include "run/sweep.h"
 #include "scene/scene.h"
@@ -69,7 +71,8 @@ static const char usage[] =
     "\n"
     "Exit status: 0 complete, 1 failure, 2 bad input, 3 partial result,\n"
     "4 untrusted result (conservation errors beyond the scene's bounds),\n"
-    "5 some runs of a sweep failed (DIR/runs.tsv names them).\n";
+    "5 some runs of a sweep failed (DIR/runs.tsv names them), 6 a calibration\n"
+    "or design without an answer to trust (not converged, a setting at its bound).\n";
 
 typedef struct options {
     const char **paths;
@@ -164,6 +167,8 @@ static int one_scene(const options *o, scene *sc)
         /* The echo is the record of what ran: without it, nothing runs. */
         if (check_stdout() != 0)
             rc = RUN_FAILED;
+        else if (optimise_wanted(sc)) /* &calibrate data or &design objective */
+            rc = optimise_scene(sc);
         else if (scene_cfg(sc)->runs.swept)
             rc = sweep_run(sc, &sweep_opts);
         else

@@ -143,12 +143,45 @@ taper_status taper_solver_spec_set_sampler(taper_solver_spec *spec, double inter
     spec->sample_fn = fn;
     spec->sample_data = fn ? user : NULL;
     spec->sample_interval = fn ? interval : 0.0;
+    spec->sample_times = NULL;
+    spec->n_sample_times = 0;
     return taper_ok(err);
 }
 
 double taper_solver_spec_sample_interval(const taper_solver_spec *spec)
 {
     return spec ? spec->sample_interval : 0.0;
+}
+
+taper_status taper_solver_spec_set_sample_times(taper_solver_spec *spec, const double *times,
+                                                size_t n, taper_sample_fn fn, void *user,
+                                                taper_error *err)
+{
+    if (!spec) return setting_null_spec(err, __func__);
+    if (fn) {
+        if (!times || n == 0)
+            return taper_fail_field(err, TAPER_EINVAL, "sample_times",
+                                    "sample_times: no times given (n = 0 or times NULL)");
+        /* Increasing: the run goes forward and serves each time once (a
+         * repeated time would ask the integrator for the time it is at). */
+        for (size_t j = 0; j < n; j++)
+            if (!(isfinite(times[j]) && times[j] >= 0.0) || (j > 0 && !(times[j] > times[j - 1])))
+                return taper_fail_field(err, TAPER_EINVAL, "sample_times",
+                                        "sample_times[%zu] = %g: the times must be finite, >= 0 "
+                                        "and strictly increasing", j, times[j]);
+    }
+    spec->sample_fn = fn;
+    spec->sample_data = fn ? user : NULL;
+    spec->sample_interval = 0.0;
+    spec->sample_times = fn ? times : NULL;
+    spec->n_sample_times = fn ? n : 0;
+    return taper_ok(err);
+}
+
+const double *taper_solver_spec_sample_times(const taper_solver_spec *spec, size_t *n)
+{
+    if (n) *n = spec ? spec->n_sample_times : 0;
+    return spec ? spec->sample_times : NULL;
 }
 
 void taper_solver_spec_set_monitor(taper_solver_spec *spec, taper_monitor_fn monitor, void *user)

@@ -54,7 +54,10 @@ struct taper_solver_spec {
     double t_max;           /* 0: no limit                                     */
     long max_steps;         /* 0: no limit                                     */
     double t_end;           /* 0: end once the observables are known           */
-    double sample_interval; /* > 0 with sample_fn                              */
+    double sample_interval; /* > 0 with sample_fn, unless sample_times         */
+    const double *sample_times; /* the caller's: times of the samples instead
+                               of j * interval (NULL: the grid)              */
+    size_t n_sample_times;
     taper_sample_fn sample_fn; /* NULL: no sampler                            */
     void *sample_data;
     taper_monitor_fn monitor;

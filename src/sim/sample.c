@@ -3,7 +3,7 @@
  * sample.c -- the sampler of taper_solver_spec_set_sampler: the user's
  * function at t_j = j * interval, j = 0, 1, ... (each a product, never a
  * running sum, so that t_j is exactly j * interval whatever the number of
- * samples).
+ * samples), or at the caller's times (taper_solver_spec_set_sample_times).
  *
  * How the sim is positioned at t_j without disturbing the integration:
  * solve.c asks the stepper for t_j as an output time (stepper.h, advance).
@@ -22,6 +22,9 @@
 double taper_sample_next(const taper_sim *sim)
 {
     if (!sim->spec.sample_fn) return INFINITY;
+    if (sim->spec.sample_times) /* given times (a measurement's), then none */
+        return sim->samples_taken < sim->spec.n_sample_times
+                   ? sim->spec.sample_times[sim->samples_taken] : INFINITY;
     return (double)sim->samples_taken * sim->spec.sample_interval;
 }
 

@@ -19,7 +19,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 n=0
 fail=0
-for scene in "$dir"/*.nml "$dir"/paper/*.nml "$dir"/physics/*.nml; do
+for scene in "$dir"/*.nml "$dir"/paper/*.nml "$dir"/physics/*.nml "$dir"/optimise/*.nml; do
     [ -f "$scene" ] || continue
     n=$((n + 1))
     if ! "$cdump" "$scene" >"$tmp/c" 2>"$tmp/c.err"; then

@@ -28,6 +28,11 @@ back as numpy arrays.  (On PyPI the distribution is taper-chains.)
     taper.asymptotic.exponent("v_of_t")               # the large-k laws (-15/23)
     taper.fit(r.k, r.v_peak, model="power", index_window=(100, None)).params  # (a, b)
 
+    # settings fitted to measurements, and a design optimised (the driver's
+    # &calibrate and &design: docs/calibration.md, docs/optimal-design.md)
+    taper.calibrate("sensor.tsv", ["young", "damping"], young=193e9, ...).values
+    taper.design("wall_peak_force_right", "log_radii(1)", lower=[-2], upper=[2], ...).values
+
 Keyword arguments are the scene's variables, by their one name (a scene
 file writes it in its group without the group's name in front:
 ``striker_radius`` is ``&striker radius``; taper.variables() lists them;
@@ -53,14 +58,16 @@ from ._chain import chain as _chain
 from ._core import InvalidArgumentError, SceneError, TaperError, collision_time
 from ._fit import FitResult, fit
 from ._geometry import radii_from_taper, taper_from_radii
+from ._optimise import Calibration, Design, calibrate, design
 from ._variables import Variable, variables
 from .result import COLUMNS, THEORY_COLUMNS, Result, read_granules
 
 __all__ = [
     "simulate", "theory", "run_scene", "read_granules", "plot", "collision_time", "version",
     "build_info", "chain", "cite", "fit", "asymptotic", "variables", "taper_from_radii",
-    "radii_from_taper",
-    "Result", "Chain", "FitResult", "Variable", "TaperError", "InvalidArgumentError",
+    "radii_from_taper", "calibrate", "design",
+    "Result", "Chain", "FitResult", "Variable", "Calibration", "Design", "TaperError",
+    "InvalidArgumentError",
     "SceneError", "PROFILES", "METHODS", "STATISTICS", "OBSERVABLES", "THEORY_QUANTITIES",
     "LAWS", "FIT_MODELS", "COLUMNS", "THEORY_COLUMNS", "CHAIN_COLUMNS",
     "BOUNDARIES", "DISORDERS", "__version__",

@@ -11,6 +11,7 @@
 #define TAPER_CORE_IMPORTS_NUMPY
 #include "_core.h"
 
+#include "_optimise.h"
 #include "_scene.h"
 
 int core_numpy(void)
@@ -102,6 +103,20 @@ static PyObject *py_fit(PyObject *self, PyObject *args, PyObject *kwargs)
     return WITH_NUMPY(core_fit(self, args, kwargs));
 }
 
+/* ---- calibration and design (_optimise.c) --------------------------------------- */
+
+static PyObject *py_calibrate(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    return WITH_NUMPY(pyopt_calibrate(args, kwargs));
+}
+
+static PyObject *py_design(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    return WITH_NUMPY(pyopt_design(args, kwargs));
+}
+
 static PyObject *py_scene_text(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -163,6 +178,12 @@ static PyMethodDef methods[] = {
     {"variables", py_variables, METH_NOARGS,
      "variables() -> tuple of dict: every scene variable (the keywords), from the scene's "
      "table."},
+    {"calibrate", (PyCFunction)(void (*)(void))py_calibrate, METH_VARARGS | METH_KEYWORDS,
+     "calibrate(**variables) -> dict: the scene's &calibrate: its free settings fitted to "
+     "its data by the driver's optimiser (GIL released, runs on threads)."},
+    {"design", (PyCFunction)(void (*)(void))py_design, METH_VARARGS | METH_KEYWORDS,
+     "design(**variables) -> dict: the scene's &design: its objective optimised over its "
+     "free settings by the driver's optimiser."},
     {"scene_text", py_scene_text, METH_VARARGS,
      "scene_text(scene, point) -> str: the resolved scene of a result, as a namelist (the "
      "driver's echo)."},

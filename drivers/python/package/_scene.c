@@ -39,7 +39,8 @@
 
 #define CAPSULE_NAME "taper._core.scene"
 
-static const char *const call_names[] = {"simulate", "theory", "chain", "check", "cite"};
+static const char *const call_names[] = {"simulate", "theory", "chain",    "check",
+                                         "cite",     "calibrate", "design"};
 
 /* {keyword: row} of the table, made on first use (the GIL held). */
 static PyObject *keyword_rows;
@@ -295,6 +296,12 @@ static scene *scene_of(pyscene_kind kind, PyObject *args, PyObject *kwargs, PyOb
 fail:
     scene_free(sc);
     return NULL;
+}
+
+scene *pyscene_scene(pyscene_kind kind, PyObject *args, PyObject *kwargs)
+{
+    PyObject *progress; /* an optimisation reports no progress of its runs */
+    return scene_of(kind, args, kwargs, &progress);
 }
 
 /* ---- results in the scene's units -------------------------------------------------- */

@@ -17,7 +17,9 @@ typedef enum pyscene_kind {
     PYSCENE_THEORY = 1,   /* the same with numerics = .false.             */
     PYSCENE_CHAIN = 2,    /* its chain alone                              */
     PYSCENE_CHECK = 3,    /* validated only: None (taper_from_radii)      */
-    PYSCENE_CITE = 4      /* what to cite, as BibTeX (taper --cite)       */
+    PYSCENE_CITE = 4,     /* what to cite, as BibTeX (taper --cite)       */
+    PYSCENE_CALIBRATE = 5, /* its &calibrate (_optimise.c)                */
+    PYSCENE_DESIGN = 6    /* its &design (_optimise.c)                    */
 } pyscene_kind;
 
 /* simulate(**kw), theory(**kw), chain(**kw): the dict a Result (Chain) is
@@ -28,6 +30,11 @@ typedef enum pyscene_kind {
  * core_sampling), which the scene holds as progress = .true..  check(**kw):
  * None once the scene is valid. */
 PyObject *pyscene_call(pyscene_kind kind, PyObject *args, PyObject *kwargs);
+/* The validated scene of a call's keywords (named after the call kind in
+ * its echo), or NULL with TypeError or InvalidArgumentError as
+ * pyscene_call raises them.  Free with scene_free. */
+struct scene;
+struct scene *pyscene_scene(pyscene_kind kind, PyObject *args, PyObject *kwargs);
 /* run_scene(path): one dict per point of the scene's sweep; SceneError
  * with the reader's diagnostics for an invalid scene. */
 PyObject *pyscene_run_file(PyObject *path);

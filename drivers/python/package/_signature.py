@@ -26,6 +26,9 @@ DRIVER_ONLY_GROUPS = {
               "draws Results",
     "sweep": "&sweep says how the lists of a sweep combine; a call runs one chain (a sweep is "
              "taper.run_scene's, or a loop of calls)",
+    "calibrate": "&calibrate fits settings to measurements over many runs: taper.calibrate() "
+                 "takes it",
+    "design": "&design optimises a result over many runs: taper.design() takes it",
 }
 DRIVER_ONLY_NAMES = {
     "dir": "&output dir is the driver's output directory; simulate() writes no files",

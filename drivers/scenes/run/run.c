@@ -712,9 +712,10 @@ void run_outcome_free(run_outcome *o)
 
 int run_worst(int a, int b)
 {
-    /* Order of gravity: input error > failure > partial > some runs of a
-     * sweep failed > untrusted > complete. */
-    static const int rank[] = {0, 4, 5, 3, 1, 2};
+    /* Order of gravity: input error > failure > partial > an optimisation
+     * without an answer > some runs of a sweep failed > untrusted >
+     * complete. */
+    static const int rank[] = {0, 5, 6, 4, 1, 2, 3};
     return rank[b] > rank[a] ? b : a;
 }
 

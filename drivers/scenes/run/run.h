@@ -15,8 +15,8 @@
 #include "scene/scene.h"
 
 /* Exit status of the driver, in order of gravity: input error > failure >
- * partial > some runs failed > untrusted > complete (docs/scene.md, "Exit
- * status"). */
+ * partial > not converged > some runs failed > untrusted > complete
+ * (docs/scene.md, "Exit status"). */
 enum run_status {
     RUN_COMPLETE = 0, /* every result written                                  */
     RUN_FAILED = 1,   /* library or output failure                             */
@@ -26,9 +26,13 @@ enum run_status {
     RUN_UNTRUSTED = 4, /* complete, but energy or momentum conservation worse
                          than &output max_energy_error / max_momentum_error:
                          granules.tsv says "# UNTRUSTED: ..."                  */
-    RUN_SOME_FAILED = 5 /* a sweep ran every run, but some failed (solver
+    RUN_SOME_FAILED = 5, /* a sweep ran every run, but some failed (solver
                          failure, a value the library refused, t_max, ...):
                          sweep.tsv and runs.tsv name them (run/sweep.c)        */
+    RUN_NOT_CONVERGED = 6 /* a calibration or design ended without an answer
+                         to trust: not converged, a setting the data do not
+                         determine, a fitted setting at its bound
+                         (optimise/optimise.h)                               */
 };
 
 /* The graver of two run_status values. */

@@ -39,6 +39,9 @@ _Static_assert(sizeof(scene_curves) == sizeof(int), "enum size");
 _Static_assert(sizeof(taper_boundary) == sizeof(int), "enum size");
 _Static_assert(sizeof(taper_disorder) == sizeof(int), "enum size");
 _Static_assert(sizeof(scene_units) == sizeof(int), "enum size");
+_Static_assert(sizeof(scene_design_goal) == sizeof(int), "enum size");
+_Static_assert(sizeof(scene_design_method) == sizeof(int), "enum size");
+_Static_assert(sizeof(scene_design_hold) == sizeof(int), "enum size");
 /* No field is larger than a list (scene_set moves fields through one). */
 _Static_assert(sizeof(scene_reals) >= sizeof(double) && sizeof(scene_reals) >= sizeof(long long) &&
                sizeof(scene_reals) >= sizeof(char *) && sizeof(scene_slot) == sizeof(scene_reals),
@@ -56,6 +59,9 @@ static const char *const curves[] = {"both", "theory", "numerics", NULL};
 static const char *const chain_params[] = {"s", "q", NULL};
 static const char *const sweep_modes[] = {"grid", "zip", NULL};
 static const char *const units[] = {"rescaled", "si", NULL};
+static const char *const design_goals[] = {"minimise", "maximise", NULL};
+static const char *const design_methods[] = {"nelder_mead", "bfgs", "grid", NULL};
+static const char *const design_holds[] = {"none", "length", "mass", NULL};
 static const char *const columns[SCENE_N_COLUMNS + 1] = {
     "k", "R", "m", "X0", "t_pass", "T_res", "v_peak", "t_peak", "X_pass",
     "theory_v", "theory_T", "theory_t", NULL};
@@ -100,6 +106,10 @@ static const char *const groups[SCENE_N_GROUPS][2] = {
     {"table", "a table of the fitted parameter over the sweep, next to the paper's values"},
     {"figure", "a figure: per-granule data of every run, and the fit as an inset"},
     {"sweep", "how the lists of several swept variables combine into runs"},
+    {"calibrate", "settings fitted to measurements: nonlinear least squares over runs of the "
+                  "scene (docs/calibration.md)"},
+    {"design", "a result of the run minimised or maximised over settings within bounds "
+               "(docs/optimal-design.md)"},
 };
 
 const char *scene_group_name(size_t i) { return i < SCENE_N_GROUPS ? groups[i][0] : NULL; }
@@ -213,8 +223,8 @@ static const scene_var own[] = {
      .doc = "show a progress line on stderr when it is a terminal"},
     {.group = "output", .keyword = "threads", .type = SCENE_INTEGER, .offset = AT(output.threads),
      .def = "0", .lib = SCENE_OWN, .lo = 0, .hi = 256,
-     .doc = "runs of a sweep computed at once (results identical to one at a time); 0: one per "
-            "core"},
+     .doc = "runs of a sweep, or of a calibration's or a design's batch, computed at once "
+            "(results identical to one at a time); 0: one per core"},
     {.group = "output", .keyword = "columns", .type = SCENE_STRING, .offset = AT(output.columns),
      .def = "''", .lib = SCENE_OWN,
      .doc = "columns of granules.tsv and sweep.tsv, names separated by blanks or commas, "
@@ -343,6 +353,116 @@ static const scene_var own[] = {
      .doc = "several variables given lists: 'grid' runs every combination (the variable later "
             "in this table varies fastest), 'zip' the i-th values together (lists of equal "
             "length)"},
+
+    {.group = "calibrate", .keyword = "calibrate_data", .type = SCENE_STRING,
+     .flags = SCENE_EXTRA, .offset = AT(calibrate.data), .def = "''", .lib = SCENE_OWN,
+     .doc = "measurements to fit, its path relative to the scene file: a table as taper writes "
+            "sensors.tsv (t, granule, x, v, f_left, f_right, force), walls.tsv (t, force_left, "
+            "force_right) or granules.tsv (k, t_pass, T_res, v_peak, t_peak, X_pass), any subset "
+            "of its rows and columns: column names on the first line with their units as taper "
+            "writes them with &material (t[s], force[N]; none: rescaled units), '#' comments; "
+            "given: the scene is a calibration (DIR/calibration.tsv, docs/calibration.md)"},
+    {.group = "calibrate", .keyword = "calibrate_columns", .type = SCENE_STRING,
+     .flags = SCENE_EXTRA, .offset = AT(calibrate.columns), .def = "''", .lib = SCENE_OWN,
+     .doc = "the measured columns fitted, names separated by blanks or commas (e.g. 'force'); "
+            "empty: every measured column of the data"},
+    {.group = "calibrate", .keyword = "calibrate_free", .type = SCENE_STRING,
+     .flags = SCENE_EXTRA, .offset = AT(calibrate.free), .def = "''", .lib = SCENE_OWN,
+     .doc = "the settings fitted, names separated by blanks or commas: any real variable by its "
+            "name or GROUP.KEY ('young damping', 'material.young, losses.damping'), an element "
+            "of a real list as NAME(i) ('pattern(2)')"},
+    {.group = "calibrate", .keyword = "calibrate_start", .type = SCENE_REAL_LIST,
+     .flags = SCENE_EXTRA, .offset = AT(calibrate.start), .lib = SCENE_OWN,
+     .doc = "starting values, one per free setting, each in its variable's unit (SI with "
+            "&material); left out: the scene's values"},
+    {.group = "calibrate", .keyword = "calibrate_lower", .type = SCENE_REAL_LIST,
+     .flags = SCENE_EXTRA, .offset = AT(calibrate.lower), .lib = SCENE_OWN,
+     .doc = "lower bounds, one per free setting (-inf: none); left out: each variable's range"},
+    {.group = "calibrate", .keyword = "calibrate_upper", .type = SCENE_REAL_LIST,
+     .flags = SCENE_EXTRA, .offset = AT(calibrate.upper), .lib = SCENE_OWN,
+     .doc = "upper bounds, one per free setting (inf: none); left out: each variable's range"},
+    {.group = "calibrate", .keyword = "calibrate_noise", .type = SCENE_REAL_LIST,
+     .flags = SCENE_LO_OPEN | SCENE_EXTRA, .offset = AT(calibrate.noise), .lib = SCENE_OWN,
+     .lo = 0, .hi = INFINITY,
+     .doc = "standard deviation of each fitted column's noise, in its unit (one value: every "
+            "column): residuals are divided by it and the standard errors are absolute; left "
+            "out: residuals relative to each column's peak, errors scaled by sqrt(chi2/dof)"},
+    {.group = "calibrate", .keyword = "calibrate_weights", .type = SCENE_REAL_LIST,
+     .flags = SCENE_LO_OPEN | SCENE_EXTRA, .offset = AT(calibrate.weights), .lib = SCENE_OWN,
+     .lo = 0, .hi = INFINITY,
+     .doc = "instead of noise: relative weight of each fitted column (one value: every "
+            "column), multiplying its squared residuals relative to its peak"},
+    {.group = "calibrate", .keyword = "calibrate_max_iter", .type = SCENE_INTEGER,
+     .flags = SCENE_EXTRA, .offset = AT(calibrate.max_iter), .def = "50", .lib = SCENE_OWN,
+     .lo = 1, .hi = 10000,
+     .doc = "trust-region iterations at most; a fit that needs more has not converged (exit "
+            "status 6)"},
+    {.group = "calibrate", .keyword = "calibrate_xtol", .type = SCENE_REAL,
+     .flags = SCENE_LO_OPEN | SCENE_EXTRA, .offset = AT(calibrate.xtol), .def = "1e-8",
+     .lib = SCENE_OWN, .lo = 0, .hi = 0.1,
+     .doc = "converged when no setting moves by more than this, relative to its value, in an "
+            "iteration"},
+
+    {.group = "design", .keyword = "design_objective", .type = SCENE_STRING, .flags = SCENE_EXTRA,
+     .offset = AT(design.objective), .def = "''", .lib = SCENE_OWN,
+     .doc = "the result optimised: a statistic of the run by its name in granules.tsv's header "
+            "(wall_peak_force_right, energy_transmitted, energy_in_chain, ...), or a granule's "
+            "observable as NAME(k) (v_peak(20), t_pass(20)); given: the scene is a design "
+            "(DIR/design.tsv, docs/optimal-design.md)"},
+    {.group = "design", .keyword = "design_goal", .type = SCENE_CHOICE, .flags = SCENE_EXTRA,
+     .offset = AT(design.goal), .def = "'minimise'", .lib = SCENE_OWN, .choices = design_goals,
+     .doc = "'minimise' or 'maximise' the objective"},
+    {.group = "design", .keyword = "design_free", .type = SCENE_STRING, .flags = SCENE_EXTRA,
+     .offset = AT(design.free), .def = "''", .lib = SCENE_OWN,
+     .doc = "the settings varied, names as for &calibrate free; an integer setting "
+            "(n_granules) is scanned over every value from lower to upper, the others "
+            "optimised at each"},
+    {.group = "design", .keyword = "design_start", .type = SCENE_REAL_LIST, .flags = SCENE_EXTRA,
+     .offset = AT(design.start), .lib = SCENE_OWN,
+     .doc = "starting values, one per free setting; left out: the scene's values"},
+    {.group = "design", .keyword = "design_lower", .type = SCENE_REAL_LIST, .flags = SCENE_EXTRA,
+     .offset = AT(design.lower), .lib = SCENE_OWN,
+     .doc = "lower bounds, one per free setting (finite: they set the optimiser's scale)"},
+    {.group = "design", .keyword = "design_upper", .type = SCENE_REAL_LIST, .flags = SCENE_EXTRA,
+     .offset = AT(design.upper), .lib = SCENE_OWN,
+     .doc = "upper bounds, one per free setting (finite)"},
+    {.group = "design", .keyword = "design_grid", .type = SCENE_INTEGER, .flags = SCENE_EXTRA,
+     .offset = AT(design.grid), .def = "5", .lib = SCENE_OWN, .lo = 1, .hi = 1001,
+     .doc = "points per real setting of a coarse grid run first, all at once, lower to upper "
+            "(at most 10000 points in all); the optimiser starts from the best of them and the "
+            "start: a local method finds the optimum of the basin it starts in, the grid picks "
+            "the basin; 1: start at the start alone"},
+    {.group = "design", .keyword = "design_method", .type = SCENE_CHOICE, .flags = SCENE_EXTRA,
+     .offset = AT(design.method), .def = "'nelder_mead'", .lib = SCENE_OWN,
+     .choices = design_methods,
+     .doc = "'nelder_mead' (GSL's nmsimplex2: no derivatives), 'bfgs' (GSL's vector_bfgs2, "
+            "the gradient by finite differences, its runs in parallel), each from the best point "
+            "of the coarse grid; or 'grid': the grid alone, its best point the answer (a scan)"},
+    {.group = "design", .keyword = "design_tolerance", .type = SCENE_REAL,
+     .flags = SCENE_LO_OPEN | SCENE_EXTRA, .offset = AT(design.tolerance), .def = "1e-3",
+     .lib = SCENE_OWN, .lo = 0, .hi = 0.5,
+     .doc = "converged when the simplex (Nelder-Mead) or the last step (BFGS) is smaller than "
+            "this fraction of each setting's range, upper - lower"},
+    {.group = "design", .keyword = "design_max_runs", .type = SCENE_INTEGER, .flags = SCENE_EXTRA,
+     .offset = AT(design.max_runs), .def = "1000", .lib = SCENE_OWN, .lo = 1, .hi = 10000000,
+     .doc = "runs the optimiser may make at most (each value of a scanned integer: its own); "
+            "an optimiser that needs more has not converged (exit status 6)"},
+    {.group = "design", .keyword = "design_hold", .type = SCENE_CHOICE, .flags = SCENE_EXTRA,
+     .offset = AT(design.hold), .def = "'none'", .lib = SCENE_OWN, .choices = design_holds,
+     .doc = "held at the scene's value while the free settings change, by scaling &material "
+            "radius (R_1, and radii or pattern with it; the striker keeps its size): 'length' "
+            "(the chain's sum of diameters) or 'mass' (its total mass); 'none'"},
+    {.group = "design", .keyword = "design_log_radii", .type = SCENE_REAL_LIST,
+     .flags = SCENE_EXTRA, .offset = AT(design.log_radii), .lib = SCENE_OWN,
+     .doc = "a smooth chain of n_granules: ln(R_k / R_1) = c_1 x + c_2 x^2 + ..., x = (k - 1) "
+            "/ (N - 1), these the c_j (c_1 > 0 grows, < 0 shrinks: the backward and forward "
+            "taper in one setting); at every run the chain is profile 'custom' with these radii "
+            "(the scene's profile: 'monodisperse'); free = 'log_radii(1)' varies c_1"},
+    {.group = "design", .keyword = "design_profile_points", .type = SCENE_INTEGER,
+     .flags = SCENE_EXTRA, .offset = AT(design.profile_points), .def = "21", .lib = SCENE_OWN,
+     .lo = 0, .hi = 10001,
+     .doc = "runs along each free setting through the optimum, lower to upper, for "
+            "DIR/profile.tsv and its figure; 0: none"},
 };
 #define N_OWN (sizeof own / sizeof own[0])
 

@@ -211,6 +211,49 @@ typedef struct scene_sweep_config {
     scene_reals *lists;
 } scene_sweep_config;
 
+/* &calibrate: settings fitted to measurements (drivers/scenes/optimise,
+ * docs/calibration.md).  On when data is given. */
+typedef struct scene_calibrate_config {
+    char *data;             /* the measurements' file; "": no calibration    */
+    char *columns;          /* the columns fitted; "": every measured one     */
+    char *free;             /* the settings fitted, by name                  */
+    scene_reals start, lower, upper; /* one per free setting; empty: the
+                               scene's value, the variable's range           */
+    scene_reals noise;      /* per fitted column: its noise's deviation      */
+    scene_reals weights;    /* per fitted column: relative weights           */
+    long long max_iter;     /* trust-region iterations                       */
+    double xtol;            /* relative step at convergence                  */
+} scene_calibrate_config;
+
+/* &design goal. */
+typedef enum scene_design_goal { SCENE_MINIMISE = 0, SCENE_MAXIMISE = 1 } scene_design_goal;
+/* &design method. */
+typedef enum scene_design_method {
+    SCENE_NELDER_MEAD = 0, SCENE_BFGS = 1, SCENE_GRID = 2
+} scene_design_method;
+/* &design hold: what stays fixed while the free settings change. */
+typedef enum scene_design_hold {
+    SCENE_HOLD_NONE = 0, SCENE_HOLD_LENGTH = 1, SCENE_HOLD_MASS = 2
+} scene_design_hold;
+
+/* &design: a scalar result of the run optimised over settings
+ * (drivers/scenes/optimise, docs/optimal-design.md).  On when objective is
+ * given. */
+typedef struct scene_design_config {
+    char *objective;        /* a statistic's name or OBSERVABLE(k); "": none  */
+    int goal;               /* scene_design_goal                             */
+    char *free;             /* the settings varied, by name                  */
+    scene_reals start, lower, upper;
+    int method;             /* scene_design_method                           */
+    double tolerance;       /* relative to each setting's range              */
+    long long max_runs;     /* runs of the optimiser at most                 */
+    int hold;               /* scene_design_hold                             */
+    scene_reals log_radii;  /* c_j of ln(R_k/R_1) = sum c_j x^j; empty: none */
+    long long profile_points; /* points of each cut through the optimum      */
+    long long grid;         /* points per real setting of the first, coarse
+                               grid; 1: none                                 */
+} scene_design_config;
+
 /* At most this many variables swept at once. */
 #define SCENE_MAX_SWEPT 16
 
@@ -257,6 +300,8 @@ typedef struct scene_config {
     scene_table_config table;
     scene_figure_config figure;
     scene_sweep_config sweep;
+    scene_calibrate_config calibrate;
+    scene_design_config design;
     scene_runs runs;
 } scene_config;
 

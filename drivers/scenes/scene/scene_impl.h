@@ -86,8 +86,8 @@ const scene_var *scene_var_at(size_t i);
 int scene_var_of_field(scene_lib lib, const char *field);
 
 /* The groups (chain, ends, striker, losses, material, solver, sensors,
- * output, fit, table, figure, sweep), in order. */
-#define SCENE_N_GROUPS 12
+ * output, fit, table, figure, sweep, calibrate, design), in order. */
+#define SCENE_N_GROUPS 14
 const char *scene_group_name(size_t i);
 const char *scene_group_doc(size_t i);
 int scene_group_index(const char *name);

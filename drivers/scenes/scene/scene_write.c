@@ -435,7 +435,15 @@ static const char doc_intro[] =
     "granules.tsv header ends with its energy budget (`energy_initial`, `_dissipated`,\n"
     "`_transmitted`, `_reflected`, `_in_chain`), also printed on stdout.  Where the\n"
     "binary-collision theory does not describe the chain (a static load, losses), its\n"
-    "columns are nan, and the header (`# theory: nan: ...`) and stderr say why.\n";
+    "columns are nan, and the header (`# theory: nan: ...`) and stderr say why.\n"
+    "\n"
+    "**Calibration and design.** `&calibrate data` makes the scene a calibration: the\n"
+    "settings named by `free` fitted to a table of measurements in the form of taper's\n"
+    "own files (docs/calibration.md).  `&design objective` makes it a design: a result of\n"
+    "the run minimised or maximised over the settings named by `free` within bounds\n"
+    "(docs/optimal-design.md).  Either runs the scene at every point it tries, writes its\n"
+    "result files and the scene at the optimum (`fitted.nml`, `optimum.nml`), and exits\n"
+    "with status 6 when it has no answer to trust.\n";
 
 /* After the tables: the driver's contract around the scene (exit status,
  * result files, signals, concurrent runs, limits). */
@@ -459,6 +467,10 @@ static void write_doc_outro(FILE *fp)
           "| 5 | some runs of a sweep failed: every run ran, but some ended early or were "
           "refused by the library (a point of a grid beyond a profile's limits); `sweep.tsv` "
           "names each with a comment line, `runs.tsv` gives every run's status |\n"
+          "| 6 | a calibration or a design without an answer to trust: it did not converge "
+          "(`&calibrate max_iter`, `&design max_runs`), the data do not determine a fitted "
+          "setting, or a fitted setting ended at its bound; its files are written and say so "
+          "(docs/calibration.md, docs/optimal-design.md) |\n"
           "\n"
           "An observable a complete run could not find is nan, never 0, with a warning on "
           "stderr (Python: `Result.warnings`) and status 0: a velocity maximum that never "
@@ -467,7 +479,7 @@ static void write_doc_outro(FILE *fp)
           "fallen, so its peak is found without `t_end`.\n"
           "\n"
           "With several runs (a sweep, several scenes) the status is the gravest: 2, then 1, "
-          "3, 5, 4, 0 (an interrupted sweep: 3).  A reader that stops reading standard output (`taper ... | head -1`) is "
+          "3, 6, 5, 4, 0 (an interrupted sweep, calibration or design: 3).  A reader that stops reading standard output (`taper ... | head -1`) is "
           "not a failure: the runs go on, their files are complete, and the status is theirs "
           "(SIGPIPE is ignored, and the echo stops quietly).\n"
           "\n"

@@ -11,7 +11,7 @@ import sys
 
 import pytest
 
-EXAMPLES = ["paper_figure1.py", "loaded_chain.py"]
+EXAMPLES = ["paper_figure1.py", "loaded_chain.py", "calibrate_and_design.py"]
 
 # Runs a script with matplotlib made unimportable (sys.modules entry None).
 WITHOUT_MATPLOTLIB = ("import runpy, sys; sys.modules['matplotlib'] = None; "

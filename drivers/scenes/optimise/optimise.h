@@ -1,0 +1,36 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * optimise.h -- a scene that asks for a calibration (&calibrate data) or a
+ * design (&design objective), run as the driver runs scenes: progress on
+ * stdout, problems on stderr as FILE:LINE: &group key: message, result
+ * files in &output dir, the scene at the optimum written and run, and an
+ * exit status of run.h:
+ *
+ *   RUN_COMPLETE       converged (a design's optimum may lie on a bound:
+ *                      design.tsv says so)
+ *   RUN_NOT_CONVERGED  no answer to trust: iterations or runs exhausted, a
+ *                      fitted setting the data do not determine or at its
+ *                      bound; the files say why
+ *   RUN_PARTIAL        interrupted (SIGINT, SIGTERM, ...): the runs made
+ *                      are in DIR/evaluations.tsv, and the same command
+ *                      resumes
+ *   RUN_INPUT          a problem of the scene's &calibrate or &design keys,
+ *                      or of the data (FILE:LINE:COLUMN)
+ *   RUN_FAILED         a run failed where nothing could stand in for it
+ *                      (the start), or a file could not be written
+ *
+ * Not part of libtaper.
+ */
+#ifndef TAPER_OPTIMISE_H
+#define TAPER_OPTIMISE_H
+
+#include "scene/scene.h"
+
+/* 1: the scene is a calibration or a design (optimise_scene runs it). */
+int optimise_wanted(const scene *sc);
+
+/* Runs the calibration or design of a validated scene.  Returns a
+ * run_status. */
+int optimise_scene(const scene *sc);
+
+#endif

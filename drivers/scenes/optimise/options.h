@@ -1,0 +1,34 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * options.h -- what a calibration and a design share: how one is run
+ * (threads, interruption, journal, progress) and how it ended.
+ *
+ * Not part of libtaper.
+ */
+#ifndef TAPER_OPT_OPTIONS_H
+#define TAPER_OPT_OPTIONS_H
+
+/* How an optimisation is run: threads, interruption, journal, progress. */
+typedef struct opt_options {
+    unsigned threads;                 /* runs at once; 0: one per core         */
+    int (*stop)(void *user);          /* polled by every run: non-zero stops   */
+    void *stop_user;
+    const char *dir;                  /* the journal's directory (evaluations.tsv,
+                                         resume); NULL: none                   */
+    /* One line per iteration, without '\n'; NULL: quiet. */
+    void (*progress)(const char *line, void *user);
+    void *progress_user;
+} opt_options;
+
+/* How an optimisation ended. */
+typedef enum opt_outcome {
+    OPT_CONVERGED = 0,      /* an answer                                       */
+    OPT_NOT_CONVERGED = 1,  /* iterations or runs exhausted, a setting the
+                               data do not determine, or (a calibration) a
+                               setting at its bound: reason says which         */
+    OPT_INTERRUPTED = 2,    /* stopped by opt_options.stop: resume it          */
+    OPT_FAILED = 3          /* a run failed where no other could stand in, a
+                               journal could not be written: reason           */
+} opt_outcome;
+
+#endif
