@@ -25,8 +25,20 @@
 #include <string.h>
 
 /* Internal steps per CVode call: the monitor (progress, Ctrl-C) is consulted
- * at least this often.  CVODE's default of 500 would end long chains. */
+ * at least this often.  CVODE's default of 500 would end long chains.
+ * Fewer on a wide window (steps_per_call): WORK_PER_CALL granule-steps,
+ * about 0.1 s at ~50 ns a granule and step, so that a signal stops a run
+ * whose window spans thousands of granules (a loaded or damped chain after
+ * the pulse, where no event calls the monitor) within a fraction of a
+ * second. */
 #define STEPS_PER_CALL 20000L
+#define WORK_PER_CALL 2e6
+static long steps_per_call(const taper_sim *sim)
+{
+    const double steps = WORK_PER_CALL / (double)(sim->dyn.hi - sim->dyn.lo + 1);
+    return steps >= (double)STEPS_PER_CALL ? STEPS_PER_CALL : steps < 1.0 ? 1 : (long)steps;
+}
+
 /* Once every pass time is known, how long (in units of the longest
  * residence time) to wait for the remaining peaks before declaring them
  * absent. */
@@ -267,7 +279,7 @@ static int setup_integrator(taper_sim *sim, taper_error *err)
         status = check(CVodeInit(mem, rhs, 0.0, cv->y), "CVodeInit", sim, err);
     if (!status) status = check(CVodeWFtolerances(mem, error_weights), "CVodeWFtolerances", sim, err);
     if (!status) status = check(CVodeSetUserData(mem, sim), "CVodeSetUserData", sim, err);
-    if (!status) status = check(CVodeSetMaxNumSteps(mem, STEPS_PER_CALL), "CVodeSetMaxNumSteps", sim, err);
+    if (!status) status = check(CVodeSetMaxNumSteps(mem, steps_per_call(sim)), "CVodeSetMaxNumSteps", sim, err);
     /* An explicit first step: CVODE's estimate would use the (unbounded) tout. */
     if (!status) status = check(CVodeSetInitStep(mem, INITIAL_STEP), "CVodeSetInitStep", sim, err);
     if (!status) status = init_roots(sim, err);
@@ -429,6 +441,7 @@ static void window_changed(taper_sim *sim)
     sim->stats.window_changes++;
     size_t size = sim->dyn.hi - sim->dyn.lo + 1;
     if (size > sim->stats.max_window) sim->stats.max_window = size;
+    if (sim->cv.mem) CVodeSetMaxNumSteps(sim->cv.mem, steps_per_call(sim));
 }
 
 /* Re-initialises CVODE at the current state; the counters so far are kept. */
@@ -606,7 +619,7 @@ static int integrator_call(taper_sim *sim, double target, double stop_at, double
      * steps a located root costs. */
     const taper_rk8_result r = taper_rk8_advance(cv->rk8, taper_sim_data(sim, cv->y), state_length(sim),
                                                  cv->roots + slots, slots, taper_events_grow_slot(sim),
-                                                 cv->roots, target, stop_at, STEPS_PER_CALL);
+                                                 cv->roots, target, stop_at, steps_per_call(sim));
     *t = taper_rk8_time(cv->rk8, &cv->t_shift);
     switch (r) {
     case TAPER_RK8_REACHED: return CV_TSTOP_RETURN;
@@ -651,7 +664,11 @@ static taper_status advance(taper_sim *sim, double tout, int *reached, taper_err
         return TAPER_OK;
     }
     if (flag == CV_SUCCESS || flag == CV_TSTOP_RETURN) {
-        if (t >= t_sample && taper_sample_call(sim)) return stop(sim, err, STOP_INTERRUPTED, 0);
+        /* after a sample the monitor too: a sampled run past the pulse
+         * has no events, and its calls end at samples, not at the steps'
+         * limit */
+        if (t >= t_sample && (taper_sample_call(sim) || call_monitor(sim)))
+            return stop(sim, err, STOP_INTERRUPTED, 0);
         *reached = t >= tout; /* a stop time of an earlier phase is no arrival */
         return TAPER_OK;
     }

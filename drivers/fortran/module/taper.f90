@@ -136,7 +136,7 @@ module taper_binding
             taper_chain_rest_position
   public :: taper_dynamics_alloc, taper_dynamics_free, taper_dynamics_rhs, &
             taper_dynamics_energy_momentum, taper_dynamics_peak_function
-  public :: taper_theory_collision_time, taper_theory_compute
+  public :: taper_theory_collision_time, taper_theory_compute, taper_theory_compute_monitored
   public :: taper_solver_spec_alloc, taper_solver_spec_free, taper_solver_spec_set_method, &
             taper_solver_spec_set_rtol, taper_solver_spec_set_atol, &
             taper_solver_spec_set_last_granule, taper_solver_spec_set_window, &
@@ -750,6 +750,16 @@ module taper_binding
        type(taper_error), intent(inout) :: err
        integer(c_int) :: status
      end function taper_theory_compute
+     ! monitor: c_funloc of a bind(C) function, or c_null_funptr
+     function taper_theory_compute_monitored(chain, v, mu, res_time, pass_time, monitor, user, &
+          err) bind(C, name="taper_theory_compute_monitored") result(status)
+       import :: c_ptr, c_funptr, c_int, taper_error
+       type(c_ptr), value :: chain, v, mu, res_time, pass_time
+       type(c_funptr), value :: monitor
+       type(c_ptr), value :: user
+       type(taper_error), intent(inout) :: err
+       integer(c_int) :: status
+     end function taper_theory_compute_monitored
 
      ! ---- solver settings
      function taper_solver_spec_alloc(err) bind(C, name="taper_solver_spec_alloc") result(spec)
