@@ -290,14 +290,14 @@ static void relation_refusals(void)
     taper_chain_spec_set_n_granules(cs, 2, NULL);
     CHECK(taper_chain_spec_check(cs, &err) == TAPER_OK && cleared(&err), "forward_linear N = 2");
 
-    /* s with a profile that does not read it, and a tapered profile
-     * without its parameter, are refused naming the parameter. */
+    /* s with a profile that does not read it is refused naming it; q = 0
+     * is the monodisperse limit of the exponential taper. */
     taper_chain_spec_set_profile(cs, TAPER_BACKWARD_EXPONENTIAL, NULL);
     CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "s"),
           "s with backward_exponential: field %s", FIELD(err));
     taper_chain_spec_set_s(cs, 0.0, NULL);
-    CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "q"),
-          "backward_exponential without q: field %s", FIELD(err));
+    CHECK(taper_chain_spec_check(cs, &err) == TAPER_OK && cleared(&err),
+          "backward_exponential with q = 0 (the monodisperse limit): %s", err.message);
     taper_chain_spec_set_q(cs, 1.5, NULL);
     CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "q"),
           "backward_exponential q >= 1: field %s", FIELD(err));
