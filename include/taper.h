@@ -460,15 +460,17 @@ typedef struct taper_dynamics taper_dynamics;
  * "striker_radius", "load", "damping", "drag"). */
 TAPER_API taper_dynamics *taper_dynamics_alloc(const taper_chain *chain, taper_error *err);
 TAPER_API void taper_dynamics_free(taper_dynamics *dyn);
-/* ydot = f(y), both of length 2N. */
+/* ydot = f(y), both of length 2N.  NULL dyn or ydot: nothing is written;
+ * NULL y: ydot is NaN. */
 TAPER_API void taper_dynamics_rhs(const taper_dynamics *dyn, const double *y, double *ydot);
 /* Kinetic plus contact energy and momentum of the state y (either output
- * may be NULL). */
+ * may be NULL); NaN for a NULL dyn or y. */
 TAPER_API void taper_dynamics_energy_momentum(const taper_dynamics *dyn, const double *y,
                                               double *energy, double *momentum);
 /* A function with the sign of granule k's acceleration, never identically
  * zero while a contact of k is closed: its downward zero is k's velocity
- * peak (the root function taper_sim uses).  1 <= k <= N. */
+ * peak (the root function taper_sim uses).  1 <= k <= N; NaN otherwise
+ * and for a NULL dyn or y. */
 TAPER_API double taper_dynamics_peak_function(const taper_dynamics *dyn, const double *y,
                                               size_t k);
 
