@@ -22,6 +22,7 @@
  * spreads the runs over K ranks when taper is built with MPI (sweep_mpi.h,
  * docs/cluster.md).
  */
+#include "run/interrupt.h"
 #include "run/run.h"
 #include "run/sweep.h"
 #include "scene/scene.h"
@@ -167,16 +168,33 @@ static int one_scene(const options *o, scene *sc)
     return rc;
 }
 
+/* The scenes from i on, which a signal kept from starting. */
+static void not_started(const options *o, size_t i)
+{
+    static size_t said = (size_t)-1;
+    if (said != (size_t)-1) return; /* once, for all of them */
+    said = i;
+    char by[64];
+    interrupt_describe(by, sizeof by);
+    fprintf(stderr, "taper: interrupted by %s: not started, nothing written:", by);
+    for (size_t j = i; j < o->n_paths; j++) fprintf(stderr, " %s", o->paths[j]);
+    fputc('\n', stderr);
+}
+
 static int run(const options *o)
 {
-    run_install_signals();
+    interrupt_install();
     int rc = RUN_COMPLETE;
     for (size_t i = 0; i < o->n_paths; i++) {
-        if (run_interrupted()) { /* the scenes after it are not started */
+        if (interrupt_signal()) { /* the scenes after it are not started */
 #ifdef TAPER_MPI
+            if (mpi_rank() == 0) not_started(o, i);
             mpi_scene_skip(); /* but walked in step with the other ranks */
+            rc = run_worst(rc, RUN_PARTIAL);
             continue;
 #else
+            not_started(o, i);
+            rc = run_worst(rc, RUN_PARTIAL);
             break;
 #endif
         }

@@ -268,6 +268,7 @@ static int write_sensors(const sensors *s, const char *dir, FILE *out, char **ms
     double uv = unit(s, TAPER_DIM_VELOCITY), uf = unit(s, TAPER_DIM_FORCE);
     size_t per = 4 * s->n_granule + 2;
     for (size_t j = 0; j < s->t.n; j++) {
+        if ((j & 1023) == 0 && out_stopping(f)) break;
         const double *r = s->rec.v + j * per;
         for (size_t i = 0; i < s->n_granule; i++, r += 4) {
             out_cell(fp, s->t.v[j] * ut, 0);
@@ -322,6 +323,7 @@ static int write_walls(const sensors *s, const taper_sim *sim, const char *dir, 
     double ut = unit(s, TAPER_DIM_TIME), uf = unit(s, TAPER_DIM_FORCE);
     size_t per = 4 * s->n_granule + 2;
     for (size_t j = 0; j < s->t.n; j++) {
+        if ((j & 4095) == 0 && out_stopping(f)) break;
         const double *w = s->rec.v + j * per + 4 * s->n_granule;
         out_cell(fp, s->t.v[j] * ut, 0);
         if (l) out_cell(fp, w[0] * uf, !r);
@@ -354,6 +356,7 @@ static int write_spacetime_data(const sensors *s, const char *dir, double *vmax,
     /* The rows, then the samples gathered since the last one. */
     size_t rows = s->st_t.n + (s->pending_n > 0);
     for (size_t j = 0; j < rows; j++) {
+        if ((j & 255) == 0 && out_stopping(f)) break;
         int last = j == s->st_t.n;
         const double *row = last ? s->pending : s->st_v.v + j * s->st_cols;
         double t = last ? s->pending_t : s->st_t.v[j];

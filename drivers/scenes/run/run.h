@@ -34,33 +34,10 @@ enum run_status {
 /* The graver of two run_status values. */
 int run_worst(int a, int b);
 
-/* SIGINT, SIGTERM, SIGHUP and SIGXCPU end the runs partial, keeping what
- * was found; a second one while results are written removes the temporary
- * file and kills the process by that signal.  SIGHUP ignored by the parent
- * (nohup) stays ignored. */
-void run_install_signals(void);
-/* The number of the first such signal received, 0 if none. */
-int run_interrupted(void);
-/* Stops the runs as that signal does: signal sig received by MPI rank
- * `rank` (drivers/taper/sweep_mpi.c), which stops the whole sweep. */
-void run_interrupt(int sig, int rank);
-/* Process pid (named `name`) launched this one and stops it on the user's
- * behalf: mpirun sends SIGTERM to every rank when it gets Ctrl-C, SIGINT,
- * SIGTERM or SIGHUP itself.  Messages then say "interrupted by SIGTERM
- * from mpirun", not the signal the user sent, which only mpirun saw. */
-void run_signal_source(long pid, const char *name);
-
 /* Runs a scene without a sweep (runs.swept 0) into &output dir; a sweep is
  * run by sweep_run (run/sweep.c), which calls run_point for each of its
  * runs (run/sweep_resume.c).  Returns a run_status. */
 int run_scene(const scene *sc);
-
-/* &output dir created and locked for this process (flock on
- * DIR/.taper.lock, held until exit): exclusive (shared != 0: shared, the
- * parts of a sweep computed at once, --part) so that a second run into the
- * same directory is refused while the first runs.  0, or -1 after printing
- * why. */
-int run_lock_dir(const scene *sc, const char *dir, int shared);
 
 /* What one run of a sweep printed: stdout and stderr text (malloc'd, may be
  * NULL), and its run_status. */

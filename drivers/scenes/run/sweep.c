@@ -14,6 +14,8 @@
  */
 #include "run/sweep.h"
 
+#include "run/interrupt.h"
+#include "run/outdir.h"
 #include "run/sweep_print.h"
 #include "run/sweep_report.h"
 #include "run/sweep_resume.h"
@@ -66,7 +68,7 @@ static int prepare(sweep *sw, const sweep_options *opt)
     const scene *sc = sw->sc;
     const scene_config *cfg = sw->cfg;
     /* Created and locked: parts of one sweep share the lock (--part). */
-    if (run_lock_dir(sc, cfg->output.dir, opt->parts > 1) != 0) return RUN_INPUT;
+    if (outdir_lock(sc, cfg->output.dir, opt->parts > 1) != 0) return RUN_INPUT;
     int rc = sweep_remove_others(sw);
     if (rc != RUN_COMPLETE) return rc;
     for (size_t i = 0; i < sw->n; i++) {
@@ -173,7 +175,7 @@ int sweep_run(const scene *sc, const sweep_options *opt)
     sweep_print_progress(&p, sw, 1);
     sweep_print_clear(&p);
 
-    if (sw->done < sw->n || run_interrupted())
+    if (sw->done < sw->n || interrupt_signal())
         rc = interrupted(sw, &p);
     else if (opt->parts > 1)
         rc = part_done(sw, opt);

@@ -374,7 +374,7 @@ typedef struct scene_value {
 /* Sets the variable named `keyword` (its one name: scene_var_keyword_at)
  * to n values, checked by type as a file's are (several values: a list, or
  * a sweep of a sweepable variable), in place of its current value, as
- * --set does.  A list of reals is not held to the file's SCENE_MAX_LIST.
+ * --set does, lists held to a file's limit (docs/scene.md, "Limits").
  * Returns the number of errors (recorded as diagnostics; line 0). */
 size_t scene_set_values(scene *sc, const char *keyword, const scene_value *values, size_t n);
 /* The program keeps every sample itself (the Python package's

@@ -37,8 +37,6 @@ typedef struct parser {
     token next;             /* one token of look-ahead                       */
     int failed;
     size_t list_values;     /* values in lists of more than one value so far */
-    int typed;              /* scene_set_values: values from a program, not a
-                               file (a list is not held to the file's limit) */
 } parser;
 
 /* ---- screening ----------------------------------------------------------- */
@@ -346,14 +344,18 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
                     "&solver: s, q, exponent, n_granules, rtol, ...)", n);
         return -1;
     }
-    if (n > 1 && !(p->typed && var->type == SCENE_REAL_LIST)) {
+    if (n > 1) {
         /* The echo repeats every value: all lists together are bounded so
-         * that it fits the file limit (scene.c).  A program's list of radii
-         * is held to the library's limit only. */
+         * that it fits the file limit (scene.c).  One limit for a file, the
+         * command line and a program (the Python package), whose scene is
+         * echoed alike; a chain of more custom radii reads them from a
+         * radii_file, which the echo names. */
         if (n > SCENE_MAX_LIST - p->list_values) {
             scene_error(p->sc, line, var->group, var->name,
                         "%zu values here and %zu in other lists: a scene's lists hold at most "
-                        "%d values in all", n, p->list_values, SCENE_MAX_LIST);
+                        "%d values in all%s", n, p->list_values, SCENE_MAX_LIST,
+                        strcmp(var->keyword, "radii") == 0
+                            ? " (a longer custom chain: its radii in a radii_file)" : "");
             return -1;
         }
         p->list_values += n;
@@ -820,7 +822,7 @@ size_t scene_set_values(scene *sc, const char *keyword, const scene_value *value
             free(el);
             return sc->n_errors - before;
         }
-    parser p = {.sc = sc, .typed = 1};
+    parser p = {.sc = sc};
     assign(&p, vi, el, n, 0);
     free(el);
     return sc->n_errors - before;
