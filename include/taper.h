@@ -818,11 +818,15 @@ TAPER_API taper_dimension taper_observable_dimension(taper_observable which);
                                        left wall or a piston                        */ \
     X(TAPER_STAT_ENERGY_IN_CHAIN, "energy_in_chain", ENERGY)   /* the rest                  */ \
     X(TAPER_STAT_WALL_PEAK_FORCE_LEFT, "wall_peak_force_left", FORCE) /* largest wall force
-                                                                  (NaN: no wall)    */ \
+                                       over [0, t_final] (NaN: no wall); a run with a
+                                       right wall lasts until that wall's first
+                                       contact has opened (under a load: its force
+                                       is back below half its rise), and to t_end
+                                       if later                                     */ \
     X(TAPER_STAT_WALL_PEAK_TIME_LEFT, "wall_peak_time_left", TIME) /* its time (a root of
                                        the wall contact's rate: exact)              */ \
     X(TAPER_STAT_WALL_IMPULSE_LEFT, "wall_impulse_left", IMPULSE) /* integral of the wall
-                                                            force                   */ \
+                                       force over [0, t_final]                      */ \
     X(TAPER_STAT_WALL_PEAK_FORCE_RIGHT, "wall_peak_force_right", FORCE)                      \
     X(TAPER_STAT_WALL_PEAK_TIME_RIGHT, "wall_peak_time_right", TIME)                        \
     X(TAPER_STAT_WALL_IMPULSE_RIGHT, "wall_impulse_right", IMPULSE)

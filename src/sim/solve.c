@@ -801,6 +801,12 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
         if ((left = pulse_has_left(sim, &watch))) break;
     }
     const size_t next_peak = sim->pulse.next_peak;
+    if (!taper_events_walls_settled(sim)) /* the grace time ended it (a steady piston) */
+        taper_sim_log(sim, 1,
+                      "the right wall still pushes at t = %.6g, %g times the longest residence "
+                      "time after the last pass: its peak force, time and impulse are those of "
+                      "the run so far, not of its whole contact",
+                      sim->t, PEAK_GRACE);
     if (left) {
         const size_t next_pass = sim->pulse.next_pass;
         taper_sim_log(sim, 1,

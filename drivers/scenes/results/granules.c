@@ -88,9 +88,14 @@ static void write_stats_comment(const granules_run *r, FILE *fp)
          TAPER_STAT_WALL_IMPULSE_LEFT},
         {TAPER_STAT_WALL_PEAK_FORCE_RIGHT, TAPER_STAT_WALL_PEAK_TIME_RIGHT,
          TAPER_STAT_WALL_IMPULSE_RIGHT}};
+    int said = 0;
     for (int e = 0; e < TAPER_N_ENDS; e++) {
         if (taper_chain_end(r->chain, (taper_end)e) != TAPER_END_WALL && !(piston && e == TAPER_LEFT))
             continue;
+        if (!said++)
+            fputs("# wall_*: over the run, [0, t_final], which goes on until the right wall's "
+                  "first contact has opened (and to t_end if later): its peak and impulse are "
+                  "the whole contact's\n", fp);
         for (int j = 0; j < 3; j++)
             write_dimensioned(r, fp, wall_stats[e][j], taper_statistic_dimension(wall_stats[e][j]));
     }

@@ -309,7 +309,8 @@ static int write_walls(const sensors *s, const taper_sim *sim, const char *dir, 
             taper_version());
     interval_comment(s, fp, s->interval);
     fputs("# peak force, its time (exact: a root of the contact's rate) and impulse (the "
-          "integral of the force) over the whole run:\n", fp);
+          "integral of the force) over the run, [0, t_final], which goes on until the right "
+          "wall's first contact has opened (and to t_end if later): the whole contact's\n", fp);
     if (l) {
         wall_stat(s, sim, fp, TAPER_STAT_WALL_PEAK_FORCE_LEFT, TAPER_DIM_FORCE);
         wall_stat(s, sim, fp, TAPER_STAT_WALL_PEAK_TIME_LEFT, TAPER_DIM_TIME);
