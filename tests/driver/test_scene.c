@@ -418,7 +418,9 @@ typedef struct bad_case {
 
 static const bad_case bad_cases[] = {
     /* syntax */
-    {"&chain /\n&nope x = 1 /", 2, "nope", "", "unknown group"},
+    {"&chain /\n&nope x = 1 /", 2, "nope", "", "unknown group (groups: &chain, &ends, &striker, "
+     "&losses, &material, &solver, &sensors, &output, &fit, &table, &figure, &sweep)"},
+    {"&sensor interval = 1 /", 1, "sensor", "", "unknown group: did you mean &sensors?"},
     {"&chain\n  prfile = 'x' /", 2, "chain", "prfile", "did you mean profile"},
     {"&solver\n\n  zzz = 1 /", 3, "solver", "zzz", "unknown key"},
     {"&chain n_granules 5 /", 1, "chain", "n_granules", "expected '='"},

@@ -491,6 +491,8 @@ int scene_var_keyword(const char *keyword);
  * none is that near. */
 const char *scene_nearest_key(const char *group, const char *key);
 const char *scene_nearest_keyword(const char *keyword);
+/* The group nearest to an unknown one (without its '&'), or NULL. */
+const char *scene_nearest_group(const char *group);
 int scene_var_takes_list(size_t i); /* 1: a list of values sweeps it (s, q,
                                      exponent, n_granules, rtol, ...)         */
 /* A choice's allowed names, NULL-terminated, in the order of their values;

@@ -601,9 +601,7 @@ static int parse_group(parser *p)
     copy_name(&p->tok, group, sizeof group);
     int gi = p->tok.len < sizeof group ? scene_group_index(group) : -1;
     if (gi < 0) {
-        scene_error(p->sc, line, tok_text(&p->tok, buf, sizeof buf), NULL,
-                    "unknown group (groups: &chain, &solver, &output, &fit, &table, "
-                    "&figure, &sweep)");
+        scene_unknown_group(p->sc, line, tok_text(&p->tok, buf, sizeof buf));
         return -1;
     }
     if (p->sc->group_line[gi]) {
@@ -721,10 +719,13 @@ size_t scene_set(scene *sc, const char *assignment)
     if (!group || !key || !text || !tmp) {
         scene_error(sc, 0, NULL, NULL, "out of memory");
     } else if (vi < 0) {
-        const char *close = scene_group_index(group) >= 0 ? scene_nearest_key(group, key) : NULL;
+        /* the nearest group when the group is unknown, then its key */
+        const char *in = scene_group_index(group) >= 0 ? group : scene_nearest_group(group);
+        const char *close = in ? scene_nearest_key(in, key) : NULL;
         if (close)
-            scene_error(sc, 0, group, key, "--set %s: unknown key: did you mean %s.%s? (taper "
-                        "--defaults lists them)", assignment, group, close);
+            scene_error(sc, 0, group, key, "--set %s: unknown %s: did you mean %s.%s? (taper "
+                        "--defaults lists them)", assignment, in == group ? "key" : "group", in,
+                        close);
         else
             scene_error(sc, 0, group, key, "--set %s: no such variable (taper --defaults lists "
                         "them)", assignment);
