@@ -248,7 +248,8 @@ int out_commit(out_file *f, char **msg)
         out_discard(f);
         return -1;
     }
-    errno = 0;
+    /* errno: the last failed write's, when the stream saw one (stdio keeps
+     * only the flag; no call since has failed) */
     int ok = !f->failed && !ferror(f->fp) && fflush(f->fp) == 0;
     if (ok && f->footer) {
         char line[FOOTER_SIZE];

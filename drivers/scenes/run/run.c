@@ -514,6 +514,16 @@ static void print_energy(const run *r)
     fputc('\n', r->out);
 }
 
+char *run_stopped_writing(const char *msg)
+{
+    char by[64];
+    interrupt_describe(by, sizeof by);
+    const char *cut = strstr(msg, " not written: ");
+    return text_printf("interrupted by %s while writing %.*s: it is not written, nor anything "
+                       "after it; the files reported written (\"! wrote\") are complete, their "
+                       "footers say so", by, cut ? (int)(cut - msg) : (int)strlen(msg), msg);
+}
+
 /* A failure while the results are written: a stop signal (the file and
  * those after it not written: RUN_PARTIAL, said once at the end of
  * finish_run), or the disk (RUN_FAILED). */
@@ -580,11 +590,9 @@ static void finish_run(run *r)
     }
     out_set_mode(OUT_WHOLE);
     if (r->stopped_at) {
-        char by[64];
-        interrupt_describe(by, sizeof by);
-        fprintf(r->log, "%s: interrupted by %s while the results were written: %s, nor "
-                "anything after it; the files reported written above are complete (their "
-                "footers say so)\n", r->label, by, r->stopped_at);
+        char *said = run_stopped_writing(r->stopped_at);
+        fprintf(r->log, "%s: %s\n", r->label, said ? said : r->stopped_at);
+        free(said);
         r->rc = RUN_PARTIAL;
     }
     free(untrusted);
@@ -697,11 +705,9 @@ int run_write_reports(const scene *sc, report_point *points)
         if (rendered < 0) rc = RUN_FAILED;
     }
     if (rc != RUN_COMPLETE && out_was_stopped(msg) && interrupt_signal()) {
-        char by[64];
-        interrupt_describe(by, sizeof by);
-        fprintf(stderr, "%s: interrupted by %s while the reports were written: %s, nor anything "
-                "after it; the files reported written above are complete\n", scene_path(sc), by,
-                msg);
+        char *said = run_stopped_writing(msg);
+        fprintf(stderr, "%s: %s\n", scene_path(sc), said ? said : msg);
+        free(said);
         rc = RUN_PARTIAL;
     } else if (rc != RUN_COMPLETE) {
         fprintf(stderr, "%s: %s\n", scene_path(sc), msg ? msg : "out of memory");

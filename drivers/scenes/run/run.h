@@ -56,6 +56,12 @@ void run_point(const scene *sc, size_t point, const char *dir, const char *name,
                run_outcome *o);
 void run_outcome_free(run_outcome *o);
 
+/* What a stop signal that came while a file was written leaves, from the
+ * writer's message (out_stopped_message, "DIR/NAME not written:
+ * interrupted by a signal"): "interrupted by SIGTERM while writing
+ * DIR/NAME: it is not written, nor anything after it; ..." (malloc'd). */
+char *run_stopped_writing(const char *msg);
+
 /* Fits, table and figure of a scene from its runs' data: points[i] for run
  * i (runs.n of them), spec and src filled.  Returns a run_status. */
 int run_write_reports(const scene *sc, report_point *points);

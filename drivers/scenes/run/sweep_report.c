@@ -8,6 +8,7 @@
 #include "results/analysis.h"
 #include "results/footer.h"
 #include "results/output.h"
+#include "run/interrupt.h"
 #include "util/number.h"
 #include "util/text.h"
 
@@ -170,6 +171,25 @@ static const char *status_name(int rc)
     }
 }
 
+/* A sweep file that could not be written (msg, freed): the disk
+ * (RUN_FAILED), or a stop signal while it was written (RUN_PARTIAL: the
+ * runs are complete on disk, the same command writes it). */
+static int report_failure(const sweep *sw, char *msg)
+{
+    int rc = RUN_FAILED;
+    char *said = NULL;
+    if (out_was_stopped(msg) && interrupt_signal()) {
+        said = run_stopped_writing(msg);
+        rc = RUN_PARTIAL;
+    }
+    fprintf(stderr, "%s: %s%s\n", scene_path(sw->sc), said ? said : msg ? msg : "out of memory",
+            rc == RUN_PARTIAL ? " (every run is on disk: the same command writes the sweep's "
+                                "files again)" : "");
+    free(said);
+    free(msg);
+    return rc;
+}
+
 /* The swept variables' names, ", "-separated, and the sweep's shape. */
 static void write_lead_header(const scene_config *cfg, FILE *fp)
 {
@@ -259,9 +279,7 @@ static int write_sweep_tsv(sweep *sw)
 fail:
     free(header);
     if (f) out_discard(f);
-    fprintf(stderr, "%s: %s\n", scene_path(sw->sc), msg ? msg : "out of memory");
-    free(msg);
-    return RUN_FAILED;
+    return report_failure(sw, msg);
 }
 
 /* ---- the per-run summary ------------------------------------------------------- */
@@ -461,9 +479,7 @@ static int write_runs_tsv(sweep *sw)
     printf("! wrote %s/runs.tsv\n", cfg->output.dir);
     return RUN_COMPLETE;
 fail:
-    fprintf(stderr, "%s: %s\n", scene_path(sw->sc), msg ? msg : "out of memory");
-    free(msg);
-    return RUN_FAILED;
+    return report_failure(sw, msg);
 }
 
 /* Fits, table and figure from the runs' data (failed runs: no data). */
