@@ -553,8 +553,8 @@ typedef struct taper_progress {
 typedef int (*taper_monitor_fn)(const taper_progress *progress, void *user);
 
 /* taper_theory_compute, asking `monitor` (NULL: never) every 65536 granules
- * whether to go on (progress as above: window 0..0): the theory of 10^7
- * granules takes about a second.  A non-zero answer ends it with
+ * whether to go on (progress as above: window 0..0), so that the theory of
+ * the longest chains stops at once.  A non-zero answer ends it with
  * TAPER_EINTERRUPTED, the arrays NaN from the granule it had reached on. */
 TAPER_API taper_status taper_theory_compute_monitored(const taper_chain *chain, double *v,
                                                       double *mu, double *T, double *t,

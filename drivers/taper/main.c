@@ -10,9 +10,10 @@
  *
  * Exit status (docs/scene.md, "Exit status"): 0 complete; 1 library or
  * output failure (standard output included); 2 bad input (scene, command
- * line, output directory); 3 partial result (solver failure, a signal,
- * t_max or max_steps: granules.partial.tsv is written and no granules.tsv
- * exists); 4 complete but UNTRUSTED (conservation errors beyond &output
+ * line, output directory); 3 partial or interrupted (solver failure, a
+ * signal, t_max or max_steps: granules.partial.tsv is written and no
+ * granules.tsv exists; a signal before a run or while results are written:
+ * stderr names what is not written); 4 complete but UNTRUSTED (conservation errors beyond &output
  * max_energy_error / max_momentum_error); 5 a sweep whose runs all ran, some
  * of them failing (sweep.tsv and runs.tsv name them; run/sweep.h).  With
  * several scenes, the gravest.
@@ -63,7 +64,7 @@ static const char usage[] =
     "  --defaults  print a complete scene with every default, documented\n"
     "  --doc       print the scene reference (Markdown)\n"
     "\n"
-    "Exit status: 0 complete, 1 failure, 2 bad input, 3 partial result,\n"
+    "Exit status: 0 complete, 1 failure, 2 bad input, 3 partial or interrupted,\n"
     "4 untrusted result (conservation errors beyond the scene's bounds),\n"
     "5 some runs of a sweep failed (DIR/runs.tsv names them).\n";
 

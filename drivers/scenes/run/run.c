@@ -546,7 +546,8 @@ static void write_sensors(run *r)
 {
     char *msg = NULL;
     if (!r->sensors || !r->sim) return;
-    if (sensors_write(r->sensors, r->sim, r->dir, r->out, &msg) != 0)
+    const char *partial = r->rc == RUN_PARTIAL ? r->err.message : NULL;
+    if (sensors_write(r->sensors, r->sim, partial, r->dir, r->out, &msg) != 0)
         write_failed(r, msg);
     else
         free(msg);

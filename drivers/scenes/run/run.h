@@ -22,7 +22,10 @@ enum run_status {
     RUN_FAILED = 1,   /* library or output failure                             */
     RUN_INPUT = 2,    /* bad input: scene, command line, output directory      */
     RUN_PARTIAL = 3,  /* a run ended early (solver failure, a signal, t_max,
-                         max_steps): granules.partial.tsv, no granules.tsv     */
+                         max_steps): granules.partial.tsv, no granules.tsv; or
+                         a signal before it started (nothing written) or while
+                         its results were written (the file being written and
+                         those after it are not; the message says which)    */
     RUN_UNTRUSTED = 4, /* complete, but energy or momentum conservation worse
                          than &output max_energy_error / max_momentum_error:
                          granules.tsv says "# UNTRUSTED: ..."                  */
