@@ -6,7 +6,8 @@
 # it: a granules.tsv cut by ten lines, another run's granules.tsv copied in,
 # a binary file and a changed number are each found on resume, said on
 # stdout, and computed again; the sweep then ends exactly as an undamaged
-# one (every file byte for byte).
+# one (every file byte for byte).  Temporary files a killed sweep left are
+# removed, and said.
 set -u
 TAPER=$1
 case $TAPER in /*) ;; *) TAPER=$(pwd)/$TAPER ;; esac
@@ -30,10 +31,15 @@ head -n -10 "$d/s=0.1/granules.tsv" > cut && mv cut "$d/s=0.1/granules.tsv"  # t
 cp "$d/s=0.4/granules.tsv" "$d/s=0.2/granules.tsv"                   # another run's, whole
 head -c 4000 /dev/urandom > "$d/s=0.3/granules.tsv"                  # binary
 sed -i 's/^7\t/7\t1/' "$d/s=0.4/granules.tsv"                        # a number changed
+: > "$d/.sweep.tsv.AbC123"                                           # a killed sweep's
+: > "$d/s=0.1/.granules.tsv.XyZ789"                                  # and run's temporaries
 (cd run && "$TAPER" ../sweep.nml -o out > out.txt 2> err.txt)
 status=$?
 [ $status -eq 0 ] || fail "resume over damaged results: exit status $status: $(cat run/err.txt)"
 grep -q '^! resuming' run/out.txt && fail "damaged runs counted as reused: $(grep '^!' run/out.txt)"
+grep -q '^! removed 2 temporary files a killed taper left in out$' run/out.txt ||
+    fail "the temporaries removed are not said: $(grep '^!' run/out.txt)"
+ls -a run/out run/out/s=0.1 | grep -q '\.XyZ789$\|\.AbC123$' && fail "a temporary stayed"
 for s in 0.1 0.2 0.3 0.4; do
     grep -q "^! run s=$s: .*s=$s.*: computed again$" run/out.txt ||
         fail "s=$s: the damage is not said: $(grep '^! run' run/out.txt)"

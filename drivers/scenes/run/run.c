@@ -409,8 +409,8 @@ static void compute_run(size_t i, void *data)
         char by[64];
         interrupt_describe(by, sizeof by);
         free(r->message);
-        r->message = text_printf("%s: interrupted by %s before this run started: nothing of it "
-                                 "is written", r->label, by);
+        r->message = text_printf("%s: interrupted by %s before this run started: nothing of "
+                                 "this run is written", r->label, by);
         r->rc = RUN_PARTIAL;
         return;
     }

@@ -81,7 +81,14 @@ static int prepare(sweep *sw, const sweep_options *opt)
         }
     }
     sweep_deal(sw, opt->part, opt->parts);
-    sweep_find_reusable(sw);
+    /* The temporaries a killed taper left: in the directory itself when this
+     * process holds it alone (parts share it; only the merge writes there),
+     * and in the directories of this part's runs. */
+    size_t removed = opt->parts > 1 ? 0 : outdir_remove_temporaries(cfg->output.dir);
+    removed += sweep_find_reusable(sw);
+    if (removed)
+        printf("! removed %zu temporary file%s a killed taper left in %s\n", removed,
+               removed == 1 ? "" : "s", cfg->output.dir);
     size_t mine = sw->n;
     for (size_t i = 0; i < sw->n; i++) mine -= sw->items[i].elsewhere;
     if (opt->parts > 1)

@@ -208,12 +208,14 @@ static int is_run_of(const char *name, const void *data)
 
 int sweep_remove_others(sweep *sw) { return outdir_clean(sw->sc, is_run_of, sw); }
 
-void sweep_find_reusable(sweep *sw)
+size_t sweep_find_reusable(sweep *sw)
 {
+    size_t removed = 0;
     for (size_t i = 0; i < sw->n; i++) {
         const sweep_item *it = &sw->items[i];
         if (it->state != SWEEP_TODO) continue; /* another part's */
-        outdir_remove_temporaries(it->dir);
+        removed += outdir_remove_temporaries(it->dir);
         if (reusable(sw, i)) sweep_reuse(sw, i, untrusted_file(it->dir) ? RUN_UNTRUSTED : RUN_COMPLETE);
     }
+    return removed;
 }

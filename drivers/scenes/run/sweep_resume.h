@@ -25,8 +25,8 @@ int sweep_remove_others(sweep *sw);
 
 /* Marks reused (sweep_reuse) each run still to do whose complete result is
  * on disk, made from this scene; removes the temporaries a killed run left
- * in the others' directories. */
-void sweep_find_reusable(sweep *sw);
+ * in the directories of the runs still to do, and returns how many. */
+size_t sweep_find_reusable(sweep *sw);
 
 /* Computes run i and writes its files (granules.tsv, scene.hash).  On any
  * rank; thread-safe.  Free o with run_outcome_free. */
