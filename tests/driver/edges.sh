@@ -288,15 +288,15 @@ phases() {
         fail "theory: $(cat p_theory.err)"
     [ -e p_theory/granules.tsv ] || [ -e p_theory/granules.partial.tsv ] && fail "theory: a result file"
     prompt "$took" theory
-    # A loaded chain after the pulse: 1500 granules in the window, no event
-    # (20000 steps of it, the integrator's old limit per call, take ~1.5 s).
-    printf "&chain n_granules = 1500, load = 1e-3 /\n&solver t_end = 1e6 /\n" > wide.nml
+    # A loaded chain after the pulse: 800 granules in the window, no event
+    # (20000 steps of it, the integrator's old limit per call, take ~1 s).
+    printf "&chain n_granules = 800, load = 1e-3 /\n&solver t_end = 1e6 /\n" > wide.nml
     "$TAPER" wide.nml -o p_wide > p_wide.out 2> p_wide.err &
     pid=$!
-    term_when p_wide "sleep 4; true"
+    term_when p_wide "sleep 3.5; true"
     [ "$status" -eq 3 ] && grep -q 'interrupted by SIGTERM at t = ' p_wide.err ||
         fail "wide window: exit status $status: $(cat p_wide.err)"
-    grep -q 'past granule 1499 of 1499' p_wide.err ||
+    grep -q 'past granule 799 of 799' p_wide.err ||
         echo "note: wide window: the pulse had not left the chain yet (a loaded machine): $(cat p_wide.err)" >&2
     grep -q '^# PARTIAL result (interrupted)' p_wide/granules.partial.tsv 2> /dev/null ||
         fail "wide window: no partial file"
