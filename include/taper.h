@@ -460,15 +460,17 @@ typedef struct taper_dynamics taper_dynamics;
  * "striker_radius", "load", "damping", "drag"). */
 TAPER_API taper_dynamics *taper_dynamics_alloc(const taper_chain *chain, taper_error *err);
 TAPER_API void taper_dynamics_free(taper_dynamics *dyn);
-/* ydot = f(y), both of length 2N. */
+/* ydot = f(y), both of length 2N.  NULL dyn or ydot: nothing is written;
+ * NULL y: ydot is NaN. */
 TAPER_API void taper_dynamics_rhs(const taper_dynamics *dyn, const double *y, double *ydot);
 /* Kinetic plus contact energy and momentum of the state y (either output
- * may be NULL). */
+ * may be NULL); NaN for a NULL dyn or y. */
 TAPER_API void taper_dynamics_energy_momentum(const taper_dynamics *dyn, const double *y,
                                               double *energy, double *momentum);
 /* A function with the sign of granule k's acceleration, never identically
  * zero while a contact of k is closed: its downward zero is k's velocity
- * peak (the root function taper_sim uses).  1 <= k <= N. */
+ * peak (the root function taper_sim uses).  1 <= k <= N; NaN otherwise
+ * and for a NULL dyn or y. */
 TAPER_API double taper_dynamics_peak_function(const taper_dynamics *dyn, const double *y,
                                               size_t k);
 
@@ -526,20 +528,38 @@ TAPER_API const char *taper_method_name(taper_method method);
 TAPER_API taper_status taper_method_from_name(const char *name, taper_method *method,
                                               taper_error *err);
 
-/* Given to the monitor after each pulse event.  Filled by the library: a
- * later version may append fields, never reorder them. */
+/* Given to the monitor during a run: after each pulse event, after each
+ * sample of a sampler, and at least every ~0.1 s of integration (every
+ * 2e6 granule-steps of the active window, at most 20000 steps); and while
+ * the binary-collision theory of a chain is computed (taper_sim_alloc,
+ * taper_theory_compute_monitored), every 65536 granules, with window_lo =
+ * window_hi = 0, granule the granule reached, target N, t its t_k and
+ * steps 0.  Filled by the library: a later version may append fields,
+ * never reorder them. */
 typedef struct taper_progress {
     size_t granule;     /* highest k whose t_pass is known (0: none yet)      */
     size_t target;      /* the run ends once the pulse passed this granule    */
     double t;           /* time of the event                                  */
     long steps;         /* internal steps so far                              */
     size_t window_lo;   /* active window: granules window_lo..window_hi move  */
-    size_t window_hi;
+    size_t window_hi;   /* (0 and 0: the theory is being computed)            */
 } taper_progress;
 
 /* Return non-zero to stop the run (it then ends with TAPER_EINTERRUPTED,
- * keeping what was found).  Called from the thread running the simulation. */
+ * keeping what was found) or the theory (TAPER_EINTERRUPTED, nothing
+ * kept).  Called from the thread running the simulation; a monitor that
+ * reads a flag a signal handler sets (as the driver's and the Python
+ * package's do) stops a run within a fraction of a second in every phase. */
 typedef int (*taper_monitor_fn)(const taper_progress *progress, void *user);
+
+/* taper_theory_compute, asking `monitor` (NULL: never) every 65536 granules
+ * whether to go on (progress as above: window 0..0), so that the theory of
+ * the longest chains stops at once.  A non-zero answer ends it with
+ * TAPER_EINTERRUPTED, the arrays NaN from the granule it had reached on. */
+TAPER_API taper_status taper_theory_compute_monitored(const taper_chain *chain, double *v,
+                                                      double *mu, double *T, double *t,
+                                                      taper_monitor_fn monitor, void *user,
+                                                      taper_error *err);
 
 /* Diagnostics the library would otherwise have printed, called from the
  * thread running the simulation: level 1 (warning) for CVODE's own messages
@@ -815,11 +835,15 @@ TAPER_API taper_dimension taper_observable_dimension(taper_observable which);
                                        left wall or a piston                        */ \
     X(TAPER_STAT_ENERGY_IN_CHAIN, "energy_in_chain", ENERGY)   /* the rest                  */ \
     X(TAPER_STAT_WALL_PEAK_FORCE_LEFT, "wall_peak_force_left", FORCE) /* largest wall force
-                                                                  (NaN: no wall)    */ \
+                                       over [0, t_final] (NaN: no wall); a run with a
+                                       right wall lasts until that wall's first
+                                       contact has opened (under a load: its force
+                                       is back below half its rise), and to t_end
+                                       if later                                     */ \
     X(TAPER_STAT_WALL_PEAK_TIME_LEFT, "wall_peak_time_left", TIME) /* its time (a root of
                                        the wall contact's rate: exact)              */ \
     X(TAPER_STAT_WALL_IMPULSE_LEFT, "wall_impulse_left", IMPULSE) /* integral of the wall
-                                                            force                   */ \
+                                       force over [0, t_final]                      */ \
     X(TAPER_STAT_WALL_PEAK_FORCE_RIGHT, "wall_peak_force_right", FORCE)                      \
     X(TAPER_STAT_WALL_PEAK_TIME_RIGHT, "wall_peak_time_right", TIME)                        \
     X(TAPER_STAT_WALL_IMPULSE_RIGHT, "wall_impulse_right", IMPULSE)
@@ -833,11 +857,13 @@ TAPER_API const char *taper_statistic_name(taper_statistic which);
 TAPER_API taper_dimension taper_statistic_dimension(taper_statistic which);
 
 /* Prepares a run of `chain` (which must outlive the sim), and computes its
- * binary collision theory once (taper_sim_theory).  Copies spec (NULL: the
+ * binary collision theory once (taper_sim_theory), asking the spec's
+ * monitor as taper_theory_compute_monitored does.  Copies spec (NULL: the
  * defaults).  Returns a sim the caller owns (release with taper_sim_free),
  * or NULL: TAPER_EINVAL for a NULL chain or settings that do not fit it
  * (last_granule > N, max_order beyond the method's), TAPER_ERANGE from the
- * theory, TAPER_ENOMEM.  CVODE is set up by taper_sim_run. */
+ * theory, TAPER_EINTERRUPTED when the monitor stopped the theory,
+ * TAPER_ENOMEM.  CVODE is set up by taper_sim_run. */
 TAPER_API taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec,
                                      taper_error *err);
 TAPER_API void taper_sim_free(taper_sim *sim);

@@ -11,9 +11,10 @@
  *
  * Exit status (docs/scene.md, "Exit status"): 0 complete; 1 library or
  * output failure (standard output included); 2 bad input (scene, command
- * line, output directory); 3 partial result (solver failure, a signal,
- * t_max or max_steps: granules.partial.tsv is written and no granules.tsv
- * exists); 4 complete but UNTRUSTED (conservation errors beyond &output
+ * line, output directory); 3 partial or interrupted (solver failure, a
+ * signal, t_max or max_steps: granules.partial.tsv is written and no
+ * granules.tsv exists; a signal before a run or while results are written:
+ * stderr names what is not written); 4 complete but UNTRUSTED (conservation errors beyond &output
  * max_energy_error / max_momentum_error); 5 a sweep whose runs all ran, some
  * of them failing (sweep.tsv and runs.tsv name them; run/sweep.h); 6 a
  * calibration or design without an answer to trust (optimise/optimise.h).
@@ -25,6 +26,7 @@
  * docs/cluster.md).
  */
 #include "optimise/optimise.h"
+#include "run/interrupt.h"
 #include "run/run.h"
 #include "run/sweep.h"
 #include "scene/scene.h"
@@ -69,7 +71,7 @@ static const char usage[] =
     "  --defaults  print a complete scene with every default, documented\n"
     "  --doc       print the scene reference (Markdown)\n"
     "\n"
-    "Exit status: 0 complete, 1 failure, 2 bad input, 3 partial result,\n"
+    "Exit status: 0 complete, 1 failure, 2 bad input, 3 partial or interrupted,\n"
     "4 untrusted result (conservation errors beyond the scene's bounds),\n"
     "5 some runs of a sweep failed (DIR/runs.tsv names them), 6 a calibration\n"
     "or design without an answer to trust (not converged, a setting at its bound).\n";
@@ -178,16 +180,33 @@ static int one_scene(const options *o, scene *sc)
     return rc;
 }
 
+/* The scenes from i on, which a signal kept from starting. */
+static void not_started(const options *o, size_t i)
+{
+    static size_t said = (size_t)-1;
+    if (said != (size_t)-1) return; /* once, for all of them */
+    said = i;
+    char by[64];
+    interrupt_describe(by, sizeof by);
+    fprintf(stderr, "taper: interrupted by %s: not started, nothing written:", by);
+    for (size_t j = i; j < o->n_paths; j++) fprintf(stderr, " %s", o->paths[j]);
+    fputc('\n', stderr);
+}
+
 static int run(const options *o)
 {
-    run_install_signals();
+    interrupt_install();
     int rc = RUN_COMPLETE;
     for (size_t i = 0; i < o->n_paths; i++) {
-        if (run_interrupted()) { /* the scenes after it are not started */
+        if (interrupt_signal()) { /* the scenes after it are not started */
 #ifdef TAPER_MPI
+            if (mpi_rank() == 0) not_started(o, i);
             mpi_scene_skip(); /* but walked in step with the other ranks */
+            rc = run_worst(rc, RUN_PARTIAL);
             continue;
 #else
+            not_started(o, i);
+            rc = run_worst(rc, RUN_PARTIAL);
             break;
 #endif
         }

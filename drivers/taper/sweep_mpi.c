@@ -12,7 +12,7 @@
  *                             done with this scene (every rank walks the
  *                             scenes of the command line in step, one
  *                             goodbye each, interrupted or not)
- * `signal` is the stop signal the worker received (run_interrupted), or 0:
+ * `signal` is the stop signal the worker received (interrupt_signal), or 0:
  * a signal to any rank stops the whole sweep, as it stops a serial one.
  *
  * Rank 0 serves these on a thread of its own (sweep_remote.serve), the
@@ -41,6 +41,7 @@
 #include "sweep_mpi.h"
 
 #include "bell.h"
+#include "run/interrupt.h"
 #include "run/run.h"
 #include "run/sweep.h"
 #include "run/sweep_resume.h"
@@ -143,7 +144,7 @@ static void handle(sweep *sw, const MPI_Status *st)
         if (len == (int)sizeof sig) memcpy(&sig, buf, sizeof sig);
         byes++;
     }
-    if (sig > 0) run_interrupt(sig, st->MPI_SOURCE);
+    if (sig > 0) interrupt_from_rank(sig, st->MPI_SOURCE);
     free(buf);
 }
 
@@ -251,7 +252,7 @@ static int64_t answer(void)
 
 static void send_result(worker_ctx *w, size_t i, const run_outcome *o)
 {
-    int32_t rc = o->rc, sig = run_interrupted(), n_out = o->out ? (int32_t)strlen(o->out) : 0,
+    int32_t rc = o->rc, sig = interrupt_signal(), n_out = o->out ? (int32_t)strlen(o->out) : 0,
             n_log = o->log ? (int32_t)strlen(o->log) : 0;
     int64_t idx = (int64_t)i;
     size_t len = RESULT_HEAD + (size_t)n_out + (size_t)n_log;
@@ -275,7 +276,7 @@ static void *worker_thread(void *arg)
     worker_ctx *w = arg;
     /* Interrupted: no more runs asked for (rank 0 hears of the signal
      * with this thread's last result, or with the goodbye). */
-    while (!run_interrupted()) {
+    while (!interrupt_signal()) {
         pthread_mutex_lock(&w->lock);
         send_to_0(NULL, 0, TAG_REQUEST);
         int64_t i = answer();
@@ -291,13 +292,13 @@ static void *worker_thread(void *arg)
 
 static void say_goodbye(void)
 {
-    int32_t sig = run_interrupted();
+    int32_t sig = interrupt_signal();
     send_to_0(&sig, (int)sizeof sig, TAG_BYE);
 }
 
 int mpi_worker(const scene *sc)
 {
-    if (sc && scene_cfg(sc)->runs.swept && !run_interrupted()) {
+    if (sc && scene_cfg(sc)->runs.swept && !interrupt_signal()) {
         worker_ctx w = {.sw = sweep_open(sc)};
         if (!w.sw) MPI_Abort(MPI_COMM_WORLD, RUN_FAILED);
         pthread_mutex_init(&w.lock, NULL);
@@ -314,7 +315,7 @@ int mpi_worker(const scene *sc)
         sweep_close(w.sw);
     }
     say_goodbye();
-    return run_interrupted() ? RUN_PARTIAL : RUN_COMPLETE;
+    return interrupt_signal() ? RUN_PARTIAL : RUN_COMPLETE;
 }
 
 void mpi_scene_skip(void)
@@ -394,7 +395,7 @@ int mpi_start(int *argc, char ***argv)
     char name[32];
     long parent = (long)getppid();
     process_name(parent, name, sizeof name);
-    run_signal_source(parent, name[0] ? name : "the MPI launcher");
+    interrupt_set_launcher(parent, name[0] ? name : "the MPI launcher");
     if (size > 1) set_up_bells();
     if (rank > 0) {
         /* Rank 0 speaks for the sweep. */

@@ -54,13 +54,15 @@ static int is_exponential(taper_profile p)
 }
 
 /* Each tapering parameter belongs to its profiles: s to the linear ones, q
- * to the exponential ones.  A tapered profile without its parameter was a
- * monodisperse chain under another name (profile = 'backward_linear' with
- * no s ran R_k = 1 and said nothing), and a parameter given to a profile
- * that does not read it is a mistake the caller should hear of, not a
- * value silently ignored (reported first: it names what the caller
- * wrote).  0 is "not given" (the default).  The one place
- * of this rule: the scene reader, the bindings and the Fortran driver all
+ * to the exponential ones.  A parameter given to a profile that does not
+ * read it is a mistake the caller should hear of, not a value silently
+ * ignored.  0 is the default, and with its own profile the monodisperse
+ * chain, the limit s -> 0 (q -> 0) of the taper: R_k = 1, and the theory
+ * the monodisperse one (the recursion of eqs. (9), (18), (19) reads the
+ * masses, so the limit is its value there, no 0/0), the natural baseline of
+ * a sweep over s or q.  (A tapered profile whose parameter was never given
+ * is the scene's to refuse, which knows what was given.)  The one place of
+ * this rule: the scene reader, the bindings and the Fortran driver all
  * reach it through taper_chain_spec_check or taper_chain_alloc. */
 static taper_status check_parameters(const taper_chain_spec *spec, taper_error *err)
 {
@@ -75,18 +77,6 @@ static taper_status check_parameters(const taper_chain_spec *spec, taper_error *
                                 "q = %g has no effect with profile = '%s' (only the exponential "
                                 "profiles use it): leave q at 0 or choose an exponential profile",
                                 spec->q, profile);
-    if (is_linear(spec->profile) && spec->s == 0.0)
-        return taper_fail_field(err, TAPER_EINVAL, "s",
-                                "profile = '%s' needs its tapering s > 0 (R_k = 1 %s s (k-1)); "
-                                "s = 0 is a monodisperse chain: give s > 0, or use profile = "
-                                "'monodisperse'",
-                                profile, spec->profile == TAPER_BACKWARD_LINEAR ? "+" : "-");
-    if (is_exponential(spec->profile) && spec->q == 0.0)
-        return taper_fail_field(err, TAPER_EINVAL, "q",
-                                "profile = '%s' needs its tapering q > 0 (R_k = (1 %s q)^(1-k)); "
-                                "q = 0 is a monodisperse chain: give q > 0, or use profile = "
-                                "'monodisperse'",
-                                profile, spec->profile == TAPER_BACKWARD_EXPONENTIAL ? "-" : "+");
     return TAPER_OK;
 }
 

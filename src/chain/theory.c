@@ -36,6 +36,29 @@ static double log_collision_time(double log_mu, double log_r, double log_zdot0, 
            + gsl_sf_lngamma(1.0 + 1.0 / n) - gsl_sf_lngamma(1.0 / n + 0.5);
 }
 
+/* The terms of eq. (18) that depend on n alone, computed once per chain:
+ * the recursion below adds them in log_collision_time's order, so that
+ * each T_k is the same double bit for bit, at a third of the cost (the two
+ * lngamma were most of it: 10^7 granules took 1.9 s). */
+typedef struct collision_constants {
+    double n, half_log_pi, log_half_n, slope, lngamma_a, lngamma_b;
+} collision_constants;
+
+static collision_constants constants_of(double n)
+{
+    return (collision_constants){.n = n, .half_log_pi = 0.5 * log(3.14159265358979323846),
+                                 .log_half_n = log(n / 2.0), .slope = 2.0 / n - 1.0,
+                                 .lngamma_a = gsl_sf_lngamma(1.0 + 1.0 / n),
+                                 .lngamma_b = gsl_sf_lngamma(1.0 / n + 0.5)};
+}
+
+static double log_collision_time_of(const collision_constants *c, double log_mu, double log_r,
+                                    double log_zdot0)
+{
+    return c->half_log_pi + (c->log_half_n + log_mu - log_r) / c->n + c->slope * log_zdot0
+           + c->lngamma_a - c->lngamma_b;
+}
+
 double taper_theory_collision_time(double mu, double r, double zdot0, double n)
 {
     if (!(mu > 0.0) || !(r > 0.0) || !(zdot0 > 0.0) || !(n > 1.0) || !isfinite(n))
@@ -110,8 +133,20 @@ static void fill_nan(size_t n, double *v, double *mu, double *T, double *t)
     }
 }
 
+/* Granules between two looks at the caller's monitor: about 10 ms of the
+ * recursion, so that a signal stops the theory of the longest chain within
+ * a fraction of a second. */
+#define MONITOR_EVERY 65536
+
 taper_status taper_theory_compute(const taper_chain *chain, double *v, double *mu, double *T,
                                   double *t, taper_error *err)
+{
+    return taper_theory_compute_monitored(chain, v, mu, T, t, NULL, NULL, err);
+}
+
+taper_status taper_theory_compute_monitored(const taper_chain *chain, double *v, double *mu,
+                                            double *T, double *t, taper_monitor_fn monitor,
+                                            void *user, taper_error *err)
 {
     if (!chain) return taper_fail(err, TAPER_EINVAL, "taper_theory_compute: chain is NULL");
     if (chain->theory_note[0]) {
@@ -125,6 +160,7 @@ taper_status taper_theory_compute(const taper_chain *chain, double *v, double *m
      * chain) have no column of their own. */
     if (w.stride > 1) fill_nan(chain->n, v, mu, T, t);
     const size_t n = w.n;
+    const collision_constants cc = constants_of(chain->exponent);
     double log_v = 0.0; /* v_1 = 1 */
     double elapsed = 0.0;
     double m = walked_mass(&w, 1);
@@ -140,12 +176,26 @@ taper_status taper_theory_compute(const taper_chain *chain, double *v, double *m
          * times t_k of eq. (19) include. */
         double ms = chain->striker_mass;
         double log_mu = log(ms) - log1p(ms / m);
-        elapsed = exp(log_collision_time(log_mu, log(chain->striker_contact), 0.0,
-                                         chain->exponent));
+        elapsed = exp(log_collision_time_of(&cc, log_mu, log(chain->striker_contact), 0.0));
         log_v = log(2.0) - log1p(m / ms);
     }
     for (size_t K = 1; K <= n; K++) {
         size_t out = (K - 1) * w.stride; /* index of walked granule K */
+        if (monitor && K % MONITOR_EVERY == 0) {
+            /* window 0..0: the theory, not the integration, is calling */
+            const taper_progress p = {.granule = out, .target = chain->n, .t = elapsed};
+            if (monitor(&p, user)) {
+                /* what is not computed is not known: NaN, not stale memory */
+                for (size_t k = out; k < chain->n; k++) {
+                    if (v) v[k] = NAN;
+                    if (mu) mu[k] = NAN;
+                    if (T) T[k] = NAN;
+                    if (t) t[k] = NAN;
+                }
+                return taper_fail(err, TAPER_EINTERRUPTED,
+                                  "theory: interrupted at granule %zu of %zu", out, chain->n);
+            }
+        }
         /* A custom chain whose masses go up and down by large factors loses
          * velocity at every step up and at most doubles it at a step down:
          * v_k can leave double precision long before the masses do. */
@@ -165,8 +215,7 @@ taper_status taper_theory_compute(const taper_chain *chain, double *v, double *m
         double m_next = walked_mass(&w, K + 1);
         double ratio = m_next / m;                    /* m_{k+1} / m_k */
         double log_mu = log(m) - log1p(m / m_next);   /* m_k m_{k+1}/(m_k+m_{k+1}) */
-        double log_T = log_collision_time(log_mu, walked_log_contact(&w, K), log_v,
-                                          chain->exponent);
+        double log_T = log_collision_time_of(&cc, log_mu, walked_log_contact(&w, K), log_v);
         double Tk = exp(log_T);
         elapsed += Tk;                                /* eq. (19) */
         if (!isfinite(Tk) || !isfinite(elapsed))

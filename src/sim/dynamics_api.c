@@ -70,22 +70,30 @@ void taper_dynamics_free(taper_dynamics *dyn)
     free(dyn);
 }
 
+/* NULL arguments: no crash, and no number that passes for a result (the
+ * entry points return nothing to carry TAPER_EINVAL): ydot NaN when it can
+ * be written, NaN energies and peak functions. */
 void taper_dynamics_rhs(const taper_dynamics *dyn, const double *y, double *ydot)
 {
+    if (!dyn || !ydot) return;
+    if (!y) {
+        for (size_t i = 0; i < 2 * dyn->dyn.n; i++) ydot[i] = NAN;
+        return;
+    }
     taper_dyn_rhs(&dyn->dyn, y, ydot);
 }
 
 void taper_dynamics_energy_momentum(const taper_dynamics *dyn, const double *y, double *energy,
                                     double *momentum)
 {
-    double e, p;
-    taper_dyn_energy_momentum(&dyn->dyn, y, &e, &p);
+    double e = NAN, p = NAN;
+    if (dyn && y) taper_dyn_energy_momentum(&dyn->dyn, y, &e, &p);
     if (energy) *energy = e;
     if (momentum) *momentum = p;
 }
 
 double taper_dynamics_peak_function(const taper_dynamics *dyn, const double *y, size_t k)
 {
-    if (k < 1 || k > dyn->dyn.n) return NAN;
+    if (!dyn || !y || k < 1 || k > dyn->dyn.n) return NAN;
     return taper_dyn_peak_function(&dyn->dyn, y, k);
 }

@@ -75,7 +75,12 @@
  * compression s, so the function is the rate of compression dz/dt; with
  * Kuwabara-Kono damping dF/dt = r (n-1) s^(n-2) [dz/dt + damping ((n-2)
  * (dz/dt)^2 / s + d^2z/dt^2)], whose bracket is the function.  Every
- * maximum is a root; the largest is kept (walls.peak_force).
+ * maximum is a root; the largest is kept (walls.peak_force).  The function
+ * is +1 while the contact does not push, so the contact's opening is a jump
+ * upward from the falling force's negative rate: the right wall's slot is
+ * watched both ways, and the run stops there, at the end of the wall's
+ * first contact (taper_events_walls_settled), its impulse the contact's
+ * whole impulse.
  *
  * Chains with damping or drag: the acceleration of k is no longer
  * F_{k-1} - F_k over m_k, and the peak function is the force balance itself,
@@ -360,6 +365,10 @@ void taper_events_directions(const taper_sim *sim, int *directions)
     for (size_t i = 0; i < taper_events_slots(sim); i++) directions[i] = 1;
     for (size_t i = 0; i < nk; i++) directions[np + i] = -1;
     for (size_t i = 0; i < wall_slots(sim); i++) directions[np + nk + 2 + i] = -1;
+    /* the right wall's both ways: a peak down, the contact's opening up
+     * (and a minimum of its force while it pushes, which only returns to
+     * the caller) */
+    if (sim->model.wall_right) directions[np + nk + 2 + wall_slots(sim) - 1] = 0;
 }
 
 /* Slots a ring needs so that granules first..last all have one. */
@@ -579,8 +588,11 @@ void taper_events_piston_stopped(taper_sim *sim)
 int taper_events_passes_complete(const taper_sim *sim) { return sim->pulse.next_pass > sim->pass_limit; }
 
 /* The pulse always reaches a right wall (it is the end of the chain): its
- * force has peaked and fallen once a maximum is recorded and the force is
- * back below half its rise over the static load. */
+ * first contact is over once a maximum is recorded and the contact has
+ * opened (its force is zero), so that the wall's peak force, its time and
+ * its impulse are those of the whole contact (the opening is a root of its
+ * slot: the run stops there).  Under a static load the contact never
+ * opens: there the force back below half its rise over the load ends it. */
 int taper_events_walls_settled(const taper_sim *sim)
 {
     if (!sim->model.wall_right) return 1;
@@ -590,7 +602,8 @@ int taper_events_walls_settled(const taper_sim *sim)
     if (!wall_contact(sim, TAPER_RIGHT, &k, &g)) return 1;
     const double force = taper_dyn_window_force(&sim->dyn, taper_sim_entries(sim), k);
     const double rest = sim->model.load;
-    return force <= rest + 0.5 * (peak - rest);
+    if (rest > 0.0) return force <= rest + 0.5 * (peak - rest);
+    return !(force > 0.0);
 }
 
 int taper_events_complete(const taper_sim *sim)

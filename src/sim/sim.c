@@ -153,10 +153,10 @@ static taper_status theory_and_scales(taper_sim *sim, taper_error *err)
     const taper_model *m = &sim->model;
     const size_t n = m->granules, off = m->off;
     const double *mu = sim->theory[TAPER_THEORY_MU];
-    taper_status status = taper_theory_compute(sim->chain, sim->theory[TAPER_THEORY_V],
-                                               sim->theory[TAPER_THEORY_MU],
-                                               sim->theory[TAPER_THEORY_T_RES],
-                                               sim->theory[TAPER_THEORY_T], err);
+    taper_status status = taper_theory_compute_monitored(
+        sim->chain, sim->theory[TAPER_THEORY_V], sim->theory[TAPER_THEORY_MU],
+        sim->theory[TAPER_THEORY_T_RES], sim->theory[TAPER_THEORY_T], sim->spec.monitor,
+        sim->spec.monitor_data, err);
     if (status != TAPER_OK) return status;
     double *v_scale = sim->v_scale + off, *z_scale = sim->z_scale + off;
     const double *contact = sim->contact + off;

@@ -372,7 +372,9 @@ int taper_events_fit_rings(taper_sim *sim);
  * and state are those `where` locates. */
 taper_root_report taper_events_record(taper_sim *sim, const int *roots_found, taper_root_locator where);
 int taper_events_complete(const taper_sim *sim);
-/* A right wall's force has peaked and fallen back (1 without a right wall). */
+/* A right wall's first contact is over: its force has peaked and the
+ * contact opened (under a load: fallen below half its rise); 1 without a
+ * right wall. */
 int taper_events_walls_settled(const taper_sim *sim);
 /* At the piston's stop (solve.c, before v_1 is set to 0): the jump of
  * dz_1/dt from v_1 - v_2 to -v_2 is a maximum of the piston's compression

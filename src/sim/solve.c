@@ -339,7 +339,11 @@ static taper_status advance(taper_sim *sim, double tout, int *reached, taper_err
         if (call_monitor(sim)) return stop(sim, err, STOP_INTERRUPTED);
         return TAPER_OK;
     case TAPER_STEP_REACHED:
-        if (t >= t_sample && taper_sample_call(sim)) return stop(sim, err, STOP_INTERRUPTED);
+        /* after a sample the monitor too: a sampled run past the pulse has
+         * no events, and its advances end at samples, not at the steps'
+         * limit */
+        if (t >= t_sample && (taper_sample_call(sim) || call_monitor(sim)))
+            return stop(sim, err, STOP_INTERRUPTED);
         *reached = t >= tout; /* a stop time of an earlier phase is no arrival */
         return TAPER_OK;
     case TAPER_STEP_FAILED: break;
@@ -471,6 +475,12 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
         if ((left = pulse_has_left(sim, &watch))) break;
     }
     const size_t next_peak = sim->pulse.next_peak;
+    if (!taper_events_walls_settled(sim)) /* the grace time ended it (a steady piston) */
+        taper_sim_log(sim, 1,
+                      "the right wall still pushes at t = %.6g, %g times the longest residence "
+                      "time after the last pass: its peak force, time and impulse are those of "
+                      "the run so far, not of its whole contact",
+                      sim->t, PEAK_GRACE);
     if (left) {
         const size_t next_pass = sim->pulse.next_pass;
         taper_sim_log(sim, 1,

@@ -39,8 +39,20 @@
 
 /* Steps per advance at most: the loop's monitor (progress, Ctrl-C) is
  * consulted at least this often.  (CVODE's default of 500 would end long
- * chains.) */
+ * chains.)  Fewer on a wide window: TAPER_STEPPER_WORK_PER_CALL
+ * granule-steps, about 0.1 s at ~50 ns a granule and step, so that a
+ * signal stops a run whose window spans thousands of granules (a loaded or
+ * damped chain after the pulse, where no event calls the monitor) within a
+ * fraction of a second. */
 #define TAPER_STEPPER_STEPS_PER_CALL 20000L
+#define TAPER_STEPPER_WORK_PER_CALL 2e6
+static inline long taper_stepper_steps_per_call(const taper_sim *sim)
+{
+    const double steps = TAPER_STEPPER_WORK_PER_CALL / (double)(sim->dyn.hi - sim->dyn.lo + 1);
+    return steps >= (double)TAPER_STEPPER_STEPS_PER_CALL ? TAPER_STEPPER_STEPS_PER_CALL
+           : steps < 1.0                                 ? 1
+                                                         : (long)steps;
+}
 /* The first step tried: an explicit one, since an estimate from the output
  * time would use an unbounded one. */
 #define TAPER_STEPPER_FIRST_STEP 1e-4
@@ -54,7 +66,7 @@
 typedef enum taper_step_outcome {
     TAPER_STEP_REACHED, /* at tout, or at the stop time if that came first  */
     TAPER_STEP_ROOT,    /* at a root: taper_step.found says whose           */
-    TAPER_STEP_WORK,    /* TAPER_STEPPER_STEPS_PER_CALL steps taken, short
+    TAPER_STEP_WORK,    /* taper_stepper_steps_per_call steps taken, short
                            of tout                                          */
     TAPER_STEP_FAILED   /* describe_failure says why                        */
 } taper_step_outcome;
@@ -87,7 +99,7 @@ typedef struct taper_stepper_type {
     void (*set_stop)(taper_stepper *s, double t_stop);
     /* Steps towards tout and leaves the state at tout, at the stop time or
      * at the first root on the way, whichever comes first, or short of
-     * them after TAPER_STEPPER_STEPS_PER_CALL steps.  An output time inside
+     * them after taper_stepper_steps_per_call steps.  An output time inside
      * a step need not end the step: the state is then the stepper's
      * account of it there (CVODE's interpolant, a fresh rk8pd step from the
      * step's start) and the next advance goes on from where the stepper

@@ -286,6 +286,8 @@ static taper_step_outcome cvode_advance(taper_stepper *s, double tout, double t_
     cvode_stepper *cv = (cvode_stepper *)s;
     cv->failed = NULL;
     step->t = cv->sim->t; /* (where CVode returns before it sets it) */
+    /* the window may have grown since the last advance */
+    CVodeSetMaxNumSteps(cv->mem, taper_stepper_steps_per_call(cv->sim));
     cv->flag = CVode(cv->mem, tout, cv->y, &step->t, CV_NORMAL);
     step->found = NULL;
     if (cv->flag == CV_ROOT_RETURN) {

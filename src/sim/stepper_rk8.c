@@ -530,7 +530,7 @@ static taper_step_outcome rk8_advance(taper_stepper *s, double tout, double t_en
     const double tstop = rk->stop < t_end ? rk->stop : t_end;
     const rk8_result r = advance_to(rk, taper_sim_entries(sim), state_length(rk), rk->directions,
                                     taper_events_slots(sim), taper_events_grow_slot(sim), rk->found,
-                                    tout, tstop, TAPER_STEPPER_STEPS_PER_CALL);
+                                    tout, tstop, taper_stepper_steps_per_call(sim));
     step->t = rk8_time(rk, &step->t_low);
     step->found = r == RK8_ROOT ? rk->found : NULL;
     switch (r) {

@@ -290,14 +290,14 @@ static void relation_refusals(void)
     taper_chain_spec_set_n_granules(cs, 2, NULL);
     CHECK(taper_chain_spec_check(cs, &err) == TAPER_OK && cleared(&err), "forward_linear N = 2");
 
-    /* s with a profile that does not read it, and a tapered profile
-     * without its parameter, are refused naming the parameter. */
+    /* s with a profile that does not read it is refused naming it; q = 0
+     * is the monodisperse limit of the exponential taper. */
     taper_chain_spec_set_profile(cs, TAPER_BACKWARD_EXPONENTIAL, NULL);
     CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "s"),
           "s with backward_exponential: field %s", FIELD(err));
     taper_chain_spec_set_s(cs, 0.0, NULL);
-    CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "q"),
-          "backward_exponential without q: field %s", FIELD(err));
+    CHECK(taper_chain_spec_check(cs, &err) == TAPER_OK && cleared(&err),
+          "backward_exponential with q = 0 (the monodisperse limit): %s", err.message);
     taper_chain_spec_set_q(cs, 1.5, NULL);
     CHECK(refused(taper_chain_spec_check(cs, &err), &err, TAPER_EINVAL, "q"),
           "backward_exponential q >= 1: field %s", FIELD(err));
@@ -583,6 +583,131 @@ static long file_size(FILE *fp)
     return ftell(fp);
 }
 
+/* The entry points of taper_dynamics with NULL arguments: no crash, and
+ * nothing that passes for a result (issue 36, item 7). */
+static void dynamics_nulls(void)
+{
+    taper_chain *chain = chain_of(TAPER_BACKWARD_LINEAR, 5, 0.1);
+    taper_error err;
+    taper_dynamics *dyn = chain ? taper_dynamics_alloc(chain, &err) : NULL;
+    CHECK(dyn != NULL, "set-up");
+    if (!dyn) {
+        taper_chain_free(chain);
+        return;
+    }
+    double y[10] = {1, 0, 0, 0, 0, 0, 0, 0, 0, 0}, ydot[10], e = 0, p = 0; /* v_1 = 1 */
+    taper_dynamics_rhs(NULL, y, ydot);
+    taper_dynamics_rhs(NULL, NULL, NULL);
+    taper_dynamics_rhs(dyn, y, NULL);
+    for (int i = 0; i < 10; i++) ydot[i] = 0.0;
+    taper_dynamics_rhs(dyn, NULL, ydot);
+    int all_nan = 1;
+    for (int i = 0; i < 10; i++) all_nan &= isnan(ydot[i]);
+    CHECK(all_nan, "rhs of a NULL state: ydot not NaN");
+    taper_dynamics_rhs(dyn, y, ydot);
+    CHECK(ydot[0] == 0.0 && ydot[1] == 1.0, "rhs: dz_1/dt = v_1 - v_2 = 1, got %g", ydot[1]);
+    taper_dynamics_energy_momentum(NULL, y, &e, &p);
+    CHECK(isnan(e) && isnan(p), "energy of a NULL dynamics: %g %g", e, p);
+    e = p = 0.0;
+    taper_dynamics_energy_momentum(dyn, NULL, &e, &p);
+    CHECK(isnan(e) && isnan(p), "energy of a NULL state: %g %g", e, p);
+    taper_dynamics_energy_momentum(NULL, NULL, NULL, NULL);
+    taper_dynamics_energy_momentum(dyn, y, &e, &p);
+    CHECK(fabs(e - 0.5) < 1e-15 && fabs(p - 1.0) < 1e-15, "energy %g, momentum %g", e, p);
+    CHECK(isnan(taper_dynamics_peak_function(NULL, y, 1)) &&
+              isnan(taper_dynamics_peak_function(dyn, NULL, 1)) &&
+              isnan(taper_dynamics_peak_function(NULL, NULL, 0)),
+          "peak function of NULL arguments");
+    CHECK(!isnan(taper_dynamics_peak_function(dyn, y, 2)), "peak function");
+    taper_dynamics_free(dyn);
+    taper_chain_free(chain);
+}
+
+/* The monitor stops every phase (issue 36, item 1): the theory
+ * (taper_theory_compute_monitored and taper_sim_alloc, TAPER_EINTERRUPTED,
+ * the columns NaN from where it stopped), and a sampled run past the pulse,
+ * whose calls end at samples, never at an event. */
+typedef struct theory_watch {
+    int calls, stop_at;
+    size_t last_granule;
+    int window_zero;
+} theory_watch;
+
+static int watch_theory(const taper_progress *p, void *user)
+{
+    theory_watch *w = user;
+    w->calls++;
+    w->last_granule = p->granule;
+    w->window_zero &= p->window_lo == 0 && p->window_hi == 0;
+    return w->calls >= w->stop_at;
+}
+
+static int after_pulse(const taper_progress *p, void *user)
+{
+    double *t_stop = user;
+    return p->window_hi > 0 && p->t >= *t_stop;
+}
+
+static int count_sample(const taper_sim *sim, void *user)
+{
+    (void)sim;
+    ++*(long *)user;
+    return 0;
+}
+
+static void monitor_phases(void)
+{
+    enum { N = 200000 };
+    taper_chain *chain = chain_of(TAPER_MONODISPERSE, N, 0.0);
+    double *v = malloc(N * sizeof *v), *t = malloc(N * sizeof *t);
+    taper_error err;
+    CHECK(chain && v && t, "set-up");
+    if (!chain || !v || !t) goto out;
+    theory_watch w = {.stop_at = 2, .window_zero = 1};
+    taper_status status = taper_theory_compute_monitored(chain, v, NULL, NULL, t, watch_theory, &w, &err);
+    CHECK(status == TAPER_EINTERRUPTED && err.status == status && strstr(err.message, "interrupted"),
+          "theory: status %d '%s'", status, err.message);
+    CHECK(w.calls == 2 && w.window_zero && w.last_granule > 0, "theory's monitor: %d calls",
+          w.calls);
+    CHECK(!isnan(v[0]) && isnan(v[N - 1]) && isnan(t[N - 2]) && !isnan(t[w.last_granule - 1]),
+          "theory interrupted: columns known to granule %zu, NaN after", w.last_granule);
+    w = (theory_watch){.stop_at = 1000000, .window_zero = 1};
+    status = taper_theory_compute_monitored(chain, v, NULL, NULL, t, watch_theory, &w, &err);
+    CHECK(status == TAPER_OK && w.calls == N / 65536 && !isnan(t[N - 2]),
+          "theory not stopped: status %d, %d calls", status, w.calls);
+    taper_solver_spec *spec = taper_solver_spec_alloc(NULL);
+    w = (theory_watch){.stop_at = 1, .window_zero = 1};
+    taper_solver_spec_set_monitor(spec, watch_theory, &w);
+    taper_sim *sim = taper_sim_alloc(chain, spec, &err);
+    CHECK(sim == NULL && err.status == TAPER_EINTERRUPTED, "sim_alloc's theory: status %d",
+          err.status);
+    taper_sim_free(sim);
+    taper_solver_spec_free(spec);
+    taper_chain_free(chain);
+
+    /* 50 granules, passed by t ~ 60: samples every 0.5 to t_end = 1e4, the
+     * monitor asked to stop at t >= 200, long after the last event. */
+    chain = chain_of(TAPER_MONODISPERSE, 50, 0.0);
+    spec = taper_solver_spec_alloc(NULL);
+    double t_stop = 200.0;
+    long samples = 0;
+    taper_solver_spec_set_t_end(spec, 1e4, NULL);
+    taper_solver_spec_set_sampler(spec, 0.5, count_sample, &samples, NULL);
+    taper_solver_spec_set_monitor(spec, after_pulse, &t_stop);
+    sim = chain ? taper_sim_alloc(chain, spec, &err) : NULL;
+    status = sim ? taper_sim_run(sim, &err) : TAPER_ENOMEM;
+    const double t_final = taper_sim_statistic(sim, TAPER_STAT_T_FINAL);
+    CHECK(status == TAPER_EINTERRUPTED && t_final >= 200.0 && t_final <= 201.0 && samples <= 403,
+          "sampled run past the pulse: status %d at t = %g after %ld samples", status, t_final,
+          samples);
+    taper_sim_free(sim);
+    taper_solver_spec_free(spec);
+out:
+    taper_chain_free(chain);
+    free(v);
+    free(t);
+}
+
 static void show(FILE *fp, const char *name)
 {
     char buf[512];
@@ -608,6 +733,8 @@ int main(void)
     long_messages();
     solver_failures();
     domain_errors();
+    dynamics_nulls();
+    monitor_phases();
 
     fflush(stdout);
     fflush(stderr);

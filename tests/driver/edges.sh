@@ -11,7 +11,17 @@
 #              status and every file written
 #   format     granules.tsv: column names on line 1; &output columns/every;
 #              no dynamics columns without numerics
-#   lock       a second run into a directory in use is refused (exit 2)
+#   lock       a second run into a directory in use is refused (exit 2); a
+#              second scene of the same command into the same directory is not
+#   phases     (slow) SIGTERM within 0.5 s in every phase: the theory of 10^7
+#              granules, a wide window and a sampled run after the pulse,
+#              the write of a complete result, gnuplot; the status and the
+#              message say what is on disk
+#   results    every result file ends with its footer (rows, bytes, CRC-32);
+#              a write beyond `ulimit -f` is reported, its temporary removed;
+#              temporaries a killed run left are removed by the next; a
+#              figure that cannot be drawn is refused before the run, or
+#              leaves no picture
 #   cli        -o without a value, -o naming a file, &end, n_granules = 1e9,
 #              - for stdin, GROUP.KEY=VALUE overrides, several scenes, the
 #              progress line (under script(1), a terminal)
@@ -183,6 +193,13 @@ lock() {
     printf "&chain n_granules = 20 /\n" > short.nml
     "$TAPER" short.nml -o shared > /dev/null 2>&1 || fail "the directory stays locked after the run: $?"
     [ -e shared/granules.partial.tsv ] && fail "a re-run left the stale partial file"
+    # Two scenes of one command into one directory (issue 36, item 5): the
+    # second goes on under the first's lock; there is no other run.
+    printf "&chain n_granules = 20 /\n&output dir = 'same' /\n" > a.nml
+    printf "&chain n_granules = 21 /\n&output dir = 'same' /\n" > b.nml
+    "$TAPER" a.nml b.nml > ab.out 2> ab.err || fail "a.nml b.nml into one directory: $(cat ab.err)"
+    [ "$(tail -n 1 same/granules.tsv | cut -d, -f1)" = "# end: rows 21" ] || fail "the second scene's result is not there"
+    "$TAPER" a.nml a.nml > /dev/null 2> aa.err || fail "a.nml a.nml: $(cat aa.err)"
 }
 
 cli() {
@@ -237,8 +254,183 @@ cli() {
     fi
 }
 
+# Seconds from $1 (date +%s.%N) to now.
+since() { awk -v a="$1" -v b="$(date +%s.%N)" 'BEGIN { printf "%.3f", b - a }'; }
+# Fails unless $1 seconds <= 0.5.
+prompt() {
+    echo "$2: $1 s from SIGTERM to the exit"
+    awk -v t="$1" 'BEGIN { exit !(t <= 0.5) }' || fail "$2: $1 s from the signal to the exit, over 0.5 s"
+}
+
+# SIGTERM to $pid (started with stdout to $1.out, stderr to $1.err) once
+# $2 (a test command) holds; waits, and sets status and took.
+term_when() {
+    i=0
+    while ! eval "$2" && kill -0 "$pid" 2> /dev/null && [ $i -lt 3000 ]; do sleep 0.01; i=$((i + 1)); done
+    sent=$(date +%s.%N)
+    kill -TERM "$pid" 2> /dev/null
+    wait "$pid"
+    status=$?
+    took=$(since "$sent")
+}
+
+phases() {
+    # The theory of 10^7 granules (numerics off): ~1 s, stopped at once,
+    # nothing written.
+    printf "&chain n_granules = 10000000 /\n&solver numerics = .false. /\n" > theory.nml
+    "$TAPER" theory.nml -o p_theory > p_theory.out 2> p_theory.err &
+    pid=$!
+    term_when p_theory "sleep 0.4; true"
+    [ "$status" -eq 3 ] || fail "theory: exit status $status, wanted 3 ($(cat p_theory.err))"
+    # (under load the signal may still find the chain being built: "before
+    # this run started"; the chain of 10^7 granules takes ~0.2 s)
+    grep -q "interrupted by SIGTERM .*nothing of this run is written" p_theory.err ||
+        fail "theory: $(cat p_theory.err)"
+    [ -e p_theory/granules.tsv ] || [ -e p_theory/granules.partial.tsv ] && fail "theory: a result file"
+    prompt "$took" theory
+    # A loaded chain after the pulse: 800 granules in the window, no event
+    # (20000 steps of it, the integrator's old limit per call, take ~1 s).
+    printf "&chain n_granules = 800, load = 1e-3 /\n&solver t_end = 1e6 /\n" > wide.nml
+    "$TAPER" wide.nml -o p_wide > p_wide.out 2> p_wide.err &
+    pid=$!
+    term_when p_wide "sleep 3.5; true"
+    [ "$status" -eq 3 ] && grep -q 'interrupted by SIGTERM at t = ' p_wide.err ||
+        fail "wide window: exit status $status: $(cat p_wide.err)"
+    grep -q 'past granule 799 of 799' p_wide.err ||
+        echo "note: wide window: the pulse had not left the chain yet (a loaded machine): $(cat p_wide.err)" >&2
+    grep -q '^# PARTIAL result (interrupted)' p_wide/granules.partial.tsv 2> /dev/null ||
+        fail "wide window: no partial file"
+    prompt "$took" "wide window"
+    # The same sampled (issue 36, item 1): the integrator returns at every
+    # sample, never at its steps' limit, long after the last event.
+    printf "&chain n_granules = 400, load = 1e-3 /\n&solver t_end = 2e5 /\n&sensors interval = 20.0, granules = 1, 200, 400 /\n" > sampled.nml
+    "$TAPER" sampled.nml -o p_sampled > p_sampled.out 2> p_sampled.err &
+    pid=$!
+    term_when p_sampled "sleep 2.5; true"
+    [ "$status" -eq 3 ] && grep -q 'interrupted by SIGTERM at t = ' p_sampled.err ||
+        fail "sampled: exit status $status: $(cat p_sampled.err)"
+    grep -q 'past granule 399 of 399' p_sampled.err ||
+        echo "note: sampled: the pulse had not left the chain yet (a loaded machine): $(cat p_sampled.err)" >&2
+    [ -e p_sampled/granules.tsv ] && fail "sampled: granules.tsv of an interrupted run"
+    [ -f p_sampled/sensors.tsv ] || fail "sampled: the samples found are not written"
+    prompt "$took" sampled
+    # The write of a complete result (item 2): the file being written is
+    # removed, nothing after it starts, and the message says so.
+    printf "&chain n_granules = 2000000 /\n&solver numerics = .false. /\n" > write.nml
+    "$TAPER" write.nml -o p_write > p_write.out 2> p_write.err &
+    pid=$!
+    term_when p_write "ls -a p_write 2> /dev/null | grep -q '^\.granules'"
+    [ "$status" -eq 3 ] || fail "writing: exit status $status, wanted 3 ($(cat p_write.err))"
+    grep -q "interrupted by SIGTERM while writing p_write/granules.tsv: it is not written" p_write.err ||
+        fail "writing: $(cat p_write.err)"
+    [ -e p_write/granules.tsv ] && fail "writing: granules.tsv written after the signal said it is not"
+    no_temp p_write writing
+    prompt "$took" writing
+    # A complete sampled run whose sensors.tsv is being written: granules.tsv
+    # (written before the signal) stays, whole; sensors.tsv is not written.
+    printf "&chain n_granules = 100 /\n&solver t_end = 4e5 /\n&sensors interval = 1.0, granules = 1, 50, 100 /\n" > sens.nml
+    "$TAPER" sens.nml -o p_sens > p_sens.out 2> p_sens.err &
+    pid=$!
+    term_when p_sens "ls -a p_sens 2> /dev/null | grep -q '^\.sensors'"
+    [ "$status" -eq 3 ] || fail "sensors: exit status $status ($(cat p_sens.err))"
+    grep -q "while writing p_sens/sensors.tsv: it is not written" p_sens.err || fail "sensors: $(cat p_sens.err)"
+    tail -n 1 p_sens/granules.tsv | grep -q '^# end: rows 100,' || fail "sensors: granules.tsv not whole"
+    [ -e p_sens/sensors.tsv ] && fail "sensors: sensors.tsv written after the signal said it is not"
+    prompt "$took" "writing sensors.tsv"
+    # A sweep on two threads: the runs in progress stop and write what they
+    # found, no run starts after the signal, the next command resumes.
+    printf "&chain n_granules = 40000, 40001, 40002, 40003 /\n&output threads = 2 /\n" > sw.nml
+    "$TAPER" sw.nml -o p_sweep > p_sweep.out 2> p_sweep.err &
+    pid=$!
+    term_when p_sweep "sleep 1; true"
+    [ "$status" -eq 3 ] && grep -q "interrupted: [0-9] of 4 runs complete; run the same command to resume" p_sweep.err ||
+        fail "sweep: exit status $status: $(cat p_sweep.err)"
+    [ -e p_sweep/sweep.tsv ] && fail "sweep: sweep.tsv of an interrupted sweep"
+    prompt "$took" "sweep (2 threads)"
+    # gnuplot drawing: stopped with the run, no picture left.
+    printf '#!/bin/sh\n: > figure.png\nexec sleep 30\n' > slowplot
+    chmod +x slowplot
+    printf "&chain profile = 'backward_linear', s = 0.1, 0.2, n_granules = 20 /\n&solver numerics = .false. /\n&fit model = 'power', y = 'v', k_min = 3 /\n&figure name = 'f', y = 'v' /\n" > fig.nml
+    TAPER_GNUPLOT=$(pwd)/slowplot "$TAPER" fig.nml -o p_fig > p_fig.out 2> p_fig.err &
+    pid=$!
+    term_when p_fig "[ -e p_fig/figure.png ]"
+    [ "$status" -eq 3 ] || fail "gnuplot: exit status $status ($(cat p_fig.err))"
+    grep -q "while writing p_fig/figure.png: it is not written" p_fig.err || fail "gnuplot: $(cat p_fig.err)"
+    [ -e p_fig/figure.png ] && fail "gnuplot: a picture left under the result's name"
+    prompt "$took" gnuplot
+}
+
+results() {
+    # The footer: rows, bytes and the CRC-32 of every byte above it.
+    printf "&chain n_granules = 30 /\n&ends right = 'wall' /\n&solver t_end = 60 /\n&sensors interval = 0.5, granules = 1, 30 /\n" > w.nml
+    "$TAPER" w.nml -o foot > /dev/null 2> foot.err || fail "footer run: $(cat foot.err)"
+    for f in granules.tsv sensors.tsv walls.tsv; do
+        python3 - "foot/$f" <<'PY' || fail "$f: its footer does not check"
+import re, sys, zlib
+data = open(sys.argv[1], "rb").read()
+cut = data.rindex(b"\n", 0, len(data) - 1) + 1
+rows, size, crc = re.fullmatch(rb"# end: rows (\d+), bytes (\d+), crc32 ([0-9a-f]{8})\n", data[cut:]).groups()
+body = data[:cut]
+lines = body.split(b"\n")[:-1]
+assert int(size) == len(body) and int(crc, 16) == zlib.crc32(body)
+assert int(rows) == sum(1 for i, l in enumerate(lines) if i and l and not l.startswith(b"#"))
+PY
+    done
+    [ "$(tail -n 1 foot/granules.tsv | cut -d, -f1)" = "# end: rows 30" ] || fail "granules.tsv: $(tail -n 1 foot/granules.tsv)"
+    # A file-size limit (ulimit -f, 64 kB): the write fails, is reported,
+    # its temporary removed; status 1 (issue 36, item 4).
+    printf "&chain n_granules = 20000 /\n&solver numerics = .false. /\n" > big.nml
+    (ulimit -f 128; exec "$TAPER" big.nml -o fsize > /dev/null 2> fsize.err)
+    status=$?
+    [ "$status" -eq 1 ] || fail "ulimit -f: exit status $status, wanted 1 ($(cat fsize.err))"
+    grep -q "writing fsize/granules.tsv failed: File too large (the incomplete file is removed)" fsize.err ||
+        fail "ulimit -f: $(cat fsize.err)"
+    [ -e fsize/granules.tsv ] && fail "ulimit -f: granules.tsv"
+    no_temp fsize "ulimit -f"
+    # Temporaries a killed run left (SIGKILL while writing): removed by the
+    # next run into the directory, and only those of taper's own names.
+    printf "&chain n_granules = 2000000 /\n&solver numerics = .false. /\n" > huge_th.nml
+    "$TAPER" huge_th.nml -o killed > /dev/null 2>&1 &
+    pid=$!
+    i=0
+    while ! ls -a killed 2> /dev/null | grep -q '^\.granules' && [ $i -lt 3000 ]; do sleep 0.01; i=$((i + 1)); done
+    kill -KILL "$pid"
+    wait "$pid" 2> /dev/null
+    ls -a killed | grep -q '^\.granules.tsv\.' || fail "SIGKILL: no temporary to clean (the test lost the race)"
+    : > killed/.sensors.tsv.AbC123
+    : > killed/.mine.txt
+    printf "&chain n_granules = 20 /\n" > small.nml
+    "$TAPER" small.nml -o killed > killed.out 2>&1 || fail "run after SIGKILL: $(cat killed.out)"
+    grep -q '^! removed 2 temporary files a killed taper left in killed$' killed.out ||
+        fail "the temporaries removed are not said: $(grep '^!' killed.out)"
+    no_temp killed "after SIGKILL"
+    ls -a killed | grep -q '^\.sensors' && fail "a stale .sensors.tsv temporary stayed"
+    [ -e killed/.mine.txt ] || fail "a file that is not taper's was removed"
+    # A figure of the dynamics without them: refused before the run (item 6).
+    src=$(dirname "$TAPER")/../../..
+    if [ -f "$src/share/scenes/paper/fig02.nml" ]; then
+        "$TAPER" "$src/share/scenes/paper/fig02.nml" solver.numerics=.false. -o fig02 > /dev/null 2> fig02.err
+        status=$?
+        [ "$status" -eq 2 ] && grep -q "&figure curves: curves = 'numerics' draws the dynamics" fig02.err ||
+            fail "fig02 without numerics: exit status $status: $(cat fig02.err)"
+        [ -e fig02 ] && fail "fig02 without numerics: a directory made before the refusal"
+    fi
+    # gnuplot failing after it opened the picture: no picture left.
+    printf '#!/bin/sh\n: > figure.png\nexit 1\n' > badplot
+    chmod +x badplot
+    printf "&chain profile = 'backward_linear', s = 0.1, 0.2, n_granules = 20 /\n&solver numerics = .false. /\n&figure name = 'f', y = 'v' /\n" > figok.nml
+    TAPER_GNUPLOT=$(pwd)/badplot "$TAPER" figok.nml -o badfig > /dev/null 2> badfig.err
+    status=$?
+    [ "$status" -eq 1 ] || fail "gnuplot failing: exit status $status ($(cat badfig.err))"
+    grep -q "failed on badfig/figure.gp (status [0-9]*): badfig/figure.png not written" badfig.err ||
+        fail "gnuplot failing: $(cat badfig.err)"
+    [ -e badfig/figure.png ] && fail "gnuplot failing: a blank figure.png under the result's name"
+}
+
 case $SECTION in
     signals) signals ;;
+    phases) phases ;;
+    results) results ;;
     trust) trust ;;
     stdout) stdout_checks ;;
     format) format_checks ;;

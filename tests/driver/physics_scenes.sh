@@ -16,7 +16,8 @@
 #   decorated          the effective chain's theory at the large granules
 #   disorder_ensemble  one run per seed; a seed run alone is the same run
 #   radii_file         N and R_k from the file; the echo runs elsewhere
-# and every new numeric variable sweeps (damping, young).
+# and every new numeric variable sweeps (damping, young); a wall's
+# statistics are those of its whole first contact without t_end.
 set -u
 absolute() { case $1 in /*) echo "$1" ;; *) echo "$(pwd)/$1" ;; esac; }
 TAPER=$(absolute "$1")
@@ -231,6 +232,31 @@ awk_true "$d1 > $d0" || fail "damping sweep: dissipated $d0 (damping 0) and $d1 
 u1=$(header_value "run/sweep_young/young=1.93e+11/granules.tsv" unit_time)
 u2=$(header_value "run/sweep_young/young=1e+11/granules.tsv" unit_time)
 [ -n "$u1" ] && [ -n "$u2" ] && [ "$u1" != "$u2" ] || fail "young sweep: unit_time '$u1' and '$u2'"
+
+# A wall over its whole first contact (issue 36, item 10): without t_end
+# the run ends as the right wall's first contact opens, and the wall's
+# impulse is the contact's, within 1e-6 of the same scene run with t_end
+# past the contact's end (before the next one: the sampled contacts of
+# wall_reflection are [40.5, 49.5], [253.25, 262.5]; of steel_wall_si
+# [4.19e-4, 5.54e-4] s, [7.39e-4, 8.38e-4] s).  Before, the steel wall's
+# impulse without t_end was 0.00383 of its 0.00424 N s.
+for case in "wall_reflection.nml 100 wall_impulse_right" \
+            "steel_wall_si.nml 6.5e-4 wall_impulse_right\[N s\]"; do
+    set -- $case
+    scene=$1 t_end=$2 stat=$3
+    name=${scene%.nml}
+    "$TAPER" "$PHYS/$scene" solver.t_end=0 -o "run/contact_$name" > /dev/null 2> contact.err ||
+        fail "$scene without t_end: $(cat contact.err)"
+    "$TAPER" "$PHYS/$scene" solver.t_end="$t_end" -o "run/past_$name" > /dev/null 2> past.err ||
+        fail "$scene, t_end = $t_end: $(cat past.err)"
+    impulse_line='s/^# wall_impulse_right\(\[N s\]\)\{0,1\} = //p' # [N s] in SI
+    j0=$(sed -n "$impulse_line" "run/contact_$name/granules.tsv")
+    j1=$(sed -n "$impulse_line" "run/past_$name/granules.tsv")
+    [ -n "$j0" ] && [ -n "$j1" ] && awk_true "($j0 - $j1)^2 <= (1e-6 * $j1)^2" ||
+        fail "$scene: the wall's impulse without t_end is $j0, with t_end = $t_end $j1"
+    grep -q "^# wall_\*: over the run, \[0, t_final\]" "run/contact_$name/granules.tsv" ||
+        fail "$scene: granules.tsv does not say over which interval the wall's statistics are"
+done
 
 if [ "$failures" -ne 0 ]; then
     echo "$failures failure(s)" >&2

@@ -325,12 +325,24 @@ static void test_radii_file(void **state)
     assert_non_null(strstr(scene_diag_at(sc, 0)->message, "not a regular file"));
     scene_free(sc);
 
+    /* a NUL byte cuts no line silently: the file and its line are named */
+    char *nul = text_printf("%s/nul.txt", dir);
+    FILE *f = nul ? fopen(nul, "wb") : NULL;
+    assert_non_null(f);
+    fwrite("1\n1.5\0junk\n2\n", 1, 13, f);
+    fclose(f);
+    free(nul);
+    sc = load_at(scene_path, "&chain profile = 'custom', radii_file = 'nul.txt' /\n");
+    assert_int_equal(scene_error_count(sc), 1);
+    assert_non_null(strstr(scene_diag_at(sc, 0)->message, "nul.txt:2: a NUL byte"));
+    scene_free(sc);
+
     sc = load_at(scene_path, "&chain profile = 'monodisperse', radii_file = 'r.txt' /\n");
     assert_non_null(strstr(scene_diag_at(sc, 0)->message, "profile = 'custom'"));
     scene_free(sc);
 
-    static const char *const names[] = {"r.txt", "bad.txt", "first.txt"};
-    for (size_t i = 0; i < 3; i++) {
+    static const char *const names[] = {"r.txt", "bad.txt", "first.txt", "nul.txt"};
+    for (size_t i = 0; i < 4; i++) {
         char *p = text_printf("%s/%s", dir, names[i]);
         assert_non_null(p);
         unlink(p);

@@ -234,8 +234,10 @@ static void noisy_data_within_two_errors(void **state)
     fitted b = calibrate(path, 0.8 * YOUNG, 2 * DAMPING, "");
     print("1 % noise, estimated", &b);
     assert_int_equal(b.outcome, OPT_CONVERGED);
-    assert_double_rel(b.value[0], a.value[0], 1e-6);
-    assert_double_rel(b.value[1], a.value[1], 1e-5);
+    /* the same minimum: the two differ by what the fit's stopping rule and
+     * the integration leave (xtol 1e-8, rtol 1e-10: ~1e-5 of the weakly
+     * determined A), far below the statistical error */
+    for (int i = 0; i < 2; i++) assert_true(fabs(b.value[i] - a.value[i]) < 1e-3 * a.error[i]);
     assert_true(fabs(b.value[0] - YOUNG) < 2 * b.error[0]);
     assert_true(fabs(b.value[1] - DAMPING) < 2 * b.error[1]);
     for (int i = 0; i < 2; i++) assert_double_rel(b.error[i], a.error[i], 0.2);

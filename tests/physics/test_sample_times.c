@@ -23,7 +23,7 @@
 
 #define N_GRANULES 12
 #define RTOL 1e-12
-#define MAX_SAMPLES 64
+#define MAX_SAMPLES 96
 
 static taper_chain *chain_with_wall(void)
 {
@@ -83,14 +83,16 @@ static void grid_times_are_the_interval_sampler(void **state)
 {
     (void)state;
     taper_chain *chain = chain_with_wall();
-    double times[41];
-    for (size_t j = 0; j < 41; j++) times[j] = (double)j * 0.75;
+    /* t_end past the end of the wall's first contact (t ~ 40), where the
+     * run would go on without it: both runs end at t_end */
+    double times[81];
+    for (size_t j = 0; j < 81; j++) times[j] = (double)j * 0.75;
     record *a = calloc(1, sizeof *a), *b = calloc(1, sizeof *b);
-    taper_sim *grid = run(chain, 30.0, 0.0, NULL, 0, 0.75, a, TAPER_OK);
-    taper_sim *given = run(chain, 30.0, 0.0, times, 41, 0.0, b, TAPER_OK);
-    assert_int_equal(a->n, 41);
-    assert_int_equal(b->n, 41);
-    for (size_t j = 0; j < 41; j++) {
+    taper_sim *grid = run(chain, 60.0, 0.0, NULL, 0, 0.75, a, TAPER_OK);
+    taper_sim *given = run(chain, 60.0, 0.0, times, 81, 0.0, b, TAPER_OK);
+    assert_int_equal(a->n, 81);
+    assert_int_equal(b->n, 81);
+    for (size_t j = 0; j < 81; j++) {
         assert_true(a->t[j] == b->t[j]);
         assert_true(a->wall[j] == b->wall[j]);
         for (size_t k = 0; k < N_GRANULES; k++)

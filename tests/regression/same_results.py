@@ -25,7 +25,12 @@ sensors.tsv, walls.tsv, spacetime.tsv), and each file line by line: the
 column header exactly, every data row and every "# name = value"
 statistics line number by number.  Ignored: the version line, the echo of
 the scene (the "# &group ... /" block: a rewritten scene echoes what it
-says) and the lines naming the scene file or the output directory.
+says) and the lines naming the scene file or the output directory.  A
+file's footer ("# end: rows N, bytes N, crc32 X", docs/scene.md, "Result
+files") is checked against the file (a footer that does not match is a
+difference) and not compared: only one side may have it.  A table whose
+header gained columns (runs.tsv's per-run statistics) is compared on the
+reference's columns, by name, and the added ones are named.
 
 Each scene gets one line:
     same     every compared line identical as text
@@ -45,6 +50,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import zlib
 
 RESULT_FILES = ("granules.tsv", "granules.partial.tsv", "sweep.tsv", "runs.tsv", "fits.tsv",
                 "table.tsv", "sensors.tsv", "walls.tsv", "spacetime.tsv")
@@ -161,11 +167,34 @@ def results(out):
     return found
 
 
+FOOTER = re.compile(rb"# end: rows (\d+), bytes (\d+), crc32 ([0-9a-f]{8})\n")
+
+
+def footer_problem(path):
+    """None when the file has no footer or a footer that matches it, else
+    what is wrong."""
+    with open(path, "rb") as f:
+        data = f.read()
+    cut = data.rfind(b"\n", 0, len(data) - 1) + 1
+    m = FOOTER.fullmatch(data[cut:])
+    if not m:
+        return None
+    body = data[:cut]
+    rows = sum(1 for i, line in enumerate(body.split(b"\n")[:-1])
+               if i > 0 and line and not line.startswith(b"#"))
+    if int(m.group(2)) != len(body) or int(m.group(3), 16) != zlib.crc32(body) or \
+            int(m.group(1)) != rows:
+        return f"its footer does not match it ({data[cut:].decode().strip()})"
+    return None
+
+
 def compared_lines(path):
     """(line number, text) of the lines compared: no version line, no echo,
-    no line naming the scene file or the output directory."""
+    no line naming the scene file or the output directory, no footer."""
     with open(path) as f:
         lines = f.read().splitlines()
+    if lines and FOOTER.fullmatch((lines[-1] + "\n").encode()):
+        lines = lines[:-1]
     keep, echo = [], False
     for i, line in enumerate(lines, 1):
         body = line[2:] if line.startswith("# ") else None
@@ -192,13 +221,41 @@ def number(text):
     return float(text) if NUMBER.match(text) else None
 
 
+ADDED = {}  # file -> the columns it has beyond the reference's
+
+
+def common_columns(la, lb):
+    """When b's header line (the first compared line) has a's columns and
+    more: both files' lines cut to a's columns, by name, and the names
+    added.  Otherwise the lines as they are and no names."""
+    if not la or not lb or la[0][1] == lb[0][1] or la[0][1].startswith("#"):
+        return la, lb, []
+    ha, hb = la[0][1].split("\t"), lb[0][1].split("\t")
+    if not set(ha) < set(hb) or len(set(hb)) != len(hb):
+        return la, lb, []
+    pick = [hb.index(name) for name in ha]
+    cut = []
+    for i, line in lb:
+        cells = line.split("\t")
+        if line.startswith("#") or len(cells) != len(hb):
+            cut.append((i, line))
+        else:
+            cut.append((i, "\t".join(cells[k] for k in pick)))
+    return la, cut, [name for name in hb if name not in ha]
+
+
 def compare_file(a, b):
     """('same' | 'equal' | 'agree' | 'differ', largest relative difference,
     where)."""
-    la, lb = compared_lines(a), compared_lines(b)
+    for path in (a, b):
+        problem = footer_problem(path)
+        if problem:
+            return "differ", math.inf, problem
+    la, lb, added = common_columns(compared_lines(a), compared_lines(b))
     if len(la) != len(lb):
         return "differ", math.inf, f"{len(lb)} lines compared, the reference {len(la)}"
     verdict, worst, where = "same", 0.0, ""
+    ADDED[b] = added
     for (i, x), (_, y) in zip(la, lb):
         if x == y:
             continue
@@ -288,6 +345,10 @@ def main():
                     break
         tally[verdict] += 1
         files = f"{len(ra)} file{'s' if len(ra) != 1 else ''}"
+        added = sorted({f"{os.path.basename(f)}: {' '.join(ADDED[rb[f]])}"
+                        for f in rb if ADDED.get(rb[f])})
+        if added:
+            files += f"; columns added in {', '.join(added)}"
         if verdict == "same":
             print(f"same     {scene} ({files})")
         elif verdict == "equal":

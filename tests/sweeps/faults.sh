@@ -37,7 +37,7 @@ grep -q "^fault.nml: run n_granules=50,s=0.001,max_steps=40: max_steps reached" 
 grep -q '^# refused run n_granules=200,s=0.01,max_steps=40: no rows (fault.nml:2: &chain n_granules: ' out/sweep.tsv ||
     fail "sweep.tsv: refused run not marked"
 # runs.tsv: one status per run.
-awk -F '\t' 'NR > 2 { print $1 " " $5 }' out/runs.tsv > status
+awk -F '\t' 'NR > 1 && !/^#/ { print $1 " " $5 }' out/runs.tsv > status
 cat > status.want <<'TXT'
 n_granules=50,s=0.001,max_steps=0 complete
 n_granules=50,s=0.001,max_steps=40 partial
@@ -58,7 +58,9 @@ diff status.want status >&2 || fail "runs.tsv statuses"
 # A sweep without failures exits 0 and has no comment line but the first.
 printf "&chain profile = 'forward_linear', n_granules = 50, s = 0.001, 0.01 /\n" > good.nml
 "$TAPER" good.nml -o good > /dev/null 2>&1 || fail "good sweep: exit status $?"
-[ "$(grep -c '^#' good/sweep.tsv)" -eq 1 ] || fail "good sweep: comment lines in sweep.tsv"
+[ "$(grep -c '^#' good/sweep.tsv)" -eq 2 ] || fail "good sweep: comment lines in sweep.tsv"
+tail -1 good/sweep.tsv | grep -q '^# end: rows 100, bytes [0-9]*, crc32 [0-9a-f]\{8\}$' ||
+    fail "good sweep: sweep.tsv ends without its footer: $(tail -1 good/sweep.tsv)"
 
 # An UNTRUSTED run (energy error beyond &output max_energy_error) keeps its
 # rows; the sweep exits 4, runs.tsv says untrusted.
@@ -67,8 +69,53 @@ printf "&chain profile = 'forward_exponential', q = 0.01, n_granules = 1500 /\n&
 status=$?
 [ $status -eq 4 ] || fail "untrusted run: exit status $status, wanted 4: $(cat ut.err)"
 [ "$(grep -vc '^#' ut/sweep.tsv)" -eq 3001 ] || fail "untrusted run: its rows are not in sweep.tsv"
-awk -F '\t' 'NR > 2 { print $1 " " $3 }' ut/runs.tsv | tr '\n' ' ' | grep -q '^atol=1e-13 complete atol=0.1 untrusted $' ||
+awk -F '\t' 'NR > 1 && !/^#/ { print $1 " " $3 }' ut/runs.tsv | tr '\n' ' ' | grep -q '^atol=1e-13 complete atol=0.1 untrusted $' ||
     fail "untrusted run: runs.tsv $(cat ut/runs.tsv)"
+
+# One variable (issue 36, item 9): a forward linear sweep over s from the
+# monodisperse limit s = 0, with one s beyond N < 1 + 1/s: that run fails
+# alone (refused, the reason in runs.tsv), the others complete, status 5,
+# and runs.tsv carries each run's statistics under granules.tsv's names.
+printf "&chain profile = 'forward_linear', n_granules = 20, s = 0, 0.01, 0.1, 0.02 /\n" > one.nml
+"$TAPER" one.nml -o one > one.out 2> one.err
+status=$?
+[ $status -eq 5 ] || fail "one variable: exit status $status, wanted 5: $(cat one.err)"
+grep -q "^one.nml:1: &chain n_granules: forward_linear with s = 0.10000000000000001 needs n_granules < 1 + 1/s = 11 .*(run s=0.1)$" one.err ||
+    fail "one variable: the refused point not named: $(cat one.err)"
+awk -F '\t' 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i }
+     NR > 1 && !/^#/ { printf "%s %s %s %s %.6f\n", $col["run"], $col["status"],
+                       $col["steps"] ~ /^[1-9][0-9]*$/ ? "steps" : $col["steps"],
+                       $col["t_final"] ~ /^[0-9.e+-]+$/ ? "t_final" : $col["t_final"],
+                       $col["energy_transmitted"] + $col["energy_reflected"] + $col["energy_in_chain"] }' \
+    one/runs.tsv > one.status
+cat > one.want <<'TXT'
+s=0 complete steps t_final 0.500000
+s=0.01 complete steps t_final 0.500000
+s=0.1 refused nan nan nan
+s=0.02 complete steps t_final 0.500000
+TXT
+diff one.want one.status >&2 || fail "one variable: runs.tsv $(cat one/runs.tsv)"
+head -1 one/runs.tsv | grep -q "^run	s	status	steps	rhs_evals	.*	t_final	energy_error	.*	message$" ||
+    fail "runs.tsv: column names: $(head -1 one/runs.tsv)"
+awk -F '\t' '$1 == "s=0.1" { print $NF }' one/runs.tsv | grep -q "needs n_granules < 1 + 1/s = 11" ||
+    fail "runs.tsv: the refused run's reason"
+# s = 0 is the monodisperse chain: its rows are the monodisperse scene's.
+printf "&chain n_granules = 20 /\n" > mono.nml
+"$TAPER" mono.nml -o mono > /dev/null 2>&1 || fail "monodisperse: exit status $?"
+grep -v '^#' mono/granules.tsv > mono.rows
+grep -v '^#' one/s=0/granules.tsv > s0.rows
+cmp -s mono.rows s0.rows || fail "s = 0 is not the monodisperse chain"
+# A point out of the variable's own range is a typo of the scene: refused.
+printf "&chain profile = 'forward_linear', n_granules = 20, s = 0.01, -0.1 /\n" > neg.nml
+"$TAPER" neg.nml -o neg > /dev/null 2> neg.err
+[ $? -eq 2 ] && grep -q "^neg.nml:1: &chain s: s = -0.1 is out of range" neg.err ||
+    fail "s = -0.1 in a sweep: $(cat neg.err)"
+# A tapered profile without its s or q would be the monodisperse chain
+# under another name: refused; s = 0 given is meant.
+printf "&chain profile = 'backward_exponential' /\n" > noq.nml
+"$TAPER" noq.nml -o noq > /dev/null 2> noq.err
+[ $? -eq 2 ] && grep -q "^noq.nml:1: &chain q: profile = 'backward_exponential' needs its tapering q" noq.err ||
+    fail "no q: $(cat noq.err)"
 
 [ $failures -eq 0 ] && echo "failing runs: marked, the others complete, exit status 5"
 [ $failures -eq 0 ]

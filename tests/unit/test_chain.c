@@ -443,14 +443,8 @@ static void test_relations(void **state)
     taper_chain_free(c);
     taper_chain_spec_free(sp);
     /* s belongs to the linear profiles, q to the exponential ones: a
-     * tapered profile without its parameter ran a
-     * monodisperse chain with no word (profile = 'backward_linear' and no
-     * s), and a parameter on a profile that does not read it was silently
-     * ignored.  Both refused, naming the parameter; 0 means "not given". */
-    expect_relation(spec_of(TAPER_BACKWARD_LINEAR, 5, 0, 0), "s", "give s > 0, or use profile = 'monodisperse'");
-    expect_relation(spec_of(TAPER_FORWARD_LINEAR, 5, 0, 0), "s", "give s > 0");
-    expect_relation(spec_of(TAPER_BACKWARD_EXPONENTIAL, 5, 0, 0), "q", "give q > 0, or use profile = 'monodisperse'");
-    expect_relation(spec_of(TAPER_FORWARD_EXPONENTIAL, 5, 0, 0), "q", "give q > 0");
+     * parameter on a profile that does not read it was silently ignored;
+     * refused, naming the parameter. */
     expect_relation(spec_of(TAPER_MONODISPERSE, 5, 0.1, 0), "s", "no effect with profile = 'monodisperse'");
     expect_relation(spec_of(TAPER_BACKWARD_EXPONENTIAL, 5, 500.0, 0.5), "s", "no effect");
     expect_relation(spec_of(TAPER_MONODISPERSE, 5, 0, 0.1), "q", "no effect with profile = 'monodisperse'");
@@ -458,6 +452,37 @@ static void test_relations(void **state)
     expect_relation(spec_of(TAPER_CUSTOM, 5, 0.5, 0), "s", "no effect with profile = 'custom'");
     c = test_chain(TAPER_MONODISPERSE, 5, 0, 0, 2.5, NULL);
     taper_chain_free(c);
+}
+
+/* s = 0 and q = 0 with their own profiles: the limit of the taper, the
+ * monodisperse chain, radii, masses and the theory's columns equal to it
+ * bit for bit (the baseline of a sweep over s or q). */
+static void test_taper_limit(void **state)
+{
+    (void)state;
+    enum { N = 40 };
+    const taper_profile tapered[] = {TAPER_BACKWARD_LINEAR, TAPER_FORWARD_LINEAR,
+                                     TAPER_BACKWARD_EXPONENTIAL, TAPER_FORWARD_EXPONENTIAL};
+    taper_chain *mono = test_chain(TAPER_MONODISPERSE, N, 0, 0, 2.5, NULL);
+    double v0[N], t0[N], v[N], t[N];
+    assert_int_equal(taper_theory_compute(mono, v0, NULL, NULL, t0, NULL), TAPER_OK);
+    for (int i = 0; i < 4; i++) {
+        taper_chain *c = test_chain(tapered[i], N, 0, 0, 2.5, NULL);
+        taper_error err;
+        assert_int_equal(taper_theory_compute(c, v, NULL, NULL, t, &err), TAPER_OK);
+        for (size_t k = 0; k < N; k++) {
+            assert_true(taper_chain_radius(c)[k] == 1.0);
+            assert_true(taper_chain_mass(c)[k] == taper_chain_mass(mono)[k]);
+            assert_true(v[k] == v0[k]);
+            assert_true(k + 1 == N ? isnan(t[k]) && isnan(t0[k]) : t[k] == t0[k]);
+        }
+        /* the monodisperse collision: T = eq. (18) with mu = 1/2, r of two
+         * unit spheres, zdot0 = 1 */
+        assert_true(fabs(t[0] - taper_theory_collision_time(0.5, taper_chain_contact(c)[0], 1.0, 2.5)) <
+                    1e-15 * t[0]);
+        taper_chain_free(c);
+    }
+    taper_chain_free(mono);
 }
 
 /* Long exponential chains: m_k = (1-q)^(-3(k-1)) passes 1e300 at
@@ -615,6 +640,7 @@ int main(void)
         cmocka_unit_test(test_spec_defaults),
         cmocka_unit_test(test_setters_refuse),
         cmocka_unit_test(test_relations),
+        cmocka_unit_test(test_taper_limit),
         cmocka_unit_test(test_overflow),
         cmocka_unit_test(test_largest_size),
         cmocka_unit_test(test_names),

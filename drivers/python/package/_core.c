@@ -22,12 +22,14 @@
  * Ctrl-C: Python's C-level SIGINT handler only records the signal; the
  * Python handler (KeyboardInterrupt) runs when the main thread calls
  * PyErr_CheckSignals, which needs the GIL.  The library calls our monitor
- * after every pulse event, on the thread running the sim; at most every
- * CHECK_INTERVAL seconds the monitor takes the GIL (PyGILState_Ensure),
- * calls PyErr_CheckSignals, and asks the library to stop if it raised.  The
- * run then ends with TAPER_EINTERRUPTED, the partial sim is freed, and the
- * KeyboardInterrupt propagates: no half-built result is returned.  Taking
- * the GIL only every CHECK_INTERVAL keeps threads from contending for it.
+ * on the thread running the sim or the theory (after every pulse event and
+ * sample, at least every ~0.1 s of integration, every 65536 granules of the
+ * theory: taper.h); at most every CHECK_INTERVAL seconds the monitor takes
+ * the GIL (PyGILState_Ensure), calls PyErr_CheckSignals, and asks the
+ * library to stop if it raised.  The run then ends with TAPER_EINTERRUPTED,
+ * the partial sim is freed, and the KeyboardInterrupt propagates: no
+ * half-built result is returned.  Taking the GIL only every CHECK_INTERVAL
+ * keeps threads from contending for it.
  *
  * Nothing is printed: the library's log messages (taper_solver_spec_set_log)
  * are collected and returned (level >= 1 as warnings).
@@ -188,6 +190,17 @@ PyArrayObject *core_real_vector(const char *name, PyObject *v)
         type_error(name, "a sequence of real numbers", v);
         return NULL;
     }
+    /* numpy reads None in a list as nan: a hole in the caller's data would
+     * become a value out of range ("radius nan"), not the None it is. */
+    if (PyList_Check(v) || PyTuple_Check(v)) {
+        Py_ssize_t n = PySequence_Fast_GET_SIZE(v);
+        for (Py_ssize_t i = 0; i < n; i++)
+            if (PySequence_Fast_GET_ITEM(v, i) == Py_None) {
+                PyErr_Format(PyExc_TypeError, "%s must be a sequence of real numbers, but "
+                             "element %zd (from 0) is None", name, i);
+                return NULL;
+            }
+    }
     PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(v, NPY_DOUBLE, 0, 0, NPY_ARRAY_CARRAY_RO);
     if (!a) {
         if (PyErr_ExceptionMatches(PyExc_TypeError) || PyErr_ExceptionMatches(PyExc_ValueError) ||
@@ -209,6 +222,9 @@ PyArrayObject *core_real_vector(const char *name, PyObject *v)
 
 PyObject *core_double_array(const double *src, size_t n)
 {
+    /* Ctrl-C between the columns of a long chain: each copy of 10^7
+     * granules takes ~0.05 s with the GIL held. */
+    if (n >= (1u << 20) && PyErr_CheckSignals() < 0) return NULL;
     npy_intp dim = (npy_intp)n;
     PyObject *a = PyArray_SimpleNew(1, &dim, NPY_DOUBLE);
     if (!a) return NULL;
@@ -514,6 +530,7 @@ PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
     taper_chain *chain = NULL;
     taper_sim *sim = NULL;
     double *theory[TAPER_N_THEORY_QUANTITIES] = {NULL};
+    double *columns[TAPER_N_THEORY_QUANTITIES] = {NULL}; /* theory only: cols' arrays */
     PyObject *out = NULL, *cols = NULL;
     run_ctx ctx;
     memset(&ctx, 0, sizeof ctx);
@@ -526,27 +543,48 @@ PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
     const size_t n = taper_chain_size(chain);
     const char *note = taper_chain_theory_note(chain);
 
+    /* Ctrl-C between the steps that hold the GIL (the chain of 10^7
+     * granules takes ~0.2 s, its columns as long again). */
+    if (PyErr_CheckSignals() < 0) goto fail;
     if (!(out = PyDict_New()) || !(cols = PyDict_New())) goto fail;
     if (chain_columns(cols, chain) < 0) goto fail;
     if (core_put(out, "theory_note", note ? PyUnicode_FromString(note) : Py_NewRef(Py_None)) < 0)
         goto fail;
+    if (PyErr_CheckSignals() < 0) goto fail;
 
     if (!ss) {
-        /* Theory only: taper_theory_compute, no integration. */
-        for (int i = 0; i < TAPER_N_THEORY_QUANTITIES; i++)
-            if (!(theory[i] = malloc((n ? n : 1) * sizeof(double)))) {
-                PyErr_NoMemory();
-                goto fail;
+        /* Theory only: taper_theory_compute, no integration, written straight
+         * into the columns' arrays (no copy after it, which for 10^7
+         * granules held the GIL, and Ctrl-C, for a second); mu has no
+         * column. */
+        for (int i = 0; i < TAPER_N_THEORY_QUANTITIES; i++) {
+            if (i == TAPER_THEORY_MU) {
+                if (!(theory[i] = malloc((n ? n : 1) * sizeof(double)))) {
+                    PyErr_NoMemory();
+                    goto fail;
+                }
+                continue;
             }
+            char key[64];
+            snprintf(key, sizeof key, "theory_%s",
+                     taper_theory_quantity_name((taper_theory_quantity)i));
+            npy_intp dim = (npy_intp)n;
+            if (PyErr_CheckSignals() < 0) goto fail;
+            PyObject *a = PyArray_SimpleNew(1, &dim, NPY_DOUBLE); /* every entry written below */
+            if (core_put(cols, key, a) < 0) goto fail;
+            columns[i] = PyArray_DATA((PyArrayObject *)a); /* cols holds it */
+        }
+        ctx.last_check = monotonic();
         Py_BEGIN_ALLOW_THREADS
-        rc = taper_theory_compute(chain, theory[TAPER_THEORY_V], theory[TAPER_THEORY_MU],
-                                  theory[TAPER_THEORY_T_RES], theory[TAPER_THEORY_T], &err);
+        rc = taper_theory_compute_monitored(chain, columns[TAPER_THEORY_V], theory[TAPER_THEORY_MU],
+                                            columns[TAPER_THEORY_T_RES], columns[TAPER_THEORY_T],
+                                            monitor, &ctx, &err);
         Py_END_ALLOW_THREADS
+        if (ctx.interrupted) goto fail; /* KeyboardInterrupt is set */
         if (rc != TAPER_OK) {
             core_raise_library(&err);
             goto fail;
         }
-        if (theory_columns(cols, (const double *const *)theory, n, note != NULL) < 0) goto fail;
         if (core_put(out, "stats", PyDict_New()) < 0 ||
             core_put(out, "status", PyUnicode_FromString("ok")) < 0 ||
             core_put(out, "message", PyUnicode_FromString("")) < 0 ||
@@ -571,8 +609,9 @@ PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
         if (ctx.target == 0 || ctx.target >= n) ctx.target = n - 1;
 
         Py_BEGIN_ALLOW_THREADS
-        sim = taper_sim_alloc(chain, ss, &err);
+        sim = taper_sim_alloc(chain, ss, &err); /* its theory asks the monitor too */
         Py_END_ALLOW_THREADS
+        if (ctx.interrupted) goto fail; /* KeyboardInterrupt is set */
         if (!sim) {
             core_raise_library(&err);
             goto fail;
@@ -655,9 +694,14 @@ PyObject *core_chain(const taper_chain_spec *cs)
     if (core_put(cols, "r", core_double_array(taper_chain_contact(chain), n)) < 0) goto fail;
     if (!(mu = core_double_array(NULL, n))) goto fail;
     taper_status rc;
+    run_ctx ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.last_check = monotonic();
     Py_BEGIN_ALLOW_THREADS
-    rc = taper_theory_compute(chain, NULL, PyArray_DATA((PyArrayObject *)mu), NULL, NULL, &err);
+    rc = taper_theory_compute_monitored(chain, NULL, PyArray_DATA((PyArrayObject *)mu), NULL, NULL,
+                                        monitor, &ctx, &err);
     Py_END_ALLOW_THREADS
+    if (ctx.interrupted) goto fail; /* KeyboardInterrupt is set */
     if (rc != TAPER_OK) {
         core_raise_library(&err);
         goto fail;

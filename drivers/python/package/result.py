@@ -8,6 +8,9 @@ from __future__ import annotations
 
 import math
 import os
+import re
+import stat
+import zlib
 from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Tuple, Union
 
 from . import _core
@@ -339,9 +342,57 @@ def _number(text: str) -> Any:
         return text
 
 
-def read_granules(path: PathLike) -> Result:
+_FOOTER = re.compile(rb"# end: rows (\d+), bytes (\d+), crc32 ([0-9a-f]{8})\n")
+
+
+def _verified(path: str) -> bytes:
+    """The bytes of a result file above its footer, once the footer proves
+    them whole (docs/scene.md, "Result files"): its byte count, the CRC-32
+    of those bytes (zlib's), its count of data rows.  ValueError naming the
+    file otherwise; a file that is not a regular one (a device, a FIFO) is
+    refused before any byte is read."""
+    st = os.stat(path)
+    if not stat.S_ISREG(st.st_mode):
+        raise ValueError(f"{path}: not a regular file: not a result of taper")
+    with open(path, "rb") as f:
+        f.seek(max(0, st.st_size - 96))
+        tail = f.read()
+        cut = tail.rfind(b"\n", 0, len(tail) - 1) + 1
+        if cut == 0 and st.st_size > len(tail):
+            cut = -1
+        m = _FOOTER.fullmatch(tail[cut:]) if cut >= 0 else None
+        if not m:
+            raise ValueError(f"{path}: no footer line (# end: rows N, bytes N, crc32 X): cut "
+                             "short, or not written whole by taper (a file of an older taper: "
+                             "read_granules(path, verify=False))")
+        size = int(m.group(2))
+        if size != st.st_size - (len(tail) - cut):
+            raise ValueError(f"{path}: its footer counts {size} bytes above it, the file has "
+                             f"{st.st_size - (len(tail) - cut)}: cut or extended after it was "
+                             "written")
+        f.seek(0)
+        body = f.read(size)
+    if zlib.crc32(body) != int(m.group(3), 16):
+        raise ValueError(f"{path}: its content does not match its footer (crc32 "
+                         f"{zlib.crc32(body):08x}, the footer says {m.group(3).decode()}): "
+                         "changed after it was written")
+    lines = body.split(b"\n")[:-1]
+    rows = sum(1 for i, line in enumerate(lines) if i > 0 and line and not line.startswith(b"#"))
+    if rows != int(m.group(1)):
+        raise ValueError(f"{path}: {rows} data rows, its footer says {int(m.group(1))}")
+    return body
+
+
+def read_granules(path: PathLike, verify: bool = True) -> Result:
     """Reads a granules.tsv (or granules.partial.tsv, or sweep.tsv) written by
     the driver as a Result.
+
+    The file's footer (``# end: rows N, bytes N, crc32 X``) is checked first:
+    a file cut short, changed after it was written, or not a result of taper
+    (a device, a binary file) raises ValueError naming it, before anything is
+    parsed.  ``verify=False`` reads a file without the check (one written by
+    a taper older than the footer).  A table of another kind (sensors.tsv,
+    walls.tsv: no ``k`` column) raises ValueError saying what it is.
 
     Lines starting with '#' are comments, wherever they are: ``# name =
     value`` lines that name a statistic (``steps``, ``energy_error``, ...)
@@ -358,6 +409,17 @@ def read_granules(path: PathLike) -> Result:
     ...``): the names go without them, the units to ``units``.
     """
     path = os.fspath(path)
+    if verify:
+        data = _verified(path)
+    else:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            raise ValueError(f"{path}: not a regular file: not a result of taper")
+        with open(path, "rb") as f:
+            data = f.read()
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{path}: not a text file of taper ({e})") from None
     statistics = set(_core.STATISTICS)
     statuses = {desc: ident for ident, (_, desc) in _core.statuses().items()}
     stats: Dict[str, Any] = {}
@@ -365,37 +427,42 @@ def read_granules(path: PathLike) -> Result:
     status, message, complete, untrusted = "ok", "", None, ""
     header: Optional[List[str]] = None
     rows: List[str] = []
-    with open(path, encoding="utf-8") as f:
-        for line in f:
-            if line.startswith("#"):
-                text = line[1:].strip()
-                if text == "complete":
-                    complete = True
-                elif text.startswith("PARTIAL result"):
-                    complete = False
-                    inner, _, message = text.partition("): ")
-                    desc = inner[len("PARTIAL result ("):]
-                    status = statuses.get(desc, desc)
-                elif text.startswith("UNTRUSTED: "):
-                    untrusted = text[len("UNTRUSTED: "):]
-                else:
-                    name, eq, value = text.partition(" = ")
-                    name, unit = _unit_of(name)
-                    if eq and name in statistics:
-                        stats[name] = _number(value.strip())
-                        if unit:
-                            units[name] = unit
-                continue
-            if header is None:
-                header = []
-                for cell in line.rstrip("\r\n").split("\t"):
-                    name, unit = _unit_of(cell)
-                    header.append(name)
+    for line in text.splitlines(keepends=True):
+        if line.startswith("#"):
+            text_ = line[1:].strip()
+            if text_ == "complete":
+                complete = True
+            elif text_.startswith("PARTIAL result"):
+                complete = False
+                inner, _, message = text_.partition("): ")
+                desc = inner[len("PARTIAL result ("):]
+                status = statuses.get(desc, desc)
+            elif text_.startswith("UNTRUSTED: "):
+                untrusted = text_[len("UNTRUSTED: "):]
+            else:
+                name, eq, value = text_.partition(" = ")
+                name, unit = _unit_of(name)
+                if eq and name in statistics:
+                    stats[name] = _number(value.strip())
                     if unit:
                         units[name] = unit
-                continue
-            if line.strip():
-                rows.append(line)
+            continue
+        if header is None:
+            header = []
+            for cell in line.rstrip("\r\n").split("\t"):
+                name, unit = _unit_of(cell)
+                header.append(name)
+                if unit:
+                    units[name] = unit
+            if "k" not in header:
+                raise ValueError(f"{path}: not a granules.tsv: its columns are "
+                                 f"{', '.join(header[:8])}{', ...' if len(header) > 8 else ''}, "
+                                 "without k (a sensors.tsv, walls.tsv or runs.tsv is a plain "
+                                 "table: numpy.genfromtxt(path, names=True) or "
+                                 "pandas.read_csv(path, sep='\\t', comment='#') reads it)")
+            continue
+        if line.strip():
+            rows.append(line)
     if header is None:
         raise ValueError(f"{path}: no header line (every line is a comment)")
     if rows:

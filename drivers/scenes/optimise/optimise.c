@@ -9,6 +9,8 @@
 #include "optimise/design.h"
 #include "optimise/design_report.h"
 #include "results/output.h"
+#include "run/interrupt.h"
+#include "run/outdir.h"
 #include "run/run.h"
 #include "util/text.h"
 
@@ -25,7 +27,7 @@ int optimise_wanted(const scene *sc)
 static int stop(void *user)
 {
     (void)user;
-    return run_interrupted() != 0;
+    return interrupt_signal() != 0;
 }
 
 static void progress(const char *line, void *user)
@@ -127,7 +129,7 @@ static int calibrate(const scene *sc)
         opt_error_clear(&e);
         return RUN_INPUT;
     }
-    if (run_lock_dir(sc, cfg->output.dir, 0) != 0 || remove_earlier(sc) != 0) {
+    if (outdir_lock(sc, cfg->output.dir, 0) != 0 || remove_earlier(sc) != 0) {
         calibration_free(c);
         return RUN_INPUT;
     }
@@ -161,7 +163,7 @@ static int design(const scene *sc)
         opt_error_clear(&e);
         return RUN_INPUT;
     }
-    if (run_lock_dir(sc, cfg->output.dir, 0) != 0 || remove_earlier(sc) != 0) {
+    if (outdir_lock(sc, cfg->output.dir, 0) != 0 || remove_earlier(sc) != 0) {
         design_free(d);
         return RUN_INPUT;
     }

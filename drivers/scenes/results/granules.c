@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * granules.c -- granules.tsv and sweep.tsv (granules.h).
+ * granules.c -- granules.tsv (granules.h).
  */
 #include "results/granules.h"
 
@@ -88,9 +88,14 @@ static void write_stats_comment(const granules_run *r, FILE *fp)
          TAPER_STAT_WALL_IMPULSE_LEFT},
         {TAPER_STAT_WALL_PEAK_FORCE_RIGHT, TAPER_STAT_WALL_PEAK_TIME_RIGHT,
          TAPER_STAT_WALL_IMPULSE_RIGHT}};
+    int said = 0;
     for (int e = 0; e < TAPER_N_ENDS; e++) {
         if (taper_chain_end(r->chain, (taper_end)e) != TAPER_END_WALL && !(piston && e == TAPER_LEFT))
             continue;
+        if (!said++)
+            fputs("# wall_*: over the run, [0, t_final], which goes on until the right wall's "
+                  "first contact has opened (and to t_end if later): its peak and impulse are "
+                  "the whole contact's\n", fp);
         for (int j = 0; j < 3; j++)
             write_dimensioned(r, fp, wall_stats[e][j], taper_statistic_dimension(wall_stats[e][j]));
     }
@@ -162,8 +167,9 @@ static void free_columns(double *owned[OUT_N_COLUMNS])
  * comment='#') take their names from the first line, numpy.loadtxt skips
  * exactly one line (skiprows=1) and every comment, gnuplot reads the names
  * with `set datafile columnheaders` (or skips the line as non-numeric). */
-static int write_granules(const granules_run *r, FILE *fp, int partial)
+static int write_granules(const granules_run *r, out_file *f, int partial)
 {
+    FILE *fp = f->fp;
     out_columns cols;
     double *owned[OUT_N_COLUMNS];
     if (run_columns(r, &cols, owned) != 0) {
@@ -185,7 +191,7 @@ static int write_granules(const granules_run *r, FILE *fp, int partial)
     write_units_comment(r, fp);
     write_scene_comment(r, fp);
     write_stats_comment(r, fp);
-    out_write_rows(fp, &cols, NULL, 0);
+    out_write_rows(f, &cols, NULL, 0);
     free_columns(owned);
     return 0;
 }
@@ -197,44 +203,10 @@ int granules_save(const char *dir, const granules_run *run, int partial, char **
     if (out_remove(dir, stale, msg) != 0) return -1;
     out_file *f = out_open(dir, name, msg);
     if (!f) return -1;
-    if (write_granules(run, f->fp, partial) != 0) {
+    if (write_granules(run, f, partial) != 0) {
         out_discard(f);
         *msg = text_printf("%s/%s: out of memory", dir, name);
         return -1;
     }
     return out_commit(f, msg);
-}
-
-int granules_write(const char *dir, const granules_run *run, int partial, char **msg)
-{
-    if (granules_save(dir, run, partial, msg) != 0) return -1;
-    printf("! wrote %s/%s\n", dir, partial ? "granules.partial.tsv" : "granules.tsv");
-    return 0;
-}
-
-int granules_write_sweep(const char *dir, const granules_run *runs, size_t n, const char *name,
-                         const double *values, char **msg)
-{
-    out_file *f = out_open(dir, "sweep.tsv", msg);
-    if (!f) return -1;
-    for (size_t i = 0; i < n; i++) {
-        out_columns cols;
-        double *owned[OUT_N_COLUMNS];
-        if (run_columns(&runs[i], &cols, owned) != 0) {
-            free_columns(owned);
-            out_discard(f);
-            *msg = text_printf("%s/sweep.tsv: out of memory", dir);
-            return -1;
-        }
-        if (i == 0) {
-            out_write_header(f->fp, &cols, name);
-            fprintf(f->fp, "# taper %s sweep over %s: the rows of every %s=VALUE/granules.tsv\n",
-                    taper_version(), name, name);
-        }
-        out_write_rows(f->fp, &cols, name, values[i]);
-        free_columns(owned);
-    }
-    if (out_commit(f, msg) != 0) return -1;
-    printf("! wrote %s/sweep.tsv\n", dir);
-    return 0;
 }

@@ -2,7 +2,7 @@
 /*
  * granules.h -- the result files of a run: DIR/granules.tsv (or
  * granules.partial.tsv for a run that ended early) with the resolved scene
- * and the run's statistics as '#' lines, and a sweep's DIR/sweep.tsv.
+ * and the run's statistics as '#' lines.
  *
  * Not part of libtaper.
  */
@@ -31,16 +31,9 @@ typedef struct granules_run {
 } granules_run;
 
 /* Writes DIR/granules.tsv (partial: DIR/granules.partial.tsv), removing
- * the other one (a stale result must not pass for this one), and says so
- * on stdout.  0, or -1 with *msg (malloc'd). */
-int granules_write(const char *dir, const granules_run *run, int partial, char **msg);
-/* The same without a word on stdout (the runs of a sweep:
- * run/sweep_print.c prints in the order of the sweep). */
+ * the other one (a stale result must not pass for this one).  Prints
+ * nothing (the runs of a sweep: run/sweep_print.c prints in the order of
+ * the sweep).  0, or -1 with *msg (malloc'd). */
 int granules_save(const char *dir, const granules_run *run, int partial, char **msg);
-
-/* DIR/sweep.tsv: every run's rows, the swept value `values[i]` of
- * variable `name` first.  0, or -1 with *msg. */
-int granules_write_sweep(const char *dir, const granules_run *runs, size_t n, const char *name,
-                         const double *values, char **msg);
 
 #endif

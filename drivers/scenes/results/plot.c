@@ -11,9 +11,11 @@
 
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 /* ---- data ----------------------------------------------------------------- */
@@ -430,34 +432,71 @@ int plot_write(const report *r, char **msg)
 
 int plot_render(const char *dir, char **msg) { return plot_render_script(dir, "figure.gp", msg); }
 
+/* DIR/NAME.png, the image a script of ours renders (NAME.gp). */
+static char *image_path(const char *dir, const char *script)
+{
+    size_t n = strlen(script);
+    if (n > 3 && strcmp(script + n - 3, ".gp") == 0) n -= 3;
+    return text_printf("%s/%.*s.png", dir, (int)n, script);
+}
+
 int plot_render_script(const char *dir, const char *script, char **msg)
 {
     *msg = NULL;
     const char *gp = getenv("TAPER_GNUPLOT");
     if (!gp || !gp[0]) gp = "gnuplot";
+    char *image = image_path(dir, script);
+    if (!image) {
+        *msg = text_printf("%s/%s: out of memory", dir, script);
+        return -1;
+    }
+    unlink(image); /* an earlier run's picture is not this one's */
     if (strcmp(gp, "none") == 0) {
         *msg = text_printf("rendering skipped (TAPER_GNUPLOT=none): cd %s && gnuplot %s", dir,
                            script);
+        free(image);
         return 1;
     }
     fflush(NULL);
     pid_t pid = fork();
     if (pid < 0) {
         *msg = text_printf("cannot start %s: %s", gp, strerror(errno));
+        free(image);
         return -1;
     }
     if (pid == 0) {
         if (chdir(dir) == 0) execlp(gp, gp, script, (char *)NULL);
         _exit(127);
     }
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return 0;
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+    /* Waits, looking for a stop signal every 20 ms: gnuplot drawing a
+     * large picture is stopped with the run. */
+    int status = 0, stopped = 0;
+    for (;;) {
+        pid_t w = waitpid(pid, &status, WNOHANG);
+        if (w == pid || (w < 0 && errno != EINTR)) break;
+        if (!stopped && out_stop_signal()) {
+            kill(pid, SIGTERM);
+            stopped = 1;
+        }
+        struct timespec nap = {0, 20000000};
+        nanosleep(&nap, NULL);
+    }
+    int rc;
+    if (!stopped && WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+        rc = 0;
+    } else if (!stopped && WIFEXITED(status) && WEXITSTATUS(status) == 127) {
         *msg = text_printf("%s not found: figure not rendered (install gnuplot, then: cd %s && "
                            "gnuplot %s)", gp, dir, script);
-        return 1;
+        rc = 1;
+    } else {
+        /* gnuplot opens its output before it draws: what it leaves under
+         * the image's name is no figure. */
+        unlink(image);
+        *msg = stopped ? text_printf("%s not written: interrupted by a signal", image)
+                       : text_printf("%s failed on %s/%s (status %d): %s not written", gp, dir,
+                                     script, status, image);
+        rc = -1;
     }
-    *msg = text_printf("%s failed on %s/%s (status %d)", gp, dir, script, status);
-    return -1;
+    free(image);
+    return rc;
 }

@@ -22,8 +22,11 @@
 int plot_write(const report *r, char **msg);
 
 /* Runs gnuplot on DIR/figure.gp in DIR ($TAPER_GNUPLOT, default gnuplot;
- * "none" skips).  0: rendered; 1: gnuplot not available (*msg says how to
- * render later); -1: gnuplot failed (*msg).  *msg is malloc'd. */
+ * "none" skips) into DIR/figure.png, removed first: no earlier picture
+ * passes for this one.  0: rendered; 1: gnuplot not available (*msg says
+ * how to render later); -1: gnuplot failed, or a stop signal stopped it
+ * (*msg; what it left under the picture's name is removed).  *msg is
+ * malloc'd. */
 int plot_render(const char *dir, char **msg);
 /* The same for another script of DIR (spacetime.gp). */
 int plot_render_script(const char *dir, const char *script, char **msg);

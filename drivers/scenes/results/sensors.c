@@ -217,6 +217,12 @@ static void column(FILE *fp, const sensors *s, const char *name, int dim, int la
 
 static double unit(const sensors *s, taper_dimension dim) { return scene_unit(&s->at, dim); }
 
+/* A run that ended early: its samples end there. */
+static void partial_comment(FILE *fp, const char *partial)
+{
+    if (partial) fprintf(fp, "# PARTIAL: the run ended early (%s): the samples end there\n", partial);
+}
+
 static void interval_comment(const sensors *s, FILE *fp, double every)
 {
     const char *u = scene_unit_suffix(&s->at, TAPER_DIM_TIME);
@@ -245,7 +251,8 @@ double sensors_bytes_per_sample(const sensors *s)
     return numbers * BYTES_PER_NUMBER + kept;
 }
 
-static int write_sensors(const sensors *s, const char *dir, FILE *out, char **msg)
+static int write_sensors(const sensors *s, const char *partial, const char *dir, FILE *out,
+                         char **msg)
 {
     out_file *f = out_open(dir, "sensors.tsv", msg);
     if (!f) return -1;
@@ -260,6 +267,7 @@ static int write_sensors(const sensors *s, const char *dir, FILE *out, char **ms
     fprintf(fp, "# taper %s sensors: granules", taper_version());
     for (size_t i = 0; i < s->n_granule; i++) fprintf(fp, " %zu", s->granule[i]);
     fputc('\n', fp);
+    partial_comment(fp, partial);
     interval_comment(s, fp, s->interval);
     fputs("# x: displacement from rest; v: velocity; f_left, f_right: compressive forces of the "
           "contacts with granule k-1 (k = 1: the striker, a wall or the load) and k+1 (k = N: a "
@@ -268,6 +276,7 @@ static int write_sensors(const sensors *s, const char *dir, FILE *out, char **ms
     double uv = unit(s, TAPER_DIM_VELOCITY), uf = unit(s, TAPER_DIM_FORCE);
     size_t per = 4 * s->n_granule + 2;
     for (size_t j = 0; j < s->t.n; j++) {
+        if ((j & 1023) == 0 && out_stopping(f)) break;
         const double *r = s->rec.v + j * per;
         for (size_t i = 0; i < s->n_granule; i++, r += 4) {
             out_cell(fp, s->t.v[j] * ut, 0);
@@ -294,8 +303,8 @@ static void wall_stat(const sensors *s, const taper_sim *sim, FILE *fp, taper_st
     out_cell(fp, taper_sim_statistic(sim, which) * unit(s, dim), 1);
 }
 
-static int write_walls(const sensors *s, const taper_sim *sim, const char *dir, FILE *out,
-                       char **msg)
+static int write_walls(const sensors *s, const taper_sim *sim, const char *partial,
+                       const char *dir, FILE *out, char **msg)
 {
     out_file *f = out_open(dir, "walls.tsv", msg);
     if (!f) return -1;
@@ -306,9 +315,11 @@ static int write_walls(const sensors *s, const taper_sim *sim, const char *dir, 
     if (r) column(fp, s, "force_right", TAPER_DIM_FORCE, 1);
     fprintf(fp, "# taper %s walls: the force each wall takes from its end granule\n",
             taper_version());
+    partial_comment(fp, partial);
     interval_comment(s, fp, s->interval);
     fputs("# peak force, its time (exact: a root of the contact's rate) and impulse (the "
-          "integral of the force) over the whole run:\n", fp);
+          "integral of the force) over the run, [0, t_final], which goes on until the right "
+          "wall's first contact has opened (and to t_end if later): the whole contact's\n", fp);
     if (l) {
         wall_stat(s, sim, fp, TAPER_STAT_WALL_PEAK_FORCE_LEFT, TAPER_DIM_FORCE);
         wall_stat(s, sim, fp, TAPER_STAT_WALL_PEAK_TIME_LEFT, TAPER_DIM_TIME);
@@ -322,6 +333,7 @@ static int write_walls(const sensors *s, const taper_sim *sim, const char *dir, 
     double ut = unit(s, TAPER_DIM_TIME), uf = unit(s, TAPER_DIM_FORCE);
     size_t per = 4 * s->n_granule + 2;
     for (size_t j = 0; j < s->t.n; j++) {
+        if ((j & 4095) == 0 && out_stopping(f)) break;
         const double *w = s->rec.v + j * per + 4 * s->n_granule;
         out_cell(fp, s->t.v[j] * ut, 0);
         if (l) out_cell(fp, w[0] * uf, !r);
@@ -334,7 +346,8 @@ static int write_walls(const sensors *s, const taper_sim *sim, const char *dir, 
 
 /* The data of the picture: rows t, k, v, a blank line after each time (a
  * grid gnuplot draws `with image`). */
-static int write_spacetime_data(const sensors *s, const char *dir, double *vmax, char **msg)
+static int write_spacetime_data(const sensors *s, const char *partial, const char *dir,
+                                double *vmax, char **msg)
 {
     out_file *f = out_open(dir, "spacetime.tsv", msg);
     if (!f) return -1;
@@ -345,6 +358,7 @@ static int write_spacetime_data(const sensors *s, const char *dir, double *vmax,
     fprintf(fp, "# taper %s space-time picture v(k, t): cells of %zu granule%s (k = 1, %zu, "
             "...) by %zu sample%s\n", taper_version(), s->st_stride, s->st_stride > 1 ? "s" : "",
             1 + s->st_stride, s->st_every, s->st_every > 1 ? "s" : "");
+    partial_comment(fp, partial);
     interval_comment(s, fp, s->interval);
     fputs("# each cell holds the velocity of largest magnitude among its granules and samples "
           "(a pulse narrower than a cell still shows)\n", fp);
@@ -354,6 +368,7 @@ static int write_spacetime_data(const sensors *s, const char *dir, double *vmax,
     /* The rows, then the samples gathered since the last one. */
     size_t rows = s->st_t.n + (s->pending_n > 0);
     for (size_t j = 0; j < rows; j++) {
+        if ((j & 255) == 0 && out_stopping(f)) break;
         int last = j == s->st_t.n;
         const double *row = last ? s->pending : s->st_v.v + j * s->st_cols;
         double t = last ? s->pending_t : s->st_t.v[j];
@@ -397,10 +412,11 @@ static int write_spacetime_script(const sensors *s, const char *dir, double vmax
     return out_commit(f, msg);
 }
 
-static int write_spacetime(const sensors *s, const char *dir, FILE *out, char **msg)
+static int write_spacetime(const sensors *s, const char *partial, const char *dir, FILE *out,
+                           char **msg)
 {
     double vmax;
-    if (write_spacetime_data(s, dir, &vmax, msg) != 0) return -1;
+    if (write_spacetime_data(s, partial, dir, &vmax, msg) != 0) return -1;
     if (write_spacetime_script(s, dir, vmax, msg) != 0) return -1;
     fprintf(out, "! wrote %s/spacetime.tsv and %s/spacetime.gp\n", dir, dir);
     if (s->st_t.n + (s->pending_n > 0) < 2 || s->st_cols < 2) {
@@ -419,16 +435,18 @@ static int write_spacetime(const sensors *s, const char *dir, FILE *out, char **
     return rendered < 0 ? -1 : 0;
 }
 
-int sensors_write(const sensors *s, const taper_sim *sim, const char *dir, FILE *out, char **msg)
+int sensors_write(const sensors *s, const taper_sim *sim, const char *partial, const char *dir,
+                  FILE *out, char **msg)
 {
     *msg = NULL;
     if (s->failed) {
         *msg = text_printf("sensors: %s", s->why);
         return -1;
     }
-    if (s->n_granule && write_sensors(s, dir, out, msg) != 0) return -1;
-    if ((s->wall[TAPER_LEFT] || s->wall[TAPER_RIGHT]) && write_walls(s, sim, dir, out, msg) != 0)
+    if (s->n_granule && write_sensors(s, partial, dir, out, msg) != 0) return -1;
+    if ((s->wall[TAPER_LEFT] || s->wall[TAPER_RIGHT]) &&
+        write_walls(s, sim, partial, dir, out, msg) != 0)
         return -1;
-    if (s->spacetime && write_spacetime(s, dir, out, msg) != 0) return -1;
+    if (s->spacetime && write_spacetime(s, partial, dir, out, msg) != 0) return -1;
     return 0;
 }

@@ -44,9 +44,10 @@ int sensors_sample(const taper_sim *sim, void *user);
 
 /* Writes the files the scene asks for and says so on `out` ("! wrote
  * ..."), renders spacetime.png when gnuplot is there (a note on `out`
- * otherwise).  `sim` gives the wall statistics.  0, or -1 with *msg
- * (malloc'd). */
-int sensors_write(const sensors *s, const taper_sim *sim, const char *dir, FILE *out,
-                  char **msg);
+ * otherwise).  `sim` gives the wall statistics; `partial` (NULL for a
+ * complete run) why the run ended early, said in each file's header (its
+ * samples end there).  0, or -1 with *msg (malloc'd). */
+int sensors_write(const sensors *s, const taper_sim *sim, const char *partial, const char *dir,
+                  FILE *out, char **msg);
 
 #endif

@@ -23,115 +23,19 @@
 #include "results/plot.h"
 #include "results/sensors.h"
 #include "results/table.h"
+#include "run/interrupt.h"
 #include "run/parallel.h"
 #include "run/outdir.h"
 #include "util/text.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
-#include <signal.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/file.h>
 #include <time.h>
 #include <unistd.h>
 
-/* ---- interruption and progress ------------------------------------------ */
-
-/* The signal that stopped the runs: this process's first (the handler),
- * or one another MPI rank received (run_interrupt), whichever came first.
- * Lock-free, so both may set it. */
-static atomic_int interrupted;
-static volatile sig_atomic_t received;     /* this process's first signal    */
-static volatile sig_atomic_t sender;       /* the process that sent it (0: unknown) */
-static volatile sig_atomic_t on_rank = -1; /* interrupted by that rank's signal */
-static long launcher;                      /* run_signal_source's process, and its name */
-static char launcher_name[32];
-
-/* The signals that end a run with its partial result: Ctrl-C (SIGINT), and
- * what `timeout`, batch queues and a closed terminal send (SIGTERM, SIGHUP,
- * SIGXCPU at a CPU-time limit).  The first asks the runs to stop (they keep
- * what was found and write it); a second one while the result is written
- * removes the temporary file being written (results/output.h) and ends the
- * process by the signal's default action. */
-static const int stop_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGXCPU};
-#define N_STOP_SIGNALS (sizeof stop_signals / sizeof stop_signals[0])
-
-static void on_signal(int sig, siginfo_t *info, void *context)
-{
-    (void)context;
-    if (!received) { /* the first: stop the runs (unless another rank's did) */
-        received = sig;
-        sender = info && info->si_code == SI_USER ? (sig_atomic_t)info->si_pid : 0;
-        int none = 0;
-        atomic_compare_exchange_strong(&interrupted, &none, sig);
-        return;
-    }
-    out_signal_cleanup();
-    signal(sig, SIG_DFL);
-    raise(sig);
-}
-
-void run_install_signals(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_sigaction = on_signal;
-    sa.sa_flags = SA_SIGINFO;
-    sigemptyset(&sa.sa_mask);
-    for (size_t i = 0; i < N_STOP_SIGNALS; i++) sigaddset(&sa.sa_mask, stop_signals[i]);
-    for (size_t i = 0; i < N_STOP_SIGNALS; i++) {
-        struct sigaction old;
-        /* SIGHUP ignored by the parent (nohup) stays ignored.  SIGINT is
-         * ignored in the background jobs of a shell script, yet `kill -INT`
-         * there is meant: it is handled all the same. */
-        if (stop_signals[i] == SIGHUP && sigaction(SIGHUP, NULL, &old) == 0 &&
-            old.sa_handler == SIG_IGN)
-            continue;
-        sigaction(stop_signals[i], &sa, NULL);
-    }
-}
-
-int run_interrupted(void) { return interrupted; }
-
-void run_interrupt(int sig, int rank)
-{
-    int none = 0;
-    on_rank = rank;
-    if (!atomic_compare_exchange_strong(&interrupted, &none, sig)) on_rank = -1;
-}
-
-void run_signal_source(long pid, const char *name)
-{
-    launcher = pid;
-    snprintf(launcher_name, sizeof launcher_name, "%s", name);
-}
-
-static const char *signal_name(int sig)
-{
-    switch (sig) {
-    case SIGINT: return "SIGINT";
-    case SIGTERM: return "SIGTERM";
-    case SIGHUP: return "SIGHUP";
-    case SIGXCPU: return "SIGXCPU";
-    default: return "a signal";
-    }
-}
-
-/* "SIGTERM", "SIGTERM from mpirun" (the launcher stopping the ranks),
- * "SIGINT to rank 2" (another rank's signal stopping the sweep). */
-static void interruption(char *buf, size_t size)
-{
-    int n = snprintf(buf, size, "%s", signal_name(interrupted));
-    if (n < 0 || (size_t)n >= size) return;
-    if (on_rank >= 0)
-        snprintf(buf + n, size - (size_t)n, " to rank %d", (int)on_rank);
-    else if (launcher && sender == launcher)
-        snprintf(buf + n, size - (size_t)n, " from %s", launcher_name);
-}
+/* ---- progress ------------------------------------------------------------ */
 
 typedef struct progress_state {
     int show;           /* stderr is a terminal and progress = .true.   */
@@ -159,6 +63,7 @@ static double wall_seconds(void)
 static int monitor(const taper_progress *p, void *user)
 {
     progress_state *ps = user;
+    if (p->window_hi == 0) return interrupt_signal() != 0; /* the theory: no line */
     if (ps->show) {
         double now = wall_seconds(), elapsed = fmax(now - ps->start, 1e-9);
         if (now - ps->last >= 0.2 || p->granule >= p->target) {
@@ -181,7 +86,7 @@ static int monitor(const taper_progress *p, void *user)
             ps->printed = 1;
         }
     }
-    return interrupted != 0;
+    return interrupt_signal() != 0;
 }
 
 static void progress_done(progress_state *ps)
@@ -217,6 +122,8 @@ typedef struct run {
     int computed;            /* 0: skipped (interrupted before it started)  */
     taper_error err;
     char *message;           /* printed by finish_run (malloc'd)            */
+    char *stopped_at;        /* the file a signal stopped while the results
+                                were written (its message, malloc'd)       */
 } run;
 
 /* The library's warnings (level 1) go to stderr, named by scene and run;
@@ -235,6 +142,7 @@ static void run_free(run *r)
     taper_chain_spec_free(r->spec);
     for (int i = 0; i < TAPER_N_THEORY_QUANTITIES; i++) free(r->own_theory[i]);
     free(r->message);
+    free(r->stopped_at);
     free(r->dir);
     free(r->label);
 }
@@ -361,6 +269,20 @@ static int check_output_size(run *r)
     return RUN_INPUT;
 }
 
+/* The theory of a long chain stopped by a signal (taper_sim_alloc or
+ * taper_theory_compute_monitored): nothing of the run is written. */
+static int theory_interrupted(run *r)
+{
+    char by[64];
+    interrupt_describe(by, sizeof by);
+    free(r->message);
+    r->message = text_printf("%s: interrupted by %s while the binary-collision theory was "
+                             "computed (%s): nothing of this run is written", r->label, by,
+                             r->err.message);
+    r->computed = 0;
+    return RUN_PARTIAL;
+}
+
 static int build_sim(run *r)
 {
     taper_solver_spec *spec = scene_solver_spec(r->cfg, &r->err);
@@ -375,6 +297,7 @@ static int build_sim(run *r)
     r->sim = taper_sim_alloc(r->chain, spec, &r->err);
     taper_solver_spec_free(spec);
     if (!r->sim) {
+        if (r->err.status == TAPER_EINTERRUPTED) return theory_interrupted(r);
         if (r->err.field) return refused(r, SCENE_LIB_SOLVER);
         /* The theory overflowing, or memory: not the scene's syntax. */
         fprintf(r->log, "%s: %s\n", r->label, r->err.message);
@@ -415,42 +338,11 @@ static void prepare_run(run *r)
     if (r->rc == RUN_COMPLETE && r->cfg->solver.numerics) r->rc = build_sim(r);
 }
 
-/* &output dir, created and locked for this process (flock on DIR/.taper.lock,
- * held until exit): a second run into the same directory is refused while
- * the first runs, instead of both writing and the last one winning.  The
- * descriptor is left open (close-on-exec) and released by the kernel at
- * exit, however the process ends.  0, or -1 after printing why. */
-int run_lock_dir(const scene *sc, const char *dir, int shared)
+static int theory_monitor(const taper_progress *p, void *user)
 {
-    char *msg = NULL;
-    if (out_mkdir_p(dir, &msg) != 0) {
-        scene_print_output_error(sc, msg ? msg : "out of memory", stderr);
-        free(msg);
-        return -1;
-    }
-    char *path = text_printf("%s/.taper.lock", dir);
-    int fd = path ? open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0666) : -1;
-    if (fd < 0) {
-        msg = path ? text_printf("output directory %s is not writable: %s", dir, strerror(errno))
-                   : NULL;
-    } else if (flock(fd, (shared ? LOCK_SH : LOCK_EX) | LOCK_NB) != 0) {
-        msg = errno == EWOULDBLOCK
-                  ? text_printf("output directory %s is in use by another taper run (it holds "
-                                "%s): wait for it to end, or write elsewhere with -o DIR", dir, path)
-                  : text_printf("cannot lock %s: %s", path, strerror(errno));
-        close(fd);
-        fd = -1;
-    } else if (!shared) {
-        /* The lock file says who holds it, for a person looking. */
-        char pid[32];
-        int n = snprintf(pid, sizeof pid, "%ld\n", (long)getpid());
-        if (ftruncate(fd, 0) == 0 && write(fd, pid, (size_t)n) < 0) { /* informative only */ }
-    }
-    free(path);
-    if (fd >= 0) return 0;
-    scene_print_output_error(sc, msg ? msg : "out of memory", stderr);
-    free(msg);
-    return -1;
+    (void)p;
+    (void)user;
+    return interrupt_signal() != 0;
 }
 
 /* Without numerics: the theory alone. */
@@ -464,13 +356,16 @@ static int compute_theory(run *r)
         }
         r->theory[q] = r->own_theory[q];
     }
-    if (taper_theory_compute(r->chain, r->own_theory[TAPER_THEORY_V],
-                             r->own_theory[TAPER_THEORY_MU], r->own_theory[TAPER_THEORY_T_RES],
-                             r->own_theory[TAPER_THEORY_T], &r->err) == TAPER_OK) {
+    taper_status status = taper_theory_compute_monitored(
+        r->chain, r->own_theory[TAPER_THEORY_V], r->own_theory[TAPER_THEORY_MU],
+        r->own_theory[TAPER_THEORY_T_RES], r->own_theory[TAPER_THEORY_T], theory_monitor, NULL,
+        &r->err);
+    if (status == TAPER_OK) {
         if (blank_theory(r) == 0) return RUN_COMPLETE;
         set_message(r, "out of memory");
         return RUN_FAILED;
     }
+    if (status == TAPER_EINTERRUPTED) return theory_interrupted(r);
     /* The library's theory messages name it already ("theory: velocity of ..."). */
     set_message(r, r->err.message);
     return RUN_FAILED;
@@ -485,7 +380,7 @@ static int simulate(run *r)
     ps->granules = taper_chain_size(r->chain);
     r->status = taper_sim_run(r->sim, &r->err);
     progress_done(ps);
-    if (r->status == TAPER_EINTERRUPTED && interrupted) {
+    if (r->status == TAPER_EINTERRUPTED && interrupt_signal()) {
         /* Name the signal, in the message and the partial file's header. */
         static const char word[] = "interrupted";
         char rest[sizeof r->err.message];
@@ -493,7 +388,7 @@ static int simulate(run *r)
         int lead = strncmp(m, word, sizeof word - 1) == 0;
         snprintf(rest, sizeof rest, "%s", lead ? m + sizeof word - 1 : m);
         char by[64];
-        interruption(by, sizeof by);
+        interrupt_describe(by, sizeof by);
         snprintf(r->err.message, sizeof r->err.message, "interrupted by %s%s%.400s", by,
                  lead ? "" : ": ", rest);
     }
@@ -510,7 +405,12 @@ static void compute_run(size_t i, void *data)
 {
     run *r = &((run *)data)[i];
     if (r->rc != RUN_COMPLETE) return;
-    if (interrupted) {
+    if (interrupt_signal()) {
+        char by[64];
+        interrupt_describe(by, sizeof by);
+        free(r->message);
+        r->message = text_printf("%s: interrupted by %s before this run started: nothing of "
+                                 "this run is written", r->label, by);
         r->rc = RUN_PARTIAL;
         return;
     }
@@ -580,7 +480,7 @@ static int write_report_data(const run *r, char **msg)
     out_write_header(f->fp, &cols, NULL);
     fputs("# every granule and column of this run, for the sweep's fits, table and figure\n",
           f->fp);
-    out_write_rows(f->fp, &cols, NULL, 0);
+    out_write_rows(f, &cols, NULL, 0);
     return out_commit(f, msg);
 }
 
@@ -614,19 +514,50 @@ static void print_energy(const run *r)
     fputc('\n', r->out);
 }
 
-/* &sensors: the time series of this run. */
-static void write_sensors(run *r)
+char *run_stopped_writing(const char *msg)
 {
-    char *msg = NULL;
-    if (!r->sensors || !r->sim) return;
-    if (sensors_write(r->sensors, r->sim, r->dir, r->out, &msg) != 0) {
+    char by[64];
+    interrupt_describe(by, sizeof by);
+    const char *cut = strstr(msg, " not written: ");
+    return text_printf("interrupted by %s while writing %.*s: it is not written, nor anything "
+                       "after it; the files reported written (\"! wrote\") are complete, their "
+                       "footers say so", by, cut ? (int)(cut - msg) : (int)strlen(msg), msg);
+}
+
+/* A failure while the results are written: a stop signal (the file and
+ * those after it not written: RUN_PARTIAL, said once at the end of
+ * finish_run), or the disk (RUN_FAILED). */
+static void write_failed(run *r, char *msg)
+{
+    if (out_was_stopped(msg) && interrupt_signal()) {
+        if (!r->stopped_at) {
+            r->stopped_at = msg;
+            return;
+        }
+    } else {
         fprintf(r->log, "%s: %s\n", r->label, msg ? msg : "out of memory");
         r->rc = RUN_FAILED;
     }
     free(msg);
 }
 
-/* After the computation, in the order of the sweep. */
+/* &sensors: the time series of this run. */
+static void write_sensors(run *r)
+{
+    char *msg = NULL;
+    if (!r->sensors || !r->sim) return;
+    const char *partial = r->rc == RUN_PARTIAL ? r->err.message : NULL;
+    if (sensors_write(r->sensors, r->sim, partial, r->dir, r->out, &msg) != 0)
+        write_failed(r, msg);
+    else
+        free(msg);
+}
+
+/* After the computation, in the order of the sweep.  A run that a signal
+ * interrupted writes what it found (OUT_FOUND: whole, a second signal ends
+ * the process); a complete run's files stop at a signal, the one being
+ * written removed and none started after it (OUT_WHOLE), and the message
+ * says which are on disk. */
 static void finish_run(run *r)
 {
     if (r->message) fprintf(r->log, "%s\n", r->message);
@@ -642,20 +573,29 @@ static void finish_run(run *r)
     }
     g.untrusted = untrusted;
     char *msg = NULL;
-    int partial = r->rc == RUN_PARTIAL;
+    const int partial = r->rc == RUN_PARTIAL;
+    out_set_mode(partial && interrupt_signal() ? OUT_FOUND : OUT_WHOLE);
+    const char *name = partial ? "granules.partial.tsv" : "granules.tsv";
     if (granules_save(r->dir, &g, partial, &msg) != 0) {
-        fprintf(r->log, "%s: %s\n", r->label, msg ? msg : "out of memory");
-        r->rc = RUN_FAILED;
+        write_failed(r, msg);
     } else {
-        fprintf(r->out, "! wrote %s/%s\n", r->dir, partial ? "granules.partial.tsv" : "granules.tsv");
+        free(msg);
+        msg = NULL;
+        fprintf(r->out, "! wrote %s/%s\n", r->dir, name);
         print_energy(r);
         write_sensors(r);
-        if (r->name && !partial && write_report_data(r, &msg) != 0) {
-            fprintf(r->log, "%s: %s\n", r->label, msg ? msg : "out of memory");
-            r->rc = RUN_FAILED;
-        }
+        if (r->name && !partial && !r->stopped_at && write_report_data(r, &msg) != 0)
+            write_failed(r, msg);
+        else
+            free(msg);
     }
-    free(msg);
+    out_set_mode(OUT_WHOLE);
+    if (r->stopped_at) {
+        char *said = run_stopped_writing(r->stopped_at);
+        fprintf(r->log, "%s: %s\n", r->label, said ? said : r->stopped_at);
+        free(said);
+        r->rc = RUN_PARTIAL;
+    }
     free(untrusted);
 }
 
@@ -766,10 +706,26 @@ int run_write_reports(const scene *sc, report_point *points)
         if (rendered == 1) printf("! note: %s\n", msg ? msg : "figure not rendered");
         if (rendered < 0) rc = RUN_FAILED;
     }
-    if (rc != RUN_COMPLETE) fprintf(stderr, "%s: %s\n", scene_path(sc), msg ? msg : "out of memory");
+    if (rc != RUN_COMPLETE && out_was_stopped(msg) && interrupt_signal()) {
+        char *said = run_stopped_writing(msg);
+        fprintf(stderr, "%s: %s\n", scene_path(sc), said ? said : msg);
+        free(said);
+        rc = RUN_PARTIAL;
+    } else if (rc != RUN_COMPLETE) {
+        fprintf(stderr, "%s: %s\n", scene_path(sc), msg ? msg : "out of memory");
+    }
     free(msg);
     analysis_free(&rep);
     return rc;
+}
+
+/* "! removed 2 temporary files ...": a killed run's leftovers. */
+static void note_removed_temporaries(const char *dir)
+{
+    size_t removed = outdir_remove_temporaries(dir);
+    if (removed)
+        printf("! removed %zu temporary file%s a killed taper left in %s\n", removed,
+               removed == 1 ? "" : "s", dir);
 }
 
 int run_scene(const scene *sc)
@@ -791,10 +747,13 @@ int run_scene(const scene *sc)
         ready |= runs[i].rc == RUN_COMPLETE;
     }
     /* The directories once a run is known to start: none for a scene the
-     * library rejects.  An earlier sweep's files there go (run/outdir.c). */
-    if (ready && (run_lock_dir(sc, cfg->output.dir, 0) != 0 ||
+     * library rejects.  An earlier sweep's files there go (run/outdir.c),
+     * and the temporary files a killed run of ours left. */
+    if (ready && (outdir_lock(sc, cfg->output.dir, 0) != 0 ||
                   outdir_clean(sc, NULL, NULL) != RUN_COMPLETE))
         for (size_t i = 0; i < n; i++) runs[i].rc = RUN_INPUT;
+    else if (ready)
+        note_removed_temporaries(cfg->output.dir);
     for (size_t i = 0; i < n; i++)
         if (runs[i].rc == RUN_COMPLETE && prepare_dir(&runs[i]) != 0) runs[i].rc = RUN_INPUT;
     parallel_for(n, (unsigned)cfg->output.threads, compute_run, runs);
@@ -802,9 +761,9 @@ int run_scene(const scene *sc)
         finish_run(&runs[i]);
         rc = run_worst(rc, runs[i].rc);
     }
-    if (interrupted) rc = run_worst(rc, RUN_PARTIAL);
     /* Untrusted runs still get their tables: the status and each file's
-     * header say what they are worth. */
+     * header say what they are worth.  (A signal after the last file was
+     * written loses nothing: the status stays the runs'.) */
     int whole = rc == RUN_COMPLETE || rc == RUN_UNTRUSTED;
     if (whole) rc = run_worst(rc, write_reports(sc, runs));
 out:

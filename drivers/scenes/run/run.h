@@ -22,7 +22,10 @@ enum run_status {
     RUN_FAILED = 1,   /* library or output failure                             */
     RUN_INPUT = 2,    /* bad input: scene, command line, output directory      */
     RUN_PARTIAL = 3,  /* a run ended early (solver failure, a signal, t_max,
-                         max_steps): granules.partial.tsv, no granules.tsv     */
+                         max_steps): granules.partial.tsv, no granules.tsv; or
+                         a signal before it started (nothing written) or while
+                         its results were written (the file being written and
+                         those after it are not; the message says which)    */
     RUN_UNTRUSTED = 4, /* complete, but energy or momentum conservation worse
                          than &output max_energy_error / max_momentum_error:
                          granules.tsv says "# UNTRUSTED: ..."                  */
@@ -38,33 +41,10 @@ enum run_status {
 /* The graver of two run_status values. */
 int run_worst(int a, int b);
 
-/* SIGINT, SIGTERM, SIGHUP and SIGXCPU end the runs partial, keeping what
- * was found; a second one while results are written removes the temporary
- * file and kills the process by that signal.  SIGHUP ignored by the parent
- * (nohup) stays ignored. */
-void run_install_signals(void);
-/* The number of the first such signal received, 0 if none. */
-int run_interrupted(void);
-/* Stops the runs as that signal does: signal sig received by MPI rank
- * `rank` (drivers/taper/sweep_mpi.c), which stops the whole sweep. */
-void run_interrupt(int sig, int rank);
-/* Process pid (named `name`) launched this one and stops it on the user's
- * behalf: mpirun sends SIGTERM to every rank when it gets Ctrl-C, SIGINT,
- * SIGTERM or SIGHUP itself.  Messages then say "interrupted by SIGTERM
- * from mpirun", not the signal the user sent, which only mpirun saw. */
-void run_signal_source(long pid, const char *name);
-
 /* Runs a scene without a sweep (runs.swept 0) into &output dir; a sweep is
  * run by sweep_run (run/sweep.c), which calls run_point for each of its
  * runs (run/sweep_resume.c).  Returns a run_status. */
 int run_scene(const scene *sc);
-
-/* &output dir created and locked for this process (flock on
- * DIR/.taper.lock, held until exit): exclusive (shared != 0: shared, the
- * parts of a sweep computed at once, --part) so that a second run into the
- * same directory is refused while the first runs.  0, or -1 after printing
- * why. */
-int run_lock_dir(const scene *sc, const char *dir, int shared);
 
 /* What one run of a sweep printed: stdout and stderr text (malloc'd, may be
  * NULL), and its run_status. */
@@ -82,6 +62,12 @@ typedef struct run_outcome {
 void run_point(const scene *sc, size_t point, const char *dir, const char *name,
                run_outcome *o);
 void run_outcome_free(run_outcome *o);
+
+/* What a stop signal that came while a file was written leaves, from the
+ * writer's message (out_stopped_message, "DIR/NAME not written:
+ * interrupted by a signal"): "interrupted by SIGTERM while writing
+ * DIR/NAME: it is not written, nor anything after it; ..." (malloc'd). */
+char *run_stopped_writing(const char *msg);
 
 /* Fits, table and figure of a scene from its runs' data: points[i] for run
  * i (runs.n of them), spec and src filled.  Returns a run_status. */

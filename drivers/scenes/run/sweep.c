@@ -14,6 +14,8 @@
  */
 #include "run/sweep.h"
 
+#include "run/interrupt.h"
+#include "run/outdir.h"
 #include "run/sweep_print.h"
 #include "run/sweep_report.h"
 #include "run/sweep_resume.h"
@@ -66,7 +68,7 @@ static int prepare(sweep *sw, const sweep_options *opt)
     const scene *sc = sw->sc;
     const scene_config *cfg = sw->cfg;
     /* Created and locked: parts of one sweep share the lock (--part). */
-    if (run_lock_dir(sc, cfg->output.dir, opt->parts > 1) != 0) return RUN_INPUT;
+    if (outdir_lock(sc, cfg->output.dir, opt->parts > 1) != 0) return RUN_INPUT;
     int rc = sweep_remove_others(sw);
     if (rc != RUN_COMPLETE) return rc;
     for (size_t i = 0; i < sw->n; i++) {
@@ -79,7 +81,14 @@ static int prepare(sweep *sw, const sweep_options *opt)
         }
     }
     sweep_deal(sw, opt->part, opt->parts);
-    sweep_find_reusable(sw);
+    /* The temporaries a killed taper left: in the directory itself when this
+     * process holds it alone (parts share it; only the merge writes there),
+     * and in the directories of this part's runs. */
+    size_t removed = opt->parts > 1 ? 0 : outdir_remove_temporaries(cfg->output.dir);
+    removed += sweep_find_reusable(sw);
+    if (removed)
+        printf("! removed %zu temporary file%s a killed taper left in %s\n", removed,
+               removed == 1 ? "" : "s", cfg->output.dir);
     size_t mine = sw->n;
     for (size_t i = 0; i < sw->n; i++) mine -= sw->items[i].elsewhere;
     if (opt->parts > 1)
@@ -173,7 +182,7 @@ int sweep_run(const scene *sc, const sweep_options *opt)
     sweep_print_progress(&p, sw, 1);
     sweep_print_clear(&p);
 
-    if (sw->done < sw->n || run_interrupted())
+    if (sw->done < sw->n || interrupt_signal())
         rc = interrupted(sw, &p);
     else if (opt->parts > 1)
         rc = part_done(sw, opt);

@@ -5,6 +5,7 @@
  */
 #include "run/sweep_queue.h"
 
+#include "run/interrupt.h"
 #include "util/text.h"
 
 #include <math.h>
@@ -131,7 +132,7 @@ size_t sweep_next(sweep *sw)
 {
     size_t i = SIZE_MAX;
     pthread_mutex_lock(&sw->lock);
-    while (!run_interrupted() && sw->next < sw->n) {
+    while (!interrupt_signal() && sw->next < sw->n) {
         size_t j = sw->order[sw->next++];
         if (sw->items[j].state != SWEEP_TODO) continue; /* reused, or another part's */
         sw->items[j].state = SWEEP_RUNNING;
@@ -174,7 +175,7 @@ int sweep_wait(sweep *sw, double seconds)
     }
     pthread_mutex_lock(&sw->lock);
     int finished = sw->done == sw->n ||
-                   ((run_interrupted() || sw->next >= sw->n) && sw->running == 0);
+                   ((interrupt_signal() || sw->next >= sw->n) && sw->running == 0);
     if (!finished) pthread_cond_timedwait(&sw->cond, &sw->lock, &ts);
     pthread_mutex_unlock(&sw->lock);
     return finished;

@@ -6,7 +6,9 @@
 #include "run/sweep_report.h"
 
 #include "results/analysis.h"
+#include "results/footer.h"
 #include "results/output.h"
+#include "run/interrupt.h"
 #include "util/number.h"
 #include "util/text.h"
 
@@ -15,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* ---- results back from the files --------------------------------------------- */
 
@@ -168,6 +171,25 @@ static const char *status_name(int rc)
     }
 }
 
+/* A sweep file that could not be written (msg, freed): the disk
+ * (RUN_FAILED), or a stop signal while it was written (RUN_PARTIAL: the
+ * runs are complete on disk, the same command writes it). */
+static int report_failure(const sweep *sw, char *msg)
+{
+    int rc = RUN_FAILED;
+    char *said = NULL;
+    if (out_was_stopped(msg) && interrupt_signal()) {
+        said = run_stopped_writing(msg);
+        rc = RUN_PARTIAL;
+    }
+    fprintf(stderr, "%s: %s%s\n", scene_path(sw->sc), said ? said : msg ? msg : "out of memory",
+            rc == RUN_PARTIAL ? " (every run is on disk: the same command writes the sweep's "
+                                "files again)" : "");
+    free(said);
+    free(msg);
+    return rc;
+}
+
 /* The swept variables' names, ", "-separated, and the sweep's shape. */
 static void write_lead_header(const scene_config *cfg, FILE *fp)
 {
@@ -257,42 +279,207 @@ static int write_sweep_tsv(sweep *sw)
 fail:
     free(header);
     if (f) out_discard(f);
-    fprintf(stderr, "%s: %s\n", scene_path(sw->sc), msg ? msg : "out of memory");
-    free(msg);
-    return RUN_FAILED;
+    return report_failure(sw, msg);
 }
 
-/* DIR/runs.tsv: each run, its swept values and how it ended. */
+/* ---- the per-run summary ------------------------------------------------------- */
+
+/* The statistics lines of a result file's header ("# steps = 4336",
+ * "# t_final[s] = 0.0123"): a name (with its unit in brackets in SI), " = "
+ * and one number, right after "# " (the echo's lines are indented).  Their
+ * names and texts, in the file's order (malloc'd). */
+typedef struct run_stats {
+    size_t n;
+    char **name, **value;
+} run_stats;
+
+static void stats_free(run_stats *st)
+{
+    for (size_t k = 0; k < st->n; k++) {
+        free(st->name[k]);
+        free(st->value[k]);
+    }
+    free(st->name);
+    free(st->value);
+    memset(st, 0, sizeof *st);
+}
+
+static int is_name_char(char c)
+{
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+}
+
+/* "# NAME = VALUE\n" or "# NAME[UNIT] = VALUE\n": 0 with the two parts
+ * cut out of line (in place), -1 for any other line. */
+static int stat_line(char *line, char **name, char **value)
+{
+    if (strncmp(line, "# ", 2) != 0 || !(line[2] >= 'a' && line[2] <= 'z')) return -1;
+    char *p = line + 2;
+    while (is_name_char(*p)) p++;
+    if (*p == '[') {
+        char *close = strchr(p, ']');
+        if (!close) return -1;
+        p = close + 1;
+    }
+    if (strncmp(p, " = ", 3) != 0) return -1;
+    *p = '\0';
+    *name = line + 2;
+    *value = p + 3;
+    size_t n = strcspn(*value, " \t\n");
+    if ((*value)[n] != '\n' && (*value)[n] != '\0') return -1; /* "unit_time = 2e-5 s" */
+    (*value)[n] = '\0';
+    return n ? 0 : -1;
+}
+
+static int stats_read(const char *path, run_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    FILE *fp = fopen(path, "r");
+    if (!fp) return -1;
+    char *line = NULL;
+    size_t cap = 0;
+    int lines = 0, rc = 0;
+    while (rc == 0 && getline(&line, &cap, fp) >= 0) {
+        if (lines++ > 0 && line[0] != '#') break; /* the rows: the header is over */
+        char *name, *value;
+        if (lines == 1 || stat_line(line, &name, &value) != 0) continue;
+        char **nn = realloc(st->name, (st->n + 1) * sizeof *nn);
+        if (nn) st->name = nn;
+        char **vv = nn ? realloc(st->value, (st->n + 1) * sizeof *vv) : NULL;
+        if (vv) st->value = vv;
+        if (!nn || !vv) {
+            rc = -1;
+            break;
+        }
+        st->name[st->n] = text_dup(name);
+        st->value[st->n] = text_dup(value);
+        st->n++;
+        if (!st->name[st->n - 1] || !st->value[st->n - 1]) rc = -1;
+    }
+    free(line);
+    fclose(fp);
+    if (rc != 0) stats_free(st);
+    return rc;
+}
+
+/* The file a run's summary comes from: granules.tsv, granules.partial.tsv
+ * for a run that ended early, none for a run that did not run (malloc'd,
+ * or NULL). */
+static char *result_path(const sweep_item *it)
+{
+    if (sweep_has_rows(it->outcome.rc)) return text_printf("%s/granules.tsv", it->dir);
+    if (it->outcome.rc != RUN_PARTIAL) return NULL;
+    char *p = text_printf("%s/granules.partial.tsv", it->dir);
+    struct stat st;
+    if (p && stat(p, &st) != 0) {
+        free(p);
+        return NULL;
+    }
+    return p;
+}
+
+/* The columns of runs.tsv's results: every statistic any run's file has,
+ * in the order they first come (runs of one sweep write the same ones,
+ * but for a piston or numerics that a swept value turns off). */
+typedef struct summary {
+    run_stats *runs; /* by run */
+    size_t n_cols;
+    const char **col; /* names: borrowed from runs[] */
+} summary;
+
+static void summary_free(summary *sm, size_t n)
+{
+    for (size_t i = 0; sm->runs && i < n; i++) stats_free(&sm->runs[i]);
+    free(sm->runs);
+    free(sm->col);
+    memset(sm, 0, sizeof *sm);
+}
+
+static int summary_read(const sweep *sw, summary *sm, char **msg)
+{
+    memset(sm, 0, sizeof *sm);
+    if (!(sm->runs = calloc(sw->n ? sw->n : 1, sizeof *sm->runs))) return -1;
+    size_t cap = 0;
+    for (size_t i = 0; i < sw->n; i++) {
+        char *path = result_path(&sw->items[i]);
+        if (!path) continue;
+        int rc = stats_read(path, &sm->runs[i]);
+        if (rc != 0) *msg = text_printf("cannot read %s: %s", path, strerror(errno));
+        free(path);
+        if (rc != 0) return -1;
+        for (size_t k = 0; k < sm->runs[i].n; k++) {
+            const char *name = sm->runs[i].name[k];
+            size_t c = 0;
+            while (c < sm->n_cols && strcmp(sm->col[c], name) != 0) c++;
+            if (c < sm->n_cols) continue;
+            if (sm->n_cols == cap) {
+                cap = cap ? 2 * cap : 32;
+                const char **grown = realloc(sm->col, cap * sizeof *grown);
+                if (!grown) return -1;
+                sm->col = grown;
+            }
+            sm->col[sm->n_cols++] = name;
+        }
+    }
+    return 0;
+}
+
+static const char *summary_value(const summary *sm, size_t i, const char *col)
+{
+    const run_stats *st = &sm->runs[i];
+    for (size_t k = 0; k < st->n; k++)
+        if (strcmp(st->name[k], col) == 0) return st->value[k];
+    return "nan";
+}
+
+/* DIR/runs.tsv: each run, its swept values, how it ended, the statistics
+ * of its granules.tsv (granules.partial.tsv for a run that ended early;
+ * nan for one that did not run) and the message of a run without rows.
+ * The column names on the first line, as in granules.tsv. */
 static int write_runs_tsv(sweep *sw)
 {
     const scene_config *cfg = sw->cfg;
     char *msg = NULL;
+    summary sm;
+    if (summary_read(sw, &sm, &msg) != 0) {
+        summary_free(&sm, sw->n);
+        goto fail;
+    }
     out_file *f = out_open(cfg->output.dir, "runs.tsv", &msg);
-    if (!f) goto fail;
+    if (!f) {
+        summary_free(&sm, sw->n);
+        goto fail;
+    }
+    fputs("run\t", f->fp);
+    for (size_t k = 0; k < cfg->runs.n_swept; k++) fprintf(f->fp, "%s\t", scene_swept_name(cfg, k));
+    fputs("status", f->fp);
+    for (size_t c = 0; c < sm.n_cols; c++) fprintf(f->fp, "\t%s", sm.col[c]);
+    fputs("\tmessage\n", f->fp);
     fprintf(f->fp, "# taper %s runs of the sweep over ", taper_version());
     write_lead_header(cfg, f->fp);
     fputs(": status complete, untrusted (granules.tsv says why), partial "
-          "(granules.partial.tsv), refused (the library refused the point), failed\nrun\t",
-          f->fp);
-    for (size_t k = 0; k < cfg->runs.n_swept; k++) fprintf(f->fp, "%s\t", scene_swept_name(cfg, k));
-    fputs("status\tmessage\n", f->fp);
+          "(granules.partial.tsv), refused (the library refused the point), failed; then the "
+          "statistics of each run's granules.tsv header (granules.partial.tsv for a partial "
+          "run, nan for a run without a result: docs/scene.md, \"Result files\"), and the "
+          "message of a run without rows\n", f->fp);
     for (size_t i = 0; i < sw->n; i++) {
         const sweep_item *it = &sw->items[i];
         fprintf(f->fp, "%s\t", it->name);
         for (size_t k = 0; k < cfg->runs.n_swept; k++) out_cell(f->fp, scene_swept_value(cfg, i, k), 0);
+        fputs(status_name(it->outcome.rc), f->fp);
+        for (size_t c = 0; c < sm.n_cols; c++) fprintf(f->fp, "\t%s", summary_value(&sm, i, sm.col[c]));
         /* Runs with rows: no message (an untrusted one's granules.tsv says why),
          * so that runs.tsv is the same whether a run was reused or not. */
         char *why = sweep_has_rows(it->outcome.rc) ? text_dup("") : first_line(sw, it);
-        fprintf(f->fp, "%s\t%s\n", status_name(it->outcome.rc), why ? why : "");
+        fprintf(f->fp, "\t%s\n", why ? why : "");
         free(why);
     }
+    summary_free(&sm, sw->n);
     if (out_commit(f, &msg) != 0) goto fail;
     printf("! wrote %s/runs.tsv\n", cfg->output.dir);
     return RUN_COMPLETE;
 fail:
-    fprintf(stderr, "%s: %s\n", scene_path(sw->sc), msg ? msg : "out of memory");
-    free(msg);
-    return RUN_FAILED;
+    return report_failure(sw, msg);
 }
 
 /* Fits, table and figure from the runs' data (failed runs: no data). */
@@ -338,11 +525,49 @@ static int write_reports(sweep *sw)
     return rc;
 }
 
+/* Every file the sweep's files are built from passes its footer
+ * (results/footer.h) before any is written: a run's result cut or changed
+ * after it was computed is refused, naming the file, never summarised.
+ * RUN_COMPLETE, or RUN_FAILED after printing why. */
+static int verify_runs(const sweep *sw, int reports)
+{
+    int rc = RUN_COMPLETE;
+    for (size_t i = 0; i < sw->n; i++) {
+        const sweep_item *it = &sw->items[i];
+        char *paths[2] = {result_path(it), NULL};
+        if (reports && sweep_has_rows(it->outcome.rc)) {
+            paths[1] = text_printf("%s/report.tsv", it->dir);
+            struct stat st;
+            if (paths[1] && stat(paths[1], &st) != 0) {
+                free(paths[1]);
+                paths[1] = NULL;
+            }
+        }
+        for (int k = 0; k < 2; k++) {
+            char *msg = NULL;
+            if (paths[k] && footer_verify(paths[k], NULL, &msg) != 0) {
+                fprintf(stderr, "%s: %s: run %s's result is refused; remove %s and run the sweep "
+                        "again to compute it anew\n", scene_path(sw->sc), msg ? msg : "out of memory",
+                        it->name, it->dir);
+                rc = RUN_FAILED;
+            }
+            free(msg);
+            free(paths[k]);
+        }
+    }
+    if (rc != RUN_COMPLETE)
+        fprintf(stderr, "%s: no sweep.tsv, runs.tsv or reports written: they would summarise "
+                "results that are not those the runs wrote\n", scene_path(sw->sc));
+    return rc;
+}
+
 int sweep_write_results(sweep *sw)
 {
     const scene_config *cfg = sw->cfg;
     int reports = cfg->runs.fit || cfg->runs.table || cfg->runs.figure;
-    int rc = write_sweep_tsv(sw);
+    int rc = verify_runs(sw, reports);
+    if (rc != RUN_COMPLETE) return rc;
+    rc = write_sweep_tsv(sw);
     if (rc == RUN_COMPLETE) rc = write_runs_tsv(sw);
     if (rc == RUN_COMPLETE && reports) rc = write_reports(sw);
     return rc;

@@ -5,10 +5,12 @@
  */
 #include "run/sweep_resume.h"
 
+#include "results/footer.h"
 #include "results/output.h"
 #include "run/outdir.h"
 #include "util/text.h"
 
+#include <inttypes.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,7 +30,7 @@ static uint64_t fnv1a(const char *s, size_t n, uint64_t h)
     return h;
 }
 
-/* The text scene.hash holds for run i: taper's version, the run, and the
+/* The first lines of run i's scene.hash: taper's version, the run, and the
  * hash of what its granules.tsv echoes (scene path, resolved scene at the
  * point). */
 static char *stamp_text(const sweep *sw, size_t i)
@@ -49,24 +51,56 @@ static char *stamp_text(const sweep *sw, size_t i)
                        (unsigned long long)h);
 }
 
+/* The result files of a run that scene.hash vouches for, each by its
+ * footer (results/footer.h): a file cut, changed or copied from another
+ * run after the stamp no longer matches it.  granules.tsv always; the
+ * others when the run wrote them. */
+static const char *const stamped[] = {"granules.tsv", "report.tsv", "sensors.tsv", "walls.tsv",
+                                      "spacetime.tsv"};
+
+/* The lines naming run dir's files ("granules.tsv rows 200 crc32 1a2b3c4d"),
+ * each file verified against its footer first (malloc'd).  NULL with *why
+ * (malloc'd; NULL: out of memory) when one fails or granules.tsv is
+ * missing. */
+static char *files_text(const char *dir, char **why)
+{
+    *why = NULL;
+    char *text = text_dup("");
+    for (size_t k = 0; text && k < sizeof stamped / sizeof stamped[0]; k++) {
+        char *path = text_printf("%s/%s", dir, stamped[k]);
+        if (!path) {
+            free(text);
+            return NULL;
+        }
+        struct stat st;
+        if (k > 0 && stat(path, &st) != 0) { /* not written by this run */
+            free(path);
+            continue;
+        }
+        footer_info f;
+        if (footer_verify(path, &f, why) != 0) {
+            free(path);
+            free(text);
+            return NULL;
+        }
+        free(path);
+        char *more = text_printf("%s%s rows %" PRIu64 " crc32 %08" PRIx32 "\n", text, stamped[k],
+                                 f.rows, f.crc);
+        free(text);
+        text = more;
+    }
+    return text;
+}
+
 static char *read_small_file(const char *path)
 {
     FILE *fp = fopen(path, "rb");
     if (!fp) return NULL;
-    char buf[1024];
+    char buf[4096];
     size_t n = fread(buf, 1, sizeof buf - 1, fp);
     fclose(fp);
     buf[n] = '\0';
     return text_dup(buf);
-}
-
-static int file_exists(const char *dir, const char *name)
-{
-    char *p = text_printf("%s/%s", dir, name);
-    struct stat st;
-    int ok = p && stat(p, &st) == 0 && S_ISREG(st.st_mode);
-    free(p);
-    return ok;
 }
 
 /* 1: DIR/granules.tsv says "# UNTRUSTED: ..." in its comment block. */
@@ -88,16 +122,31 @@ static int untrusted_file(const char *dir)
     return found;
 }
 
-/* 1: run i's complete result is on disk, made from this scene. */
+/* 1: run i's complete result is on disk, made from this scene, every file
+ * as the run wrote it.  A result whose stamp matches but whose files do
+ * not (cut, changed, another run's copied in) is said on stdout and
+ * computed again. */
 static int reusable(const sweep *sw, size_t i)
 {
     const sweep_item *it = &sw->items[i];
-    if (!file_exists(it->dir, "granules.tsv")) return 0;
     char *path = text_printf("%s/scene.hash", it->dir);
     char *have = path ? read_small_file(path) : NULL;
     char *want = stamp_text(sw, i);
-    int ok = have && want && strcmp(have, want) == 0;
     free(path);
+    int ok = have && want && strncmp(have, want, strlen(want)) == 0;
+    if (ok) {
+        char *why = NULL, *files = files_text(it->dir, &why);
+        char *whole = files ? text_printf("%s%s", want, files) : NULL;
+        ok = whole && strcmp(have, whole) == 0;
+        if (!ok && files)
+            why = text_printf("%s: its result files are not those its scene.hash vouches for "
+                              "(changed or copied in after the run)", it->dir);
+        if (!ok)
+            printf("! run %s: %s: computed again\n", it->name, why ? why : "out of memory");
+        free(why);
+        free(files);
+        free(whole);
+    }
     free(have);
     free(want);
     return ok;
@@ -105,14 +154,17 @@ static int reusable(const sweep *sw, size_t i)
 
 static int write_stamp(const sweep *sw, size_t i, char **msg)
 {
-    char *text = stamp_text(sw, i);
-    if (!text) {
-        *msg = text_printf("%s/scene.hash: out of memory", sw->items[i].dir);
+    char *why = NULL;
+    char *head = stamp_text(sw, i), *files = head ? files_text(sw->items[i].dir, &why) : NULL;
+    if (!files) {
+        *msg = why ? why : text_printf("%s/scene.hash: out of memory", sw->items[i].dir);
+        free(head);
         return -1;
     }
     out_file *f = out_open(sw->items[i].dir, "scene.hash", msg);
-    if (f) fputs(text, f->fp);
-    free(text);
+    if (f) fprintf(f->fp, "%s%s", head, files);
+    free(head);
+    free(files);
     return f ? out_commit(f, msg) : -1;
 }
 
@@ -136,8 +188,9 @@ void sweep_compute(sweep *sw, size_t i, run_outcome *o)
     free(stamp);
     run_point(sw->sc, i, it->dir, it->name, o);
     if (sweep_has_rows(o->rc) && write_stamp(sw, i, &msg) != 0) {
+        /* without its stamp the run is done again on resume */
         append_log(o, scene_path(sw->sc), msg ? msg : "out of memory");
-        o->rc = RUN_FAILED;
+        o->rc = out_was_stopped(msg) ? RUN_PARTIAL : RUN_FAILED;
     }
     free(msg);
 }
@@ -155,12 +208,14 @@ static int is_run_of(const char *name, const void *data)
 
 int sweep_remove_others(sweep *sw) { return outdir_clean(sw->sc, is_run_of, sw); }
 
-void sweep_find_reusable(sweep *sw)
+size_t sweep_find_reusable(sweep *sw)
 {
+    size_t removed = 0;
     for (size_t i = 0; i < sw->n; i++) {
         const sweep_item *it = &sw->items[i];
         if (it->state != SWEEP_TODO) continue; /* another part's */
-        outdir_remove_temporaries(it->dir);
+        removed += outdir_remove_temporaries(it->dir);
         if (reusable(sw, i)) sweep_reuse(sw, i, untrusted_file(it->dir) ? RUN_UNTRUSTED : RUN_COMPLETE);
     }
+    return removed;
 }

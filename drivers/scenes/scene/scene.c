@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * scene.c -- the table of scene variables, the scene object (typed values
- * and where they came from), diagnostics, and typed access to a row's
- * field.
+ * and where they came from), and typed access to a row's field.  What is
+ * said about a scene (errors, "did you mean") is scene_diag.c's.
  *
  * The table is the only place a variable is declared: one row per setting
  * of the library's table of settings (taper_setting_at: name, group, type,
@@ -631,23 +631,6 @@ int scene_var_keyword(const char *keyword)
     return -1;
 }
 
-/* The names of the rows that match `group` (NULL: every row's keyword),
- * for taper_nearest_name: "did you mean", the same for a file, the command
- * line and the Python package. */
-static const char *nearest(const char *group, const char *name)
-{
-    const char *names[N_OWN + SCENE_MAX_SETTINGS];
-    size_t n = 0;
-    for (size_t i = 0; i < scene_var_count(); i++) {
-        if (!group) names[n++] = table[i].keyword;
-        else if (strcasecmp(table[i].group, group) == 0) names[n++] = table[i].name;
-    }
-    return taper_nearest_name(name, names, n);
-}
-
-const char *scene_nearest_key(const char *group, const char *key) { return nearest(group, key); }
-const char *scene_nearest_keyword(const char *keyword) { return nearest(NULL, keyword); }
-
 /* The library checks its settings by their names (taper_error.field); the
  * chain's and the solver's are one table, so either spec's refusal finds
  * its row (taper_sim_alloc checks the chain with the solver). */
@@ -885,102 +868,6 @@ void scene_format_real(double x, char buf[SCENE_REAL_TEXT])
     snprintf(buf, size, "%.*g", prec, x);
 }
 
-/* ---- diagnostics -------------------------------------------------------------- */
-
-/* src with every byte that is not printable ASCII (control bytes, UTF-8,
- * Latin-1, ...) shown as \xNN, so that a message says exactly which bytes
- * the file has.  malloc'd. */
-static char *escaped(const char *src)
-{
-    size_t n = 0;
-    for (const unsigned char *c = (const unsigned char *)src; *c; c++)
-        n += (*c >= 0x20 && *c < 0x7f) ? 1 : 4;
-    char *dst = malloc(n + 1), *o = dst;
-    if (!dst) return NULL;
-    for (const unsigned char *c = (const unsigned char *)src; *c; c++) {
-        if (*c >= 0x20 && *c < 0x7f)
-            *o++ = (char)*c;
-        else
-            o += sprintf(o, "\\x%02x", *c);
-    }
-    *o = '\0';
-    return dst;
-}
-
-static void record(scene *sc, int line, const char *group, const char *key, const char *raw)
-{
-    sc->n_errors++;
-    if (sc->n_diags >= SCENE_MAX_DIAGS) return;
-    if (!sc->diags && !(sc->diags = calloc(SCENE_MAX_DIAGS, sizeof *sc->diags))) return;
-    scene_diag d = {.line = line};
-    d.group = escaped(group ? group : "");
-    d.key = escaped(key ? key : "");
-    d.message = escaped(raw ? raw : "out of memory");
-    if (!d.group || !d.key || !d.message) {
-        free(d.group);
-        free(d.key);
-        free(d.message);
-        return; /* counted in n_errors: the caller still fails */
-    }
-    sc->diags[sc->n_diags++] = d;
-}
-
-void scene_error(scene *sc, int line, const char *group, const char *key, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    char *raw = text_vprintf(fmt, ap);
-    va_end(ap);
-    record(sc, line, group, key, raw);
-    free(raw);
-}
-
-/* The line to name for row i: its key's, or for a value the file left
- * out, the line its group opens (where the user would add it). */
-static int var_line(const scene *sc, size_t i)
-{
-    if (sc->origin[i].given) return sc->origin[i].line;
-    int g = scene_group_index(table[i].group);
-    return g < 0 ? 0 : sc->group_line[g];
-}
-
-void scene_var_error(scene *sc, size_t i, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    char *raw = text_vprintf(fmt, ap);
-    va_end(ap);
-    record(sc, var_line(sc, i), table[i].group, table[i].name, raw);
-    free(raw);
-}
-
-size_t scene_error_count(const scene *sc) { return sc->n_errors; }
-size_t scene_diag_count(const scene *sc) { return sc->n_diags; }
-const scene_diag *scene_diag_at(const scene *sc, size_t i)
-{
-    return i < sc->n_diags ? &sc->diags[i] : NULL;
-}
-
-static void print_diag(const char *path, int line, const char *group, const char *key,
-                       const char *message, FILE *fp)
-{
-    fprintf(fp, "%s:", path);
-    if (line > 0) fprintf(fp, "%d:", line);
-    if (group[0]) fprintf(fp, " &%s", group);
-    if (key[0]) fprintf(fp, " %s", key);
-    fprintf(fp, "%s %s\n", group[0] || key[0] ? ":" : "", message);
-}
-
-void scene_print_diags(const scene *sc, FILE *fp)
-{
-    for (size_t i = 0; i < sc->n_diags; i++) {
-        const scene_diag *d = &sc->diags[i];
-        print_diag(sc->path, d->line, d->group, d->key, d->message, fp);
-    }
-    if (sc->n_errors > sc->n_diags)
-        fprintf(fp, "%s: %zu more errors not shown\n", sc->path, sc->n_errors - sc->n_diags);
-}
-
 int scene_line(const scene *sc, size_t offset)
 {
     for (size_t i = 0; i < scene_var_count(); i++)
@@ -1010,35 +897,4 @@ int scene_line_of(const scene *sc, const char *keyword)
 {
     int i = scene_var_keyword(keyword);
     return i < 0 ? 0 : sc->origin[i].line;
-}
-
-/* The row a library error is reported against: n_granules resolved from
- * the radii is the radii's fault. */
-int scene_error_row(const scene *sc, scene_lib lib, const char *field)
-{
-    int i = scene_var_of_field(lib, field);
-    int from_file = sc->cfg.chain.file_radii.n > 0;
-    if (i >= 0 && sc->n_from_radii && strcmp(table[i].keyword, "n_granules") == 0)
-        i = scene_var_keyword(from_file ? "radii_file" : "radii");
-    /* The radii of a file are the file's. */
-    if (i >= 0 && from_file && strcmp(table[i].keyword, "radii") == 0)
-        i = scene_var_keyword("radii_file");
-    return i;
-}
-
-void scene_print_library_error(const scene *sc, scene_lib lib, const taper_error *err, FILE *fp)
-{
-    int i = scene_error_row(sc, lib, err->field);
-    if (i < 0)
-        fprintf(fp, "%s: %s\n", sc->path, err->message);
-    else
-        print_diag(sc->path, var_line(sc, (size_t)i), table[i].group, table[i].name, err->message,
-                   fp);
-}
-
-void scene_print_output_error(const scene *sc, const char *message, FILE *fp)
-{
-    int i = scene_var_find("output", "dir");
-    int line = sc->origin[i].line;
-    print_diag(sc->path, line, "output", "dir", message, fp);
 }

@@ -419,7 +419,7 @@ typedef struct scene_value {
 /* Sets the variable named `keyword` (its one name: scene_var_keyword_at)
  * to n values, checked by type as a file's are (several values: a list, or
  * a sweep of a sweepable variable), in place of its current value, as
- * --set does.  A list of reals is not held to the file's SCENE_MAX_LIST.
+ * --set does, lists held to a file's limit (docs/scene.md, "Limits").
  * Returns the number of errors (recorded as diagnostics; line 0). */
 size_t scene_set_values(scene *sc, const char *keyword, const scene_value *values, size_t n);
 /* The program keeps every sample itself (the Python package's
@@ -548,6 +548,8 @@ int scene_var_keyword(const char *keyword);
  * none is that near. */
 const char *scene_nearest_key(const char *group, const char *key);
 const char *scene_nearest_keyword(const char *keyword);
+/* The group nearest to an unknown one (without its '&'), or NULL. */
+const char *scene_nearest_group(const char *group);
 int scene_var_takes_list(size_t i); /* 1: a list of values sweeps it (s, q,
                                      exponent, n_granules, rtol, ...)         */
 /* A choice's allowed names, NULL-terminated, in the order of their values;

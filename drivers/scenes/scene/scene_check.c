@@ -74,6 +74,27 @@ static void check_unused(scene *sc)
                         "profile");
 }
 
+/* A tapered profile needs its tapering given: left out, it would run the
+ * monodisperse chain (s = q = 0, the library's default and the limit of
+ * the taper) under another name.  s = 0 or q = 0 given (a sweep's
+ * baseline) is that limit, meant. */
+static void check_taper_given(scene *sc)
+{
+    taper_profile p = SCENE_PROFILE(&sc->cfg);
+    int linear = p == TAPER_BACKWARD_LINEAR || p == TAPER_FORWARD_LINEAR;
+    if (!linear && !is_exponential(p)) return;
+    const char *key = linear ? "s" : "q";
+    int r = scene_var_keyword(key);
+    if (r < 0 || sc->origin[r].given) return;
+    scene_var_error(sc, (size_t)r,
+                    linear ? "profile = '%s' needs its tapering s (R_k = 1 %s s (k-1)): give s "
+                             "(s = 0 is the monodisperse chain, the limit of the taper)"
+                           : "profile = '%s' needs its tapering q (R_k = (1 %s q)^(1-k)): give q "
+                             "(q = 0 is the monodisperse chain, the limit of the taper)",
+                    taper_profile_name(p),
+                    p == TAPER_BACKWARD_LINEAR || p == TAPER_FORWARD_EXPONENTIAL ? "+" : "-");
+}
+
 /* A custom chain may leave n_granules out: N is the number of radii. */
 static void resolve_custom(scene *sc)
 {
@@ -226,6 +247,13 @@ static void check_optional(scene *sc)
     }
     if (cfg->runs.figure) {
         check_window(sc, "figure", "k_max", cfg->figure.k_max);
+        /* Curves of the dynamics without the dynamics: a figure with no
+         * data, which gnuplot refuses after the runs (issue 36, item 6). */
+        if (cfg->figure.curves == SCENE_CURVES_NUMERICS && !cfg->solver.numerics)
+            scene_var_error(sc, (size_t)row("figure", "curves"),
+                            "curves = 'numerics' draws the dynamics, and &solver numerics = "
+                            ".false.: draw curves = 'theory' (or 'both'), or turn the numerics "
+                            "on");
         if (cfg->figure.inset && !cfg->runs.fit)
             scene_var_error(sc, (size_t)row("figure", "inset"),
                             "the inset shows the fit: give &fit model (and x, y, window)");
@@ -252,6 +280,7 @@ size_t scene_validate(scene *sc)
     /* The library checks its settings one by one, then their relations;
      * the scene's own relations assume values the library accepted. */
     scene_check_library(sc);
+    if (sc->n_errors == before) check_taper_given(sc);
     if (sc->n_errors == before) check_optional(sc);
     if (sc->n_errors == before) scene_check_fit_library(sc);
     return sc->n_errors - before;

@@ -124,6 +124,9 @@ void scene_error(scene *sc, int line, const char *group, const char *key, const 
 /* Records an error against table row i, at the line its value came from
  * (or, for a value the file left out, the line its group opens). */
 void scene_var_error(scene *sc, size_t i, const char *fmt, ...) SCENE_PRINTF(3, 4);
+/* Records "unknown group" for &group at line, with every group and the
+ * nearest one ("did you mean &sensors?"). */
+void scene_unknown_group(scene *sc, int line, const char *group);
 
 /* ---- typed access to a row's field --------------------------------------- */
 void *scene_field(scene_config *cfg, const scene_var *var);

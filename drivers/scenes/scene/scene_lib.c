@@ -301,14 +301,14 @@ static void out_of_memory(scene *sc)
     scene_error(sc, 0, NULL, NULL, "out of memory");
 }
 
-/* Sweeps of several variables whose every run breaks the relations are an
- * error of the scene, refused before any run: the runs are
- * walked until one satisfies them, at most this many (a grid this large
- * whose first runs all break the relations is refused too). */
+/* Sweeps whose every run breaks the relations are an error of the scene,
+ * refused before any run: the runs are walked until one satisfies them,
+ * at most this many (a grid this large whose first runs all break the
+ * relations is refused too). */
 #define RELATION_SCAN_MAX 100000
 
-/* A grid of several swept variables: does some run satisfy the relations?
- * If not, the first run's refusal becomes the scene's error. */
+/* A sweep: does some run satisfy the relations?  If not, the first run's
+ * refusal becomes the scene's error. */
 static void check_some_run_holds(scene *sc)
 {
     const scene_config *cfg = &sc->cfg;
@@ -337,13 +337,14 @@ static void check_some_run_holds(scene *sc)
 }
 
 /* The chain at every run of the sweep: every setting once, then each
- * other value of each swept variable through its setter.  With one swept
- * variable (or none) the relations between the settings
- * (taper_chain_spec_check) are checked at every point: a value that breaks
- * them is an error of the scene.  In a sweep of several variables some
- * combinations may break them while others run: those runs fail alone
- * (the chain's allocation checks them) and the sweep marks them; but a
- * grid where no run holds is refused (check_some_run_holds). */
+ * other value of each swept variable through its setter (a value out of
+ * its own range is an error of the scene).  Without a sweep the relations
+ * between the settings (taper_chain_spec_check) are checked too: a value
+ * that breaks them is an error of the scene.  In a sweep, of one variable
+ * or several, some points may break them while others run: those runs fail
+ * alone (the chain's allocation checks them, status 5, runs.tsv says why)
+ * and the others go on; but a sweep where no run holds is refused
+ * (check_some_run_holds). */
 static void check_chain(scene *sc)
 {
     const scene_config *cfg = &sc->cfg;
@@ -354,7 +355,7 @@ static void check_chain(scene *sc)
     }
     sink k = {.sc = sc, .lib = SCENE_LIB_CHAIN};
     taper_error e;
-    int relations = cfg->runs.n_swept <= 1;
+    int relations = cfg->runs.n_swept == 0;
     apply_chain(&k, cfg, 0, spec);
     if (k.status == TAPER_OK && relations) note(&k, taper_chain_spec_check(spec, &e), &e);
     /* The other values of a sweep, once the rest of the chain is right. */

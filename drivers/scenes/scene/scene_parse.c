@@ -37,8 +37,6 @@ typedef struct parser {
     token next;             /* one token of look-ahead                       */
     int failed;
     size_t list_values;     /* values in lists of more than one value so far */
-    int typed;              /* scene_set_values: values from a program, not a
-                               file (a list is not held to the file's limit) */
 } parser;
 
 /* ---- screening ----------------------------------------------------------- */
@@ -346,14 +344,18 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
                     "&solver: s, q, exponent, n_granules, rtol, ...)", n);
         return -1;
     }
-    if (n > 1 && !(p->typed && var->type == SCENE_REAL_LIST)) {
+    if (n > 1) {
         /* The echo repeats every value: all lists together are bounded so
-         * that it fits the file limit (scene.c).  A program's list of radii
-         * is held to the library's limit only. */
+         * that it fits the file limit (scene.c).  One limit for a file, the
+         * command line and a program (the Python package), whose scene is
+         * echoed alike; a chain of more custom radii reads them from a
+         * radii_file, which the echo names. */
         if (n > SCENE_MAX_LIST - p->list_values) {
             scene_error(p->sc, line, var->group, var->name,
                         "%zu values here and %zu in other lists: a scene's lists hold at most "
-                        "%d values in all", n, p->list_values, SCENE_MAX_LIST);
+                        "%d values in all%s", n, p->list_values, SCENE_MAX_LIST,
+                        strcmp(var->keyword, "radii") == 0
+                            ? " (a longer custom chain: its radii in a radii_file)" : "");
             return -1;
         }
         p->list_values += n;
@@ -599,9 +601,7 @@ static int parse_group(parser *p)
     copy_name(&p->tok, group, sizeof group);
     int gi = p->tok.len < sizeof group ? scene_group_index(group) : -1;
     if (gi < 0) {
-        scene_error(p->sc, line, tok_text(&p->tok, buf, sizeof buf), NULL,
-                    "unknown group (groups: &chain, &solver, &output, &fit, &table, "
-                    "&figure, &sweep)");
+        scene_unknown_group(p->sc, line, tok_text(&p->tok, buf, sizeof buf));
         return -1;
     }
     if (p->sc->group_line[gi]) {
@@ -719,10 +719,13 @@ size_t scene_set(scene *sc, const char *assignment)
     if (!group || !key || !text || !tmp) {
         scene_error(sc, 0, NULL, NULL, "out of memory");
     } else if (vi < 0) {
-        const char *close = scene_group_index(group) >= 0 ? scene_nearest_key(group, key) : NULL;
+        /* the nearest group when the group is unknown, then its key */
+        const char *in = scene_group_index(group) >= 0 ? group : scene_nearest_group(group);
+        const char *close = in ? scene_nearest_key(in, key) : NULL;
         if (close)
-            scene_error(sc, 0, group, key, "--set %s: unknown key: did you mean %s.%s? (taper "
-                        "--defaults lists them)", assignment, group, close);
+            scene_error(sc, 0, group, key, "--set %s: unknown %s: did you mean %s.%s? (taper "
+                        "--defaults lists them)", assignment, in == group ? "key" : "group", in,
+                        close);
         else
             scene_error(sc, 0, group, key, "--set %s: no such variable (taper --defaults lists "
                         "them)", assignment);
@@ -820,7 +823,7 @@ size_t scene_set_values(scene *sc, const char *keyword, const scene_value *value
             free(el);
             return sc->n_errors - before;
         }
-    parser p = {.sc = sc, .typed = 1};
+    parser p = {.sc = sc};
     assign(&p, vi, el, n, 0);
     free(el);
     return sc->n_errors - before;

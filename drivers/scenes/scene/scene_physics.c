@@ -101,6 +101,14 @@ static void read_radii_file(scene *sc)
                             path, lineno, SCENE_MAX_LINE);
             break;
         }
+        /* A NUL byte would end the line for strtod and cut it silently
+         * ("1.5\0junk" read as 1.5): a binary file, or a corrupted one. */
+        if (memchr(line, '\0', (size_t)len)) {
+            scene_var_error(sc, r, "%s:%d: a NUL byte (byte %zu of the line): a text file of "
+                            "radii has none", path, lineno,
+                            (size_t)((char *)memchr(line, '\0', (size_t)len) - line) + 1);
+            break;
+        }
         if (c->file_radii.n == TAPER_N_GRANULES_MAX) {
             scene_var_error(sc, r, "%s:%d: more than %d radii (a chain has at most that many "
                             "granules)", path, lineno, TAPER_N_GRANULES_MAX);

@@ -31,10 +31,33 @@
 #define LOW_17 10000000000000000ULL   /* 10^16: the smallest 17-digit integer */
 #define HIGH_17 100000000000000000ULL /* 10^17 */
 
-/* %g's text with the fewest digits that reads back: the slow path. */
+/* %g's text with the fewest digits that reads back: the slow path.  A
+ * precision that reads back makes every higher one read back too wherever
+ * the rounding interval is symmetric about x (each added digit brings the
+ * nearest decimal no farther from x), so the least one is found by
+ * bisection, four or five printf and strtod instead of up to seventeen
+ * (sensors.tsv, whose forces and small displacements lie below 1e-4, was
+ * written at 14 MB/s).  At a power of two the interval's lower half is
+ * half as wide, a closer decimal may fall outside it: there, and for zero,
+ * NaN and the infinities, the precisions are tried in turn. */
 static int shortest_printf(char buf[NUMBER_SIZE], double x)
 {
     int len = 0;
+    const double a = fabs(x);
+    uint64_t bits;
+    memcpy(&bits, &a, sizeof bits);
+    if (isfinite(x) && a > 0.0 && (bits & ((1ULL << 52) - 1)) != 0) {
+        int lo = 1, hi = DIGITS; /* DIGITS always reads back */
+        while (lo < hi) {
+            const int mid = (lo + hi) / 2;
+            snprintf(buf, NUMBER_SIZE, "%.*g", mid, x);
+            if (strtod(buf, NULL) == x)
+                hi = mid;
+            else
+                lo = mid + 1;
+        }
+        return snprintf(buf, NUMBER_SIZE, "%.*g", lo, x);
+    }
     for (int prec = 1; prec <= DIGITS; prec++) {
         len = snprintf(buf, NUMBER_SIZE, "%.*g", prec, x);
         if (!isfinite(x) || strtod(buf, NULL) == x) break;

@@ -29,8 +29,8 @@ def pytest_addoption(parser):
 def pytest_configure(config):
     config.addinivalue_line(
         "markers", "slow: the long tests (share/wheel.sh and its wheel in a fresh venv, the "
-        "examples drawing their figures, chains in threads against serial runs); meson test runs "
-        "them in python_slow, suite 'slow'")
+        "examples drawing their figures, chains in threads against serial runs, SIGINT in every "
+        "phase of a call); meson test runs them in python_slow, suite 'slow'")
 
 
 @pytest.fixture(scope="session")
