@@ -28,18 +28,20 @@ COLUMNS_WANTED=$(printf 'k\tR\tm\tX0\tt_pass\tT_res\tv_peak\tt_peak\tX_pass\tthe
 COLUMNS_THEORY=$(printf 'k\tR\tm\tX0\ttheory_v\ttheory_T\ttheory_t')
 
 # check_table FILE N NUMERICS: the header as the first line (the contract
-# columns; without numerics, F, only those of the chain and the theory), N
+# columns, each with its unit in brackets in SI, R[m]; without numerics, F,
+# only those of the chain and the theory), N
 # rows with as many fields, k = 1..N, R and theory_v numeric; with numerics,
 # T, t_pass numeric but nan on the last row (P: a partial run, t_pass not
 # checked).
 check_table() {
     file=$1 n=$2 numerics=$3
-    header=$(head -n 1 "$file")
+    header=$(head -n 1 "$file" | sed 's/\[[^]]*\]//g')
     if [ "$numerics" = F ]; then want=$COLUMNS_THEORY; else want=$COLUMNS_WANTED; fi
     [ "$header" = "$want" ] || fail "$file: first line is '$header'"
     grep -q '^# taper [0-9]' "$file" || fail "$file: no version comment"
     awk -F '\t' -v n="$n" -v numerics="$numerics" -v file="$file" '
-        NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; fields = NF; next }
+        NR == 1 { for (i = 1; i <= NF; i++) { name = $i; sub(/\[.*\]$/, "", name); col[name] = i }
+                  fields = NF; next }
         /^#/ { next }
         {
             rows++
@@ -70,7 +72,7 @@ check_result_dir() {
     numerics=$(scene_numerics "$f")
     if [ "$numerics" = T ]; then
         for key in steps rhs_evals root_evals jac_evals energy_error momentum_error t_final; do
-            grep -q "^# $key = " "$f" || fail "$f: no $key statistic"
+            grep -q "^# $key\(\[[^]]*\]\)\{0,1\} = " "$f" || fail "$f: no $key statistic"
         done
     fi
     check_table "$f" "$(scene_n "$f")" "$numerics"

@@ -59,7 +59,7 @@ static PyObject *py_check(PyObject *self, PyObject *args, PyObject *kwargs)
 static PyObject *py_cite(PyObject *self, PyObject *args, PyObject *kwargs)
 {
     (void)self;
-    return pyscene_call(PYSCENE_CITE, args, kwargs);
+    return WITH_NUMPY(pyscene_call(PYSCENE_CITE, args, kwargs));
 }
 
 static PyObject *py_run_scene(PyObject *self, PyObject *arg)

@@ -4,6 +4,7 @@ works by what the run uses, and the refusals of simulate()."""
 
 import inspect
 import subprocess
+import sys
 
 import pytest
 
@@ -39,3 +40,12 @@ def test_cite_signature_and_refusals():
         taper.cite(n_granules=1)
     with pytest.raises(TypeError):
         taper.cite(dir="out")
+
+
+def test_cite_with_keywords_first_in_a_fresh_interpreter():
+    # The keywords' values may be numpy numbers: cite() imports numpy's C
+    # API as every scene call does, also when it is the first call.
+    code = "import sys, taper; sys.stdout.write(taper.cite(n_granules=31, damping=0.1))"
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == taper.cite(n_granules=31, damping=0.1)
