@@ -71,23 +71,52 @@ static sunindextype window_get_length(N_Vector v) { return (sunindextype)taper_w
 
 #define LOOP(v) for (size_t i = 0, n_ = taper_window_length(v); i < n_; i++)
 
-/* The predictor calls this q(q+1)/2 times per step with a = b = 1 and
- * z = x (zn[j-1] += zn[j]): that case gets its own loop. */
+/* ---- the kernels ------------------------------------------------------
+ * CVODE's Adams step is a few dozen operations on vectors of ~24 entries
+ * (a window of 12 granules): what the loops cost besides their arithmetic
+ * is what counts.  The operations CVODE calls at every step get kernels
+ * whose operands are declared apart (restrict), chosen by how the vectors
+ * alias, so that the compiler vectorises them without run-time overlap
+ * checks; the fused ones work column by column (below).  Every kernel
+ * evaluates the same expression, element by element, as the plain loop of
+ * the serial vector would (a x + b y with both products rounded, sums in
+ * the same order), so the results are bit for bit the same. */
+
+/* z = a x + b y */
+static void sum_apart(size_t n, double a, const double *restrict x, double b, const double *restrict y,
+                      double *restrict z)
+{
+    for (size_t i = 0; i < n; i++) z[i] = a * x[i] + b * y[i];
+}
+/* z = a z + b y */
+static void sum_into_x(size_t n, double a, double *restrict z, double b, const double *restrict y)
+{
+    for (size_t i = 0; i < n; i++) z[i] = a * z[i] + b * y[i];
+}
+/* z = a x + b z */
+static void sum_into_y(size_t n, double a, const double *restrict x, double b, double *restrict z)
+{
+    for (size_t i = 0; i < n; i++) z[i] = a * x[i] + b * z[i];
+}
+
+/* The fixed-point corrector calls this 3 times per iteration
+ * (y = zn[0] + ycor, res = h f - zn[1] in place, the change of the
+ * correction) and CVODE's step once more; the predictor's in-place sums
+ * are share/sundials/fused-predictor.patch's. */
 static void window_linear_sum(double a, N_Vector x, double b, N_Vector y, N_Vector z)
 {
     const size_t n = taper_window_length(z);
-    const double *yd = taper_window_data(y);
+    const double *xd = taper_window_data(x), *yd = taper_window_data(y);
     double *zd = taper_window_data(z);
-    if (a == 1.0 && x == z) {
-        if (b == 1.0) {
-            for (size_t i = 0; i < n; i++) zd[i] += yd[i];
-        } else {
-            for (size_t i = 0; i < n; i++) zd[i] += b * yd[i];
-        }
-        return;
+    if (x == z && y == z) {
+        for (size_t i = 0; i < n; i++) zd[i] = a * zd[i] + b * zd[i];
+    } else if (x == z) {
+        sum_into_x(n, a, zd, b, yd);
+    } else if (y == z) {
+        sum_into_y(n, a, xd, b, zd);
+    } else {
+        sum_apart(n, a, xd, b, yd, zd);
     }
-    const double *xd = taper_window_data(x);
-    for (size_t i = 0; i < n; i++) zd[i] = a * xd[i] + b * yd[i];
 }
 
 static void window_const(double c, N_Vector z)
@@ -110,11 +139,22 @@ static void window_div(N_Vector x, N_Vector y, N_Vector z)
     LOOP(z) zd[i] = xd[i] / yd[i];
 }
 
+static void scale_apart(size_t n, double c, const double *restrict x, double *restrict z)
+{
+    for (size_t i = 0; i < n; i++) z[i] = c * x[i];
+}
+
+/* Copies (c = 1: the fixed-point iteration's, twice per iteration) and
+ * CVODE's rescaling of the error estimate. */
 static void window_scale(double c, N_Vector x, N_Vector z)
 {
-    const double *xd = taper_window_data(x);
+    const size_t n = taper_window_length(z);
     double *zd = taper_window_data(z);
-    LOOP(z) zd[i] = c * xd[i];
+    if (x == z) {
+        for (size_t i = 0; i < n; i++) zd[i] = c * zd[i];
+    } else {
+        scale_apart(n, c, taper_window_data(x), zd);
+    }
 }
 
 static void window_abs(N_Vector x, N_Vector z)
@@ -237,11 +277,116 @@ static double window_min_quotient(N_Vector num, N_Vector denom)
     return m;
 }
 
-/* ---- fused operations used by CVODE's predictor and interpolation ---- */
+/* ---- fused operations: CVODE's interpolation and corrector -------------
+ * CVODE 6.4 calls three of SUNDIALS' fused and vector-array operations
+ * (N_VEnableFusedOps' set) on an Adams step: N_VLinearCombination in
+ * CVodeGetDky (y(t) = sum_j s^j zn[j], at every trial time of the root
+ * finder and at every root and output time), N_VScaleAddMulti in
+ * cvCompleteStep (zn[j] += l_j acor, j = 0..q, once per step; also on
+ * order changes) and N_VScaleVectorArray in cvRescale (zn[j] *= eta^j, on
+ * a step size change).  N_VDotProdMulti serves only Anderson acceleration
+ * (not used), the other array operations only CVODES and ARKODE.
+ *
+ * The first two work column by column: each element's q + 1 entries are
+ * combined in registers and stored once, instead of one pass over the
+ * vectors per column (which stores z and loads it again q times).  The
+ * number of vectors is a constant in each case of a switch, so that the
+ * compiler unrolls the column; with GCC or Clang two elements at a time in
+ * a pair of doubles (their vector extension: element-wise IEEE
+ * arithmetic, the same results).  Per element the products and sums are
+ * those of the pass-by-pass loops, in the same order: bit for bit the
+ * same results.  Reading every entry of an element before writing it, the
+ * column order is also right where z is one of the x_j. */
+#define COLUMNS_MAX 13 /* CVODE's q + 1 (Adams: q <= 12) */
+
+#if defined(__GNUC__)
+typedef double pair __attribute__((vector_size(2 * sizeof(double))));
+static inline pair pair_load(const double *p)
+{
+    pair v;
+    memcpy(&v, p, sizeof v);
+    return v;
+}
+static inline void pair_store(double *p, pair v) { memcpy(p, &v, sizeof v); }
+static inline pair pair_of(double c) { return (pair){c, c}; }
+#define COMBINATION_PAIRS(NV)                                                                 \
+    for (; i + 1 < n; i += 2) {                                                               \
+        pair s = cc[0] * pair_load(xs[0] + i);                                                \
+        for (int j = 1; j < (NV); j++) s += cc[j] * pair_load(xs[j] + i);                     \
+        pair_store(z + i, s);                                                                 \
+    }
+#define SCALE_ADD_PAIRS(NV)                                                                   \
+    for (; i + 1 < n; i += 2) {                                                               \
+        const pair xi = pair_load(x + i);                                                     \
+        for (int j = 0; j < (NV); j++) pair_store(zs[j] + i, cc[j] * xi + pair_load(ys[j] + i)); \
+    }
+#define PAIRS_OF(NV, c) pair cc[NV]; for (int j = 0; j < (NV); j++) cc[j] = pair_of(c[j]);
+#else
+#define COMBINATION_PAIRS(NV)
+#define SCALE_ADD_PAIRS(NV)
+#define PAIRS_OF(NV, c)
+#endif
+
+#define COLUMN_CASES(CASE)                                                                    \
+    CASE(1) CASE(2) CASE(3) CASE(4) CASE(5) CASE(6) CASE(7) CASE(8) CASE(9) CASE(10) CASE(11) \
+    CASE(12) CASE(13)
+
+/* z = sum_{j < nv} c_j x_j */
+static void combine_columns(int nv, const double *c, const double *const *xs, double *z, size_t n)
+{
+    size_t i = 0;
+    switch (nv) {
+#define COMBINATION_CASE(NV)                                                                  \
+    case NV: {                                                                                \
+        PAIRS_OF(NV, c)                                                                       \
+        COMBINATION_PAIRS(NV)                                                                 \
+        for (; i < n; i++) {                                                                  \
+            double s = c[0] * xs[0][i];                                                       \
+            for (int j = 1; j < (NV); j++) s += c[j] * xs[j][i];                              \
+            z[i] = s;                                                                         \
+        }                                                                                     \
+        return;                                                                               \
+    }
+        COLUMN_CASES(COMBINATION_CASE)
+#undef COMBINATION_CASE
+    default: break;
+    }
+}
+
+/* zs_j = c_j x + ys_j, j < nv (x none of the zs_j) */
+static void scale_add_columns(int nv, const double *c, const double *x, const double *const *ys,
+                              double *const *zs, size_t n)
+{
+    size_t i = 0;
+    switch (nv) {
+#define SCALE_ADD_CASE(NV)                                                                    \
+    case NV: {                                                                                \
+        PAIRS_OF(NV, c)                                                                       \
+        SCALE_ADD_PAIRS(NV)                                                                   \
+        for (; i < n; i++) {                                                                  \
+            const double xi = x[i];                                                           \
+            for (int j = 0; j < (NV); j++) zs[j][i] = c[j] * xi + ys[j][i];                   \
+        }                                                                                     \
+        return;                                                                               \
+    }
+        COLUMN_CASES(SCALE_ADD_CASE)
+#undef SCALE_ADD_CASE
+    default: break;
+    }
+}
+
 static int window_linear_combination(int nv, double *c, N_Vector *x, N_Vector z)
 {
     double *zd = taper_window_data(z);
-    size_t n = taper_window_length(z);
+    const size_t n = taper_window_length(z);
+    if (nv >= 1 && nv <= COLUMNS_MAX) {
+        const double *xs[COLUMNS_MAX];
+        for (int j = 0; j < nv; j++) xs[j] = taper_window_data(x[j]);
+        combine_columns(nv, c, xs, zd, n);
+        return 0;
+    }
+    /* more vectors than CVODE uses: pass by pass (z may be x[0], not
+     * another x[j]) */
     const double *x0 = taper_window_data(x[0]);
     for (size_t i = 0; i < n; i++) zd[i] = c[0] * x0[i];
     for (int j = 1; j < nv; j++) {
@@ -254,7 +399,21 @@ static int window_linear_combination(int nv, double *c, N_Vector *x, N_Vector z)
 static int window_scale_add_multi(int nv, double *a, N_Vector x, N_Vector *y, N_Vector *z)
 {
     const double *xd = taper_window_data(x);
-    size_t n = taper_window_length(x);
+    const size_t n = taper_window_length(x);
+    int apart = nv >= 1 && nv <= COLUMNS_MAX;
+    for (int j = 0; apart && j < nv; j++) apart = z[j] != x;
+    if (apart) {
+        const double *ys[COLUMNS_MAX];
+        double *zs[COLUMNS_MAX];
+        for (int j = 0; j < nv; j++) {
+            ys[j] = taper_window_data(y[j]);
+            zs[j] = taper_window_data(z[j]);
+        }
+        scale_add_columns(nv, a, xd, ys, zs, n);
+        return 0;
+    }
+    /* x is one of the z (then pass by pass: the later z see it changed,
+     * as in the serial vector), or more vectors than CVODE uses */
     for (int j = 0; j < nv; j++) {
         const double *yd = taper_window_data(y[j]);
         double *zd = taper_window_data(z[j]);
