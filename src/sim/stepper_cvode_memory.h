@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * stepper_cvode_memory.h -- the CVODE stepper's memory, shared by its files:
- * stepper_cvode.c (set-up, CVODE's callbacks, the stepper's operations)
- * and stepper_cvode_clock.c (CVODE's clock, and its roots located again on
- * its interpolant).  Private to them: the rest of the run sees a
+ * stepper_cvode.c (set-up, CVODE's callbacks, the stepper's operations),
+ * stepper_cvode_clock.c (CVODE's clock, and its roots located again on
+ * its interpolant) and stepper_cvode_corrector.c (the Adams corrector on
+ * the window).  Private to them: the rest of the run sees a
  * taper_stepper (stepper.h) and no SUNDIALS type.
  */
 #ifndef TAPER_STEPPER_CVODE_MEMORY_H
@@ -43,6 +44,9 @@ typedef struct cvode_stepper {
     double t_shift;
     double tn_seen;         /* CVODE's tn and step count when last tracked  */
     long nst_seen;
+    /* Right-hand sides the window's corrector evaluated since CVODE's last
+     * (re-)initialisation: CVODE's nfe does not count them. */
+    long corrector_rhs_evals;
 } cvode_stepper;
 
 /* Pointer to the entry at absolute index taper_dyn_begin of one of the
@@ -59,5 +63,10 @@ static inline double *cvode_entries(const cvode_stepper *cv, N_Vector v)
 void cvode_clock_track(cvode_stepper *cv);
 /* The CVODE stepper's refine_root (stepper.h). */
 double cvode_refine_root(taper_stepper *s, taper_root_value g, size_t k, const double **y);
+
+/* ---- stepper_cvode_corrector.c --------------------------------------------- */
+/* The fixed-point corrector of Adams steps on the window's vectors (cv->y
+ * a window vector); NULL on allocation failure. */
+SUNNonlinearSolver cvode_corrector_new(cvode_stepper *cv);
 
 #endif
