@@ -9,7 +9,7 @@
  *  pass(k): g = v_{k+1} - v_k crosses zero upward (the pulse passes k);
  *  peak(k): the acceleration of k changes sign downward while v_k > 0,
  *           g = rho_{k-1} z_{k-1} - rho_k z_k (see dynamics.h);
- *  grow:    z_hi - threshold crosses zero upward (the front reaches hi+1);
+ *  grow:    z_hi - threshold reaches zero (the front reaches hi+1);
  *  gap:     the gap z_{lo-1} behind the window closes: its compression
  *           crosses gap_watch[lo-1] upward (0 after an exact free-flight
  *           departure, a noise-proof threshold after a departure at rest;
@@ -379,7 +379,17 @@ void taper_events_root_values(const taper_sim *sim, const double *y, double *g)
 {
     const taper_dyn *d = &sim->dyn;
     ring_values(sim, y, g);
-    g[SLOT_GROW] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1] : -1.0;
+    /* The growth needs no location in time: the granule joins where the
+     * stepper's step ends (solve.c, grow), with its zero state and history.
+     * So its function stops at 0 once z_hi reaches the threshold: a root
+     * finder that sees a function go from negative to exactly 0 at the
+     * step's end reports a root there without searching (CVODE's
+     * cvRootfind: a zero at thi, no sign change; rk8's crossing: b >= 0),
+     * where a sign change cost CVODE ~8 evaluations of the interpolant and
+     * of every root function.  The growth that follows makes the function
+     * negative again (the new granule's compression is 0): it is never 0
+     * at a step's start, which CVODE would take for a root there. */
+    g[SLOT_GROW] = d->hi < d->n ? fmin(taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1], 0.0) : -1.0;
     g[SLOT_GAP] = d->lo > 1 ? y[0] - sim->out.gap_watch[d->lo - 2] : -1.0;
     size_t slot = SLOT_WALLS;
     if (sim->model.wall_left) g[slot++] = wall_rate(sim, y, TAPER_LEFT);
