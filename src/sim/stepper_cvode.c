@@ -183,7 +183,8 @@ static int attach_solvers(cvode_stepper *cv, taper_error *err)
         /* Non-stiff: fixed-point iteration needs no Jacobian at all.  On
          * the window, SUNDIALS' iteration fused over its entries
          * (stepper_cvode_corrector.c); on the whole chain, SUNDIALS'. */
-        cv->nonlinear = cv->window ? cvode_corrector_new(cv) : SUNNonlinSol_FixedPoint(cv->y, 0, cv->ctx);
+        cv->nonlinear = cv->window ? cvode_corrector_new(cv->y, rhs, &cv->corrector_rhs_evals, cv->ctx)
+                                   : SUNNonlinSol_FixedPoint(cv->y, 0, cv->ctx);
         if (!cv->nonlinear) return taper_fail(err, TAPER_ENOMEM, "cannot create the fixed-point solver");
         return check(CVodeSetNonlinearSolver(cv->mem, cv->nonlinear), "CVodeSetNonlinearSolver", cv, err);
     }

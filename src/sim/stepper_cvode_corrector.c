@@ -25,8 +25,10 @@
  * SUNDIALS version's h and gamma disagree (gamma = h rl1 is how CVODE sets
  * it), the system is G = gamma f - rl1 zn[1], the same function.
  *
- * The right-hand sides evaluated here are not CVODE's (its nfe counts
- * those it calls itself): the stepper adds them (corrector_rhs_evals).
+ * The right-hand side is the one CVODE was given (CVodeInit), called with
+ * CVODE's user data; the evaluations made here are not in CVODE's nfe (it
+ * counts those it makes itself) and are counted for the stepper instead
+ * (corrector_rhs_evals).
  */
 #include "stepper_cvode_memory.h"
 
@@ -35,7 +37,8 @@
 #include <stdlib.h>
 
 typedef struct {
-    cvode_stepper *cv;
+    cvode_rhs_fn rhs;
+    long *rhs_evals;
     N_Vector f, delta;          /* the right-hand side; the change of ycor */
     SUNNonlinSolSysFn sys;      /* CVODE's G: kept, computed here fused   */
     SUNNonlinSolConvTestFn test;
@@ -99,7 +102,6 @@ static int corrector_solve(SUNNonlinearSolver nls, N_Vector y0, N_Vector ycor, N
 {
     (void)y0, (void)call_setup; /* y0 is ypred, read below with the rest */
     corrector *c = CORRECTOR(nls);
-    cvode_stepper *cv = c->cv;
     double t, gamma, rl1, h;
     N_Vector ypred, yn, fn, zn1;
     void *user;
@@ -109,21 +111,22 @@ static int corrector_solve(SUNNonlinearSolver nls, N_Vector y0, N_Vector ycor, N
         return SUN_NLS_MEM_NULL;
     const int by_step = h * rl1 == gamma;
     const size_t n = taper_window_length(ycor);
-    double *yd = cvode_entries(cv, yn), *fd = cvode_entries(cv, c->f), *cd = cvode_entries(cv, ycor),
-           *dd = cvode_entries(cv, c->delta);
-    const double *pd = cvode_entries(cv, ypred), *zd = cvode_entries(cv, zn1);
+    double *yd = taper_window_data(yn), *fd = taper_window_data(c->f), *cd = taper_window_data(ycor),
+           *dd = taper_window_data(c->delta);
+    const double *pd = taper_window_data(ypred), *zd = taper_window_data(zn1);
     for (c->iteration = 0; c->iteration < c->max_iterations; c->iteration++) {
         predicted_plus(n, pd, cd, yd);
-        taper_equations_rhs(cv->sim, t, yd, fd);
-        cv->corrector_rhs_evals++;
+        const int status = c->rhs(t, yn, c->f, user);
+        ++*c->rhs_evals;
+        if (status != 0) break; /* as SUNDIALS' solver: a convergence failure */
         if (by_step) corrected(n, h, rl1, fd, zd, cd, dd);
         else corrected_gamma(n, gamma, rl1, fd, zd, cd, dd);
         c->iterations++;
-        const int status = c->test(nls, ycor, c->delta, tol, w, c->test_data);
-        if (status == SUN_NLS_SUCCESS) return SUN_NLS_SUCCESS;
-        if (status != SUN_NLS_CONTINUE) {
+        const int test = c->test(nls, ycor, c->delta, tol, w, c->test_data);
+        if (test == SUN_NLS_SUCCESS) return SUN_NLS_SUCCESS;
+        if (test != SUN_NLS_CONTINUE) {
             c->failures++;
-            return status;
+            return test;
         }
     }
     c->failures++;
@@ -184,17 +187,18 @@ static int corrector_failures(SUNNonlinearSolver nls, long *failures)
     return SUN_NLS_SUCCESS;
 }
 
-SUNNonlinearSolver cvode_corrector_new(cvode_stepper *cv)
+SUNNonlinearSolver cvode_corrector_new(N_Vector y, cvode_rhs_fn rhs, long *rhs_evals, SUNContext ctx)
 {
-    SUNNonlinearSolver nls = SUNNonlinSolNewEmpty(cv->ctx);
+    SUNNonlinearSolver nls = SUNNonlinSolNewEmpty(ctx);
     if (!nls) return NULL;
     corrector *c = calloc(1, sizeof *c);
     nls->content = c;
-    if (!c || !(c->f = N_VClone(cv->y)) || !(c->delta = N_VClone(cv->y))) {
+    if (!c || !(c->f = N_VClone(y)) || !(c->delta = N_VClone(y))) {
         corrector_free(nls);
         return NULL;
     }
-    c->cv = cv;
+    c->rhs = rhs;
+    c->rhs_evals = rhs_evals;
     c->max_iterations = 3; /* SUNDIALS' default; CVODE sets its own (NLS_MAXCOR) */
     nls->ops->gettype = corrector_type;
     nls->ops->initialize = corrector_initialize;

@@ -65,8 +65,12 @@ void cvode_clock_track(cvode_stepper *cv);
 double cvode_refine_root(taper_stepper *s, taper_root_value g, size_t k, const double **y);
 
 /* ---- stepper_cvode_corrector.c --------------------------------------------- */
-/* The fixed-point corrector of Adams steps on the window's vectors (cv->y
- * a window vector); NULL on allocation failure. */
-SUNNonlinearSolver cvode_corrector_new(cvode_stepper *cv);
+/* CVODE's right-hand side (CVRhsFn). */
+typedef int (*cvode_rhs_fn)(double t, N_Vector y, N_Vector ydot, void *user);
+/* The fixed-point corrector of Adams steps on window vectors like y
+ * (nvector_window.h): SUNDIALS' fixed-point iteration, fused.  rhs is the
+ * right-hand side CVODE was given; each evaluation made here is counted in
+ * *rhs_evals.  NULL on allocation failure. */
+SUNNonlinearSolver cvode_corrector_new(N_Vector y, cvode_rhs_fn rhs, long *rhs_evals, SUNContext ctx);
 
 #endif
