@@ -247,14 +247,15 @@ static void ring_values(const taper_sim *sim, const double *y, double *g)
             }
             behind = fmax(behind, vk);
         }
-    } else {
-        size_t k = p->next_pass;
-        if (k <= last_pass && !(events[k - 1] & TAPER_EV_PASS) && k + 1 != carried)
-            next = (k < hi ? y[2 * k - begin] : 0.0) - y[2 * k - 2 - begin];
-        for (k++; k < end_pass && k <= last_pass; k++) {
-            const double vk = y[2 * k - 2 - begin];
-            if (!(vk > v_armed) || (events[k - 1] & TAPER_EV_PASS) || k + 1 == carried) continue;
-            const double gk = (k < hi ? y[2 * k - begin] : 0.0) - vk;
+    } else if (p->next_pass <= last_pass) {
+        const size_t first = p->next_pass, stop = end_pass < last_pass + 1 ? end_pass : last_pass + 1;
+        const double *v = y + (2 * first - 2 - begin); /* v_k, k = first, first + 1, ... */
+        if (!(events[first - 1] & TAPER_EV_PASS) && first + 1 != carried)
+            next = (first < hi ? v[2] : 0.0) - v[0];
+        for (size_t k = first + 1; k < stop; k++) {
+            v += 2;
+            if (!(*v > v_armed) || (events[k - 1] & TAPER_EV_PASS) || k + 1 == carried) continue;
+            const double gk = (k < hi ? v[2] : 0.0) - *v;
             if (gk > ahead) ahead = gk;
         }
     }
@@ -262,15 +263,18 @@ static void ring_values(const taper_sim *sim, const double *y, double *g)
     g[SLOT_PASSES_AHEAD] = ahead;
     const size_t last_peak = hi < sim->target ? hi : sim->target;
     const size_t end_peak = p->next_peak + p->peak_slots;
+    const size_t stop = end_peak < last_peak + 1 ? end_peak : last_peak + 1;
     next = ahead = 1.0;
-    for (size_t k = p->next_peak; k < end_peak && k <= last_peak; k++) {
-        if (!(y[2 * k - 2 - begin] > v_armed) || (events[k - 1] & TAPER_EV_PEAK) || k == carried) continue;
+    /* v_k; z_k is v[1], z_{k-1} v[-1] (the window's entries only) */
+    const double *v = p->next_peak < stop ? y + (2 * p->next_peak - 2 - begin) : y;
+    for (size_t k = p->next_peak; k < stop; k++, v += 2) {
+        if (!(*v > v_armed) || (events[k - 1] & TAPER_EV_PEAK) || k == carried) continue;
         double gk;
         if (d->dissipative) {
             gk = taper_dyn_peak_function(d, y, k);
         } else {
-            const double left = k > 1 ? d->rho[k - 2] * y[2 * k - 3 - begin] : 0.0;
-            gk = left - d->rho[k - 1] * y[2 * k - 1 - begin];
+            const double left = k > 1 ? d->rho[k - 2] * v[-1] : 0.0;
+            gk = left - d->rho[k - 1] * v[1];
         }
         if (k == p->next_peak) next = gk;
         else if (gk < ahead) ahead = gk;
@@ -389,7 +393,8 @@ void taper_events_root_values(const taper_sim *sim, const double *y, double *g)
      * of every root function.  The growth that follows makes the function
      * negative again (the new granule's compression is 0): it is never 0
      * at a step's start, which CVODE would take for a root there. */
-    g[SLOT_GROW] = d->hi < d->n ? fmin(taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1], 0.0) : -1.0;
+    const double grow = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1] : -1.0;
+    g[SLOT_GROW] = grow < 0.0 ? grow : 0.0;
     g[SLOT_GAP] = d->lo > 1 ? y[0] - sim->out.gap_watch[d->lo - 2] : -1.0;
     size_t slot = SLOT_WALLS;
     if (sim->model.wall_left) g[slot++] = wall_rate(sim, y, TAPER_LEFT);
