@@ -12,6 +12,8 @@
  *               peers/peer_heyoka.py: libtaper's masses and contact factors)
  *   taper-bench --options [-o DIR] [--chain NAME] [--options-max N]
  *               [--options-limit S]     (the chains with options, below)
+ *   taper-bench --goal [--baseline BIN] [--driver BIN] [--goal-n N]
+ *               [--reps R] [-o DIR]     (the speed goal, below)
  *
  * For a fixed set of chains, runs each method over a sweep of tolerances
  * (step sizes for Verlet), measures the error of t_pass and v_peak against
@@ -49,6 +51,19 @@
  * at N = 500, the window against the whole chain: the largest relative
  * difference of t_pass and v_peak over the granules.  Writes options.tsv and
  * options-agreement.tsv.
+ *
+ * --goal: the speed goal's figures (issue 38), monodisperse N = 10^6
+ * (--goal-n) at the defaults and with method 'rk8', each run by the taper
+ * driver as a whole process (this build's, or --driver BIN) on a scene
+ * written into DIR: CPU seconds (user + system of the process), steps and
+ * right-hand sides per granule and the energy error, from the header of
+ * its granules.tsv.  With --baseline BIN (a taper driver of another build,
+ * the previous release's) every run is paired with the same run of BIN,
+ * the two in turn and the order swapped every round, R rounds (--reps,
+ * default 1), and the ratios this/baseline are per round: the machine's
+ * speed drifts between rounds, not within a pair.  Prints a table and the
+ * largest relative difference of t_pass between the two builds; writes
+ * goal.tsv (every run).
  */
 #include "peers/peers.h"
 #include "reference.h"
@@ -61,8 +76,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -1008,6 +1025,262 @@ static int run_options(const char *dir, const char *only, size_t n_max, double c
     return 0;
 }
 
+/* ---- the speed goal (--goal) ----------------------------------------------- */
+#ifndef TAPER_BENCH_DRIVER
+#define TAPER_BENCH_DRIVER "taper"
+#endif
+
+/* One run of a taper driver on a scene: what the goal reports. */
+typedef struct goal_run {
+    double cpu;                 /* user + system seconds of the process      */
+    double steps, rhs, energy_error, reached;
+    int status;                 /* the driver's exit status (-1: not run)    */
+} goal_run;
+
+/* The 1-minute load average (Linux's /proc/loadavg), NaN elsewhere. */
+static double load_average(void)
+{
+    double load = NAN;
+    FILE *f = fopen("/proc/loadavg", "r");
+    if (f) {
+        if (fscanf(f, "%lf", &load) != 1) load = NAN;
+        fclose(f);
+    }
+    return load;
+}
+
+/* The scene of the goal: monodisperse N, the defaults, `method` unless
+ * NULL, every 1000th granule's row written (the header's statistics are
+ * the run's either way). */
+static int goal_scene(const char *path, size_t n, const char *method)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "taper-bench: cannot write %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    fprintf(f, "&chain profile = 'monodisperse', n_granules = %zu /\n", n);
+    if (method) fprintf(f, "&solver method = '%s' /\n", method);
+    fprintf(f, "&output progress = .false., every = %d /\n", n >= 10000 ? 1000 : 1);
+    return fclose(f) == 0 ? 0 : -1;
+}
+
+/* dir/name into buf; 0, or -1 (after saying so) when it does not fit. */
+static int goal_path(char *buf, size_t size, const char *dir, const char *name)
+{
+    const int len = snprintf(buf, size, "%s/%s", dir, name);
+    if (len >= 0 && (size_t)len < size) return 0;
+    fprintf(stderr, "taper-bench: path too long: %s/%s\n", dir, name);
+    return -1;
+}
+
+/* "# name = value" of a granules.tsv header (NaN if absent). */
+static double header_value(const char *path, const char *name)
+{
+    FILE *f = fopen(path, "r");
+    double value = NAN;
+    char line[512];
+    const size_t len = strlen(name);
+    for (int row = 0; f && fgets(line, sizeof line, f); row++) {
+        if (line[0] != '#' && row > 0) break; /* the column names, the header, then the rows */
+        if (!strncmp(line, "# ", 2) && !strncmp(line + 2, name, len) && !strncmp(line + 2 + len, " = ", 3)) {
+            value = strtod(line + 5 + len, NULL);
+            break;
+        }
+    }
+    if (f) fclose(f);
+    return value;
+}
+
+/* Runs `driver scene -o outdir` (its output to log), its CPU time from the
+ * children's resource usage before and after. */
+static goal_run goal_execute(const char *driver, const char *scene, const char *outdir, const char *log)
+{
+    goal_run r = {.cpu = NAN, .steps = NAN, .rhs = NAN, .energy_error = NAN, .reached = NAN, .status = -1};
+    struct rusage before, after;
+    getrusage(RUSAGE_CHILDREN, &before);
+    pid_t pid = fork();
+    if (pid < 0) {
+        fprintf(stderr, "taper-bench: fork: %s\n", strerror(errno));
+        return r;
+    }
+    if (pid == 0) {
+        int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0666);
+        if (fd >= 0) {
+            dup2(fd, STDOUT_FILENO);
+            dup2(fd, STDERR_FILENO);
+            close(fd);
+        }
+        execl(driver, driver, scene, "-o", outdir, (char *)NULL);
+        fprintf(stderr, "taper-bench: cannot run %s: %s\n", driver, strerror(errno));
+        _exit(127);
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+    getrusage(RUSAGE_CHILDREN, &after);
+    r.cpu = (double)(after.ru_utime.tv_sec - before.ru_utime.tv_sec) +
+            1e-6 * (double)(after.ru_utime.tv_usec - before.ru_utime.tv_usec) +
+            (double)(after.ru_stime.tv_sec - before.ru_stime.tv_sec) +
+            1e-6 * (double)(after.ru_stime.tv_usec - before.ru_stime.tv_usec);
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    char path[4096];
+    if (goal_path(path, sizeof path, outdir, "granules.tsv") != 0) return r;
+    r.steps = header_value(path, "steps");
+    r.rhs = header_value(path, "rhs_evals");
+    r.energy_error = header_value(path, "energy_error");
+    r.reached = header_value(path, "granule_reached");
+    return r;
+}
+
+/* Largest relative difference of t_pass between the rows two runs wrote
+ * (the same granules: the same scene). */
+static double goal_t_pass_difference(const char *dir_a, const char *dir_b)
+{
+    char pa[4096], pb[4096], la[4096], lb[4096];
+    if (goal_path(pa, sizeof pa, dir_a, "granules.tsv") != 0 || goal_path(pb, sizeof pb, dir_b, "granules.tsv") != 0)
+        return NAN;
+    FILE *a = fopen(pa, "r"), *b = fopen(pb, "r");
+    double worst = NAN;
+    int column = -1;
+    while (a && b) {
+        char *ra = fgets(la, sizeof la, a), *rb = fgets(lb, sizeof lb, b);
+        if (!ra || !rb) break;
+        if (la[0] == '#' || lb[0] == '#') continue;
+        if (column < 0) { /* the column names: t_pass's place */
+            int c = 0;
+            for (char *tok = strtok(la, "\t\n"); tok; tok = strtok(NULL, "\t\n"), c++)
+                if (!strcmp(tok, "t_pass")) column = c;
+            if (column < 0) break;
+            worst = 0.0;
+            continue;
+        }
+        double x = NAN, y = NAN;
+        int c = 0;
+        for (char *tok = strtok(la, "\t\n"); tok; tok = strtok(NULL, "\t\n"), c++)
+            if (c == column) x = strtod(tok, NULL);
+        c = 0;
+        for (char *tok = strtok(lb, "\t\n"); tok; tok = strtok(NULL, "\t\n"), c++)
+            if (c == column) y = strtod(tok, NULL);
+        if (isfinite(x) && isfinite(y) && y != 0.0) worst = fmax(worst, fabs(x - y) / fabs(y));
+    }
+    if (a) fclose(a);
+    if (b) fclose(b);
+    return worst;
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* "median (min-max)" of n values (sorted in place). */
+static void print_spread(FILE *out, double *v, size_t n, const char *format)
+{
+    qsort(v, n, sizeof *v, compare_doubles);
+    const double median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    fprintf(out, format, median);
+    if (n > 1) {
+        fputs(" (", out);
+        fprintf(out, format, v[0]);
+        fputs("-", out);
+        fprintf(out, format, v[n - 1]);
+        fputs(")", out);
+    }
+}
+
+static int run_goal(const char *dir, const char *driver, const char *baseline, size_t n, int reps)
+{
+    static const char *const methods[] = {NULL, "rk8"}; /* NULL: the defaults */
+    enum { N_GOAL_METHODS = 2 };
+    const int builds = baseline ? 2 : 1;
+    const char *binaries[2] = {driver, baseline};
+    goal_run *runs = calloc((size_t)reps * N_GOAL_METHODS * 2, sizeof *runs);
+    FILE *tsv = open_out(dir, "goal.tsv");
+    if (!runs || !tsv) {
+        free(runs);
+        if (tsv) fclose(tsv);
+        return 1;
+    }
+    char scene[N_GOAL_METHODS][4096];
+    for (int m = 0; m < N_GOAL_METHODS; m++) {
+        snprintf(scene[m], sizeof scene[m], "%s/goal-%s.nml", dir, methods[m] ? methods[m] : "default");
+        if (goal_scene(scene[m], n, methods[m]) != 0) {
+            free(runs);
+            fclose(tsv);
+            return 1;
+        }
+    }
+    fprintf(tsv, "round\tmethod\tbuild\tbinary\tstatus\tcpu_seconds\tsteps_per_granule\trhs_per_granule\t"
+                 "energy_error\tgranule_reached\tload_average\n");
+    const double load_start = load_average();
+    printf("# taper-bench --goal: monodisperse N = %zu, %d round%s, load average %.2f at the start\n", n, reps,
+           reps > 1 ? "s" : "", load_start);
+    printf("#   this:     %s\n", driver);
+    if (baseline) printf("#   baseline: %s\n", baseline);
+    fflush(stdout);
+    for (int r = 0; r < reps; r++)
+        for (int m = 0; m < N_GOAL_METHODS; m++)
+            for (int i = 0; i < builds; i++) {
+                const int b = builds == 2 && (r % 2) ? 1 - i : i; /* the first of a pair alternates */
+                char outdir[4096], log[4096];
+                const char *name = methods[m] ? methods[m] : "default";
+                snprintf(outdir, sizeof outdir, "%s/goal-%s-%s", dir, name, b ? "baseline" : "this");
+                snprintf(log, sizeof log, "%s/goal-%s-%s.log", dir, name, b ? "baseline" : "this");
+                goal_run *g = &runs[((size_t)r * N_GOAL_METHODS + (size_t)m) * 2 + (size_t)b];
+                *g = goal_execute(binaries[b], scene[m], outdir, log);
+                fprintf(tsv, "%d\t%s\t%s\t%s\t%d\t%.3f\t%.2f\t%.2f\t%.3e\t%.0f\t%.2f\n", r + 1, name,
+                        b ? "baseline" : "this", binaries[b], g->status, g->cpu, g->steps / (double)n,
+                        g->rhs / (double)n, g->energy_error, g->reached, load_average());
+                fflush(tsv);
+                fprintf(stderr, "   goal round %d %-7s %-8s %8.2f s cpu  %s\n", r + 1, name,
+                        b ? "baseline" : "this", g->cpu, g->status ? "FAILED (see the log)" : "");
+                if (g->status)
+                    fprintf(stderr, "taper-bench: %s %s exited with %d: %s\n", binaries[b], scene[m], g->status, log);
+            }
+    fclose(tsv);
+    printf("\n| method | build | CPU s, median (min-max) | steps/granule | RHS/granule | energy error |\n");
+    printf("|---|---|---|---|---|---|\n");
+    double *v = malloc((size_t)reps * sizeof *v);
+    if (!v) {
+        free(runs);
+        return 1;
+    }
+    int failed = 0;
+    for (int m = 0; m < N_GOAL_METHODS; m++)
+        for (int b = 0; b < builds; b++) {
+            const goal_run *last = &runs[((size_t)(reps - 1) * N_GOAL_METHODS + (size_t)m) * 2 + (size_t)b];
+            for (int r = 0; r < reps; r++) v[r] = runs[((size_t)r * N_GOAL_METHODS + (size_t)m) * 2 + (size_t)b].cpu;
+            printf("| %s | %s | ", methods[m] ? methods[m] : "default", b ? "baseline" : "this");
+            print_spread(stdout, v, (size_t)reps, "%.2f");
+            printf(" | %.2f | %.2f | %.2e |%s\n", last->steps / (double)n, last->rhs / (double)n,
+                   last->energy_error, last->status ? " (failed)" : "");
+            failed |= last->status != 0;
+        }
+    if (baseline) {
+        printf("\nthis / baseline, CPU per round, median (min-max):\n");
+        for (int m = 0; m < N_GOAL_METHODS; m++) {
+            for (int r = 0; r < reps; r++) {
+                const goal_run *g = &runs[((size_t)r * N_GOAL_METHODS + (size_t)m) * 2];
+                v[r] = g[0].cpu / g[1].cpu;
+            }
+            const char *name = methods[m] ? methods[m] : "default";
+            printf("  %-8s ", name);
+            print_spread(stdout, v, (size_t)reps, "%.3f");
+            char a[4096], b[4096];
+            snprintf(a, sizeof a, "%s/goal-%s-this", dir, name);
+            snprintf(b, sizeof b, "%s/goal-%s-baseline", dir, name);
+            printf("   t_pass: largest relative difference %.1e (%s)\n", goal_t_pass_difference(a, b),
+                   n >= 10000 ? "every 1000th granule" : "every granule");
+        }
+    }
+    printf("\nload average %.2f at the start, %.2f at the end; every run in %s/goal.tsv\n", load_start,
+           load_average(), dir);
+    free(v);
+    free(runs);
+    return failed;
+}
+
 /* ---- main ------------------------------------------------------------- */
 static void usage(FILE *out)
 {
@@ -1016,6 +1289,7 @@ static void usage(FILE *out)
           "       taper-bench [--heyoka-python PATH] --single CHAIN METHOD TOL [N [REF]]\n"
           "       taper-bench --write-chain CHAIN N FILE   (masses and contacts for peers/peer_heyoka.py)\n"
           "       taper-bench --options [-o DIR] [--chain NAME] [--options-max N] [--options-limit S]\n"
+          "       taper-bench --goal [--baseline BIN] [--driver BIN] [--goal-n N] [--reps R] [-o DIR]\n"
           "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
           "Methods:",
           out);
@@ -1113,13 +1387,15 @@ int main(int argc, char **argv)
     const char *only = NULL; /* --chain NAME: just that chain of the set */
     unsigned methods = (1u << N_METHODS) - 1;
     size_t scaling_max = 10000, options_max = 100000;
-    int options = 0;
+    int options = 0, goal = 0, reps_given = 0;
     double options_limit = 120.0;
+    const char *baseline = NULL, *driver = TAPER_BENCH_DRIVER;
+    size_t goal_n = 1000000;
     gsl_set_error_handler_off();
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) quick = 1;
         else if (!strcmp(argv[i], "-o") && i + 1 < argc) dir = argv[++i];
-        else if (!strcmp(argv[i], "--reps") && i + 1 < argc) reps = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--reps") && i + 1 < argc) reps = atoi(argv[++i]), reps_given = 1;
         else if (!strcmp(argv[i], "--no-scaling")) scaling = 0;
         else if (!strcmp(argv[i], "--scaling-only")) scaling = 2;
         else if (!strcmp(argv[i], "--chain") && i + 1 < argc) only = argv[++i];
@@ -1153,6 +1429,10 @@ int main(int argc, char **argv)
             }
         }
         else if (!strcmp(argv[i], "--options")) options = 1;
+        else if (!strcmp(argv[i], "--goal")) goal = 1;
+        else if (!strcmp(argv[i], "--baseline") && i + 1 < argc) baseline = argv[++i];
+        else if (!strcmp(argv[i], "--driver") && i + 1 < argc) driver = argv[++i];
+        else if (!strcmp(argv[i], "--goal-n") && i + 1 < argc) goal_n = (size_t)atol(argv[++i]);
         else if (!strcmp(argv[i], "--options-max") && i + 1 < argc) options_max = (size_t)atol(argv[++i]);
         else if (!strcmp(argv[i], "--options-limit") && i + 1 < argc) options_limit = atof(argv[++i]);
         else {
@@ -1161,11 +1441,18 @@ int main(int argc, char **argv)
         }
     }
     if (reps < 1) reps = 1;
-    if ((methods >> M_HEYOKA & 1u) && !heyoka_available()) methods &= ~(1u << M_HEYOKA);
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
         fprintf(stderr, "taper-bench: cannot create %s: %s\n", dir, strerror(errno));
         return 2;
     }
+    if (goal) {
+        if (goal_n < 3) {
+            fprintf(stderr, "taper-bench: --goal-n needs at least 3 granules\n");
+            return 2;
+        }
+        return run_goal(dir, driver, baseline, goal_n, reps_given ? reps : 1);
+    }
+    if ((methods >> M_HEYOKA & 1u) && !heyoka_available()) methods &= ~(1u << M_HEYOKA);
     if (options) {
         double t0 = wall_seconds();
         int status = run_options(dir, only, options_max, options_limit);

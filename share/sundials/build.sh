@@ -25,7 +25,10 @@
 #      share/sundials/fused-predictor.patch (CVODE's predictor without a
 #      vector call per addition, each element's column in registers: bit
 #      for bit the same results, 1.12x and then a further 1.12x on taper's
-#      short window vectors; docs/benchmarks.md).
+#      short window vectors; docs/benchmarks.md) and
+#      share/sundials/adams-bookkeeping.patch (cvSetAdams' coefficients kept
+#      while their inputs are unchanged, CVodeGetDky's powers of s by one
+#      multiplication each: bit for bit the same results).
 #   5. CMake Release (-O3 -DNDEBUG), libraries of the one kind asked for (both
 #      would compile every file twice), CVODE and ARKODE and no other package,
 #      no examples; installed in PREFIX, work dir removed.
@@ -41,6 +44,7 @@ kind=${2:-shared}
 here=$(cd "$(dirname "$0")" && pwd)
 patch_file=$here/rootfind-underflow.patch
 predictor_patch=$here/fused-predictor.patch
+bookkeeping_patch=$here/adams-bookkeeping.patch
 work=$prefix.work
 jobs=${TAPER_SUNDIALS_JOBS:-$(nproc 2>/dev/null || echo 2)}
 
@@ -67,7 +71,7 @@ upstream=${upstream%%-*}
 upstream=${upstream%%+*}
 
 # What the build depends on, in one line: a change to any of them rebuilds.
-stamp="sundials $version; $(cat "$0" "$patch_file" "$predictor_patch" | sha256sum | cut -c1-16); $kind"
+stamp="sundials $version; $(cat "$0" "$patch_file" "$predictor_patch" "$bookkeeping_patch" | sha256sum | cut -c1-16); $kind"
 if [ -f "$prefix/.stamp" ] && [ "$(cat "$prefix/.stamp")" = "$stamp" ] &&
    [ -e "$prefix/lib/libsundials_cvode.$suffix" ]; then
     exit 0
@@ -186,12 +190,15 @@ srcdir=$(find "$work/src" -mindepth 1 -maxdepth 1 -type d -name 'sundials-*' | h
 if dpkg --compare-versions "$upstream" lt 6.5.0; then
     patch -d "$srcdir" -p1 -N < "$patch_file" >&2 || fail "rootfind-underflow.patch does not apply to $version"
 fi
-# A speed patch only: where it does not apply (another version), go on without it.
-if patch -d "$srcdir" -p1 -N --dry-run < "$predictor_patch" >/dev/null 2>&1; then
-    patch -d "$srcdir" -p1 -N < "$predictor_patch" >&2 || fail "fused-predictor.patch failed on $version"
-else
-    echo "sundials: fused-predictor.patch does not apply to $version: built without it (slower, same results)" >&2
-fi
+# Speed patches only: where one does not apply (another version), go on
+# without it.  (adams-bookkeeping.patch is made on top of the predictor's.)
+for speed_patch in "$predictor_patch" "$bookkeeping_patch"; do
+    if patch -d "$srcdir" -p1 -N --dry-run < "$speed_patch" >/dev/null 2>&1; then
+        patch -d "$srcdir" -p1 -N < "$speed_patch" >&2 || fail "$(basename "$speed_patch") failed on $version"
+    else
+        echo "sundials: $(basename "$speed_patch") does not apply to $version: built without it (slower, same results)" >&2
+    fi
+done
 
 # 5. Release build of the modules taper uses (meson.build, sundials_components;
 #    ARKODE for taper-bench's ERK peer).

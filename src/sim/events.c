@@ -9,15 +9,18 @@
  *  pass(k): g = v_{k+1} - v_k crosses zero upward (the pulse passes k);
  *  peak(k): the acceleration of k changes sign downward while v_k > 0,
  *           g = rho_{k-1} z_{k-1} - rho_k z_k (see dynamics.h);
- *  grow:    z_hi - threshold crosses zero upward (the front reaches hi+1);
+ *  grow:    z_hi - threshold reaches zero (the front reaches hi+1);
  *  gap:     the gap z_{lo-1} behind the window closes: its compression
  *           crosses gap_watch[lo-1] upward (0 after an exact free-flight
  *           departure, a noise-proof threshold after a departure at rest;
  *           see window.c).
  *
- * Only a few root functions follow the front (a ring of slots), never N:
- * granules ahead of the window are at rest and those behind it have every
- * event known, so only window granules can have an event.
+ * Only the granules of a ring of pass slots and a ring of peak slots that
+ * follow the front are watched, never N: granules ahead of the window are
+ * at rest and those behind it have every event known, so only window
+ * granules can have an event.  The stepper sees each ring as two root
+ * functions, the next granule's and the largest (smallest) of the others'
+ * ("the stepper's root functions", below).
  *
  * A slot is armed only while its granule moves at a velocity above
  * ARM_FRACTION of the pulse velocity v_ref (arm_velocity); otherwise it
@@ -172,57 +175,117 @@ static double peak_function(const taper_sim *sim, const double *y, size_t k)
     return taper_dyn_peak_function(&sim->dyn, y, k);
 }
 
-/* The rings' values, granule first + j in slot (first - 1 + j) mod ring
- * (so that a slot keeps its granule while the ring advances): the values of pass_function and peak_function, computed
- * in one sweep without their per-granule look-ups (CVODE calls the root
- * function once per step and ~10 times per located root; with every root
- * armed the rings hold ~15 slots on a monodisperse chain). */
-static void ring_values(const taper_sim *sim, const double *y, double *g_pass, double *g_peak)
+/* ---- the stepper's root functions ------------------------------------------
+ * The rings watch every pending event of the window (8 passes and 7 peaks
+ * on a monodisperse chain), but the stepper sees six root functions and
+ * one per wall, never one per granule:
+ *
+ *   SLOT_PASS, SLOT_PEAK  the pass of next_pass, the peak of next_peak:
+ *                         the event the pulse brings next, which is the
+ *                         root of nearly every root return;
+ *   SLOT_PASSES_AHEAD     the largest pass function of the ring's other
+ *                         granules (next_pass + 1 ...), -1 if none;
+ *   SLOT_PEAKS_AHEAD      the smallest peak function of the ring's others;
+ *   SLOT_GROW, SLOT_GAP, then one per wall (SLOT_WALLS).
+ *
+ * Why a group loses no root.  A root finder that watches functions through
+ * a step (CVODE's cvRootfind, rk8's) compares each function's sign at the
+ * step's ends and, where one differs, narrows the bracket to the earliest
+ * change of sign; a function that changes sign and back within one step is
+ * not seen (CVODE's documented contract).  After every root return each
+ * watched pass function is negative (events.c records the granules that
+ * crossed, and advance_rings marks as known, untimed, any armed one that is
+ * not negative; a known or unarmed granule's function is the constant -1).
+ * So the group's largest value is negative at a step's start and is
+ * positive (or zero) at a time exactly when some member's is: the group
+ * changes sign in a step exactly when some member does, and the earliest
+ * time at which any member has crossed is the earliest time at which the
+ * group has: the root finder stops where it would have stopped with one
+ * function per granule, and the members that crossed there are those whose
+ * function is >= 0 in the state returned (taper_events_record).  The peak
+ * group is the same with the signs reversed.  Near the root the group is
+ * the crossing member's own function (the others are below it), so the
+ * root is located as precisely.
+ *
+ * What it saves: CVODE's root finder loops over every function at every
+ * step (three times: signs, activity, the copy of the values) and at every
+ * iteration of its search; 17 functions cost it ~1000 instructions per
+ * step on monodisperse chains, and the values' sweep another ~500
+ * (docs/design.md, "Pulse events"). */
+enum {
+    SLOT_PASS,
+    SLOT_PASSES_AHEAD,
+    SLOT_PEAK,
+    SLOT_PEAKS_AHEAD,
+    SLOT_GROW,
+    SLOT_GAP,
+    SLOT_WALLS
+};
+
+/* The rings' functions, the next granule's in g[SLOT_PASS] and
+ * g[SLOT_PEAK], the others' largest (passes) and smallest (peaks) in the
+ * groups: the values of pass_function and peak_function, computed in one
+ * sweep without their per-granule look-ups (CVODE calls the root function
+ * once per step and ~10 times per located root). */
+static void ring_values(const taper_sim *sim, const double *y, double *g)
 {
     const taper_dyn *d = &sim->dyn;
     const taper_pulse *p = &sim->pulse;
-    const size_t begin = taper_dyn_begin(d), hi = d->hi;
-    const double v_pass = arm_velocity(sim), v_peak = v_pass;
-    const size_t np = p->pass_slots, last_pass = hi < sim->pass_limit ? hi : sim->pass_limit;
-    if (p->lead) { /* one sweep: the fastest behind each slot's granule */
+    const unsigned char *events = p->events;
+    const size_t begin = taper_dyn_begin(d), hi = d->hi, carried = d->carried;
+    const double v_armed = arm_velocity(sim);
+    /* granule k >= lo: v_k = y[2 k - 2 - begin], z_k = y[2 k - 1 - begin]
+     * (taper_idx_v, taper_idx_z), the window's granules only: lo <=
+     * next_pass, next_peak (dynamics.h) */
+    const size_t last_pass = hi < sim->pass_limit ? hi : sim->pass_limit;
+    const size_t end_pass = p->next_pass + p->pass_slots; /* the ring: next_pass .. end_pass - 1 */
+    double next = -1.0, ahead = -1.0;
+    if (p->lead) { /* one sweep: the fastest behind each granule */
         double behind = -INFINITY;
-        for (size_t k = d->lo; k < p->next_pass && k <= hi; k++) behind = fmax(behind, y[taper_idx_v(k) - begin]);
-        for (size_t j = 0, k = p->next_pass, slot = (k - 1) % np; j < np; j++, k++) {
-            double g = -1.0;
-            if (k <= last_pass) {
-                const double v = y[taper_idx_v(k) - begin];
-                if (!(p->events[k - 1] & TAPER_EV_PASS))
-                    g = lead_value(v, k < hi ? y[taper_idx_v(k + 1) - begin] : 0.0, behind);
-                behind = fmax(behind, v);
+        for (size_t k = d->lo; k < p->next_pass && k <= hi; k++) behind = fmax(behind, y[2 * k - 2 - begin]);
+        for (size_t k = p->next_pass; k < end_pass && k <= last_pass; k++) {
+            const double vk = y[2 * k - 2 - begin];
+            if (!(events[k - 1] & TAPER_EV_PASS)) {
+                const double gk = lead_value(vk, k < hi ? y[2 * k - begin] : 0.0, behind);
+                if (k == p->next_pass) next = gk;
+                else if (gk > ahead) ahead = gk;
             }
-            g_pass[slot] = g;
-            if (++slot == np) slot = 0;
+            behind = fmax(behind, vk);
+        }
+    } else if (p->next_pass <= last_pass) {
+        const size_t first = p->next_pass, stop = end_pass < last_pass + 1 ? end_pass : last_pass + 1;
+        const double *v = y + (2 * first - 2 - begin); /* v_k, k = first, first + 1, ... */
+        if (!(events[first - 1] & TAPER_EV_PASS) && first + 1 != carried)
+            next = (first < hi ? v[2] : 0.0) - v[0];
+        for (size_t k = first + 1; k < stop; k++) {
+            v += 2;
+            if (!(*v > v_armed) || (events[k - 1] & TAPER_EV_PASS) || k + 1 == carried) continue;
+            const double gk = (k < hi ? v[2] : 0.0) - *v;
+            if (gk > ahead) ahead = gk;
         }
     }
-    for (size_t j = 0, k = p->next_pass, slot = (k - 1) % np; !p->lead && j < np; j++, k++) {
-        double g = -1.0;
-        if (k <= last_pass && !(p->events[k - 1] & TAPER_EV_PASS) && k + 1 != d->carried) {
-            const double v = y[taper_idx_v(k) - begin];
-            if (k == p->next_pass || v > v_pass) g = (k < hi ? y[taper_idx_v(k + 1) - begin] : 0.0) - v;
+    g[SLOT_PASS] = next;
+    g[SLOT_PASSES_AHEAD] = ahead;
+    const size_t last_peak = hi < sim->target ? hi : sim->target;
+    const size_t end_peak = p->next_peak + p->peak_slots;
+    const size_t stop = end_peak < last_peak + 1 ? end_peak : last_peak + 1;
+    next = ahead = 1.0;
+    /* v_k; z_k is v[1], z_{k-1} v[-1] (the window's entries only) */
+    const double *v = p->next_peak < stop ? y + (2 * p->next_peak - 2 - begin) : y;
+    for (size_t k = p->next_peak; k < stop; k++, v += 2) {
+        if (!(*v > v_armed) || (events[k - 1] & TAPER_EV_PEAK) || k == carried) continue;
+        double gk;
+        if (d->dissipative) {
+            gk = taper_dyn_peak_function(d, y, k);
+        } else {
+            const double left = k > 1 ? d->rho[k - 2] * v[-1] : 0.0;
+            gk = left - d->rho[k - 1] * v[1];
         }
-        g_pass[slot] = g;
-        if (++slot == np) slot = 0;
+        if (k == p->next_peak) next = gk;
+        else if (gk < ahead) ahead = gk;
     }
-    const size_t nk = p->peak_slots, last_peak = hi < sim->target ? hi : sim->target;
-    for (size_t j = 0, k = p->next_peak, slot = (k - 1) % nk; j < nk; j++, k++) {
-        double g = 1.0;
-        if (k <= last_peak && !(p->events[k - 1] & TAPER_EV_PEAK) && k != d->carried &&
-            y[taper_idx_v(k) - begin] > v_peak) {
-            if (d->dissipative) {
-                g = taper_dyn_peak_function(d, y, k);
-            } else {
-                const double left = k > 1 ? d->rho[k - 2] * y[taper_idx_z(k - 1) - begin] : 0.0;
-                g = left - d->rho[k - 1] * y[taper_idx_z(k) - begin];
-            }
-        }
-        g_peak[slot] = g;
-        if (++slot == nk) slot = 0;
-    }
+    g[SLOT_PEAK] = next;
+    g[SLOT_PEAKS_AHEAD] = ahead;
 }
 
 /* CVODE returns a root within 100 uround (|t| + |h|) of the true zero
@@ -324,11 +387,21 @@ static void record_wall(taper_sim *sim, const double *y, int end)
 void taper_events_root_values(const taper_sim *sim, const double *y, double *g)
 {
     const taper_dyn *d = &sim->dyn;
-    const size_t np = sim->pulse.pass_slots, nk = sim->pulse.peak_slots;
-    ring_values(sim, y, g, g + np);
-    g[np + nk] = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1] : -1.0;
-    g[np + nk + 1] = d->lo > 1 ? y[0] - sim->out.gap_watch[d->lo - 2] : -1.0;
-    size_t slot = np + nk + 2;
+    ring_values(sim, y, g);
+    /* The growth needs no location in time: the granule joins where the
+     * stepper's step ends (solve.c, grow), with its zero state and history.
+     * So its function stops at 0 once z_hi reaches the threshold: a root
+     * finder that sees a function go from negative to exactly 0 at the
+     * step's end reports a root there without searching (CVODE's
+     * cvRootfind: a zero at thi, no sign change; rk8's crossing: b >= 0),
+     * where a sign change cost CVODE ~8 evaluations of the interpolant and
+     * of every root function.  The growth that follows makes the function
+     * negative again (the new granule's compression is 0): it is never 0
+     * at a step's start, which CVODE would take for a root there. */
+    const double grow = d->hi < d->n ? taper_dyn_z(d, y, d->hi) - sim->grow_z[d->hi - 1] : -1.0;
+    g[SLOT_GROW] = grow < 0.0 ? grow : 0.0;
+    g[SLOT_GAP] = d->lo > 1 ? y[0] - sim->out.gap_watch[d->lo - 2] : -1.0;
+    size_t slot = SLOT_WALLS;
     if (sim->model.wall_left) g[slot++] = wall_rate(sim, y, TAPER_LEFT);
     if (sim->model.wall_right) g[slot] = wall_rate(sim, y, TAPER_RIGHT);
 }
@@ -351,24 +424,21 @@ void taper_events_arm(taper_sim *sim, int sees_tiny_sign_changes)
 
 size_t taper_events_grow_slot(const taper_sim *sim)
 {
-    return sim->pulse.pass_slots + sim->pulse.peak_slots;
+    (void)sim;
+    return SLOT_GROW;
 }
 
-size_t taper_events_slots(const taper_sim *sim)
-{
-    return sim->pulse.pass_slots + sim->pulse.peak_slots + 2 + wall_slots(sim);
-}
+size_t taper_events_slots(const taper_sim *sim) { return SLOT_WALLS + wall_slots(sim); }
 
 void taper_events_directions(const taper_sim *sim, int *directions)
 {
-    const size_t np = sim->pulse.pass_slots, nk = sim->pulse.peak_slots;
     for (size_t i = 0; i < taper_events_slots(sim); i++) directions[i] = 1;
-    for (size_t i = 0; i < nk; i++) directions[np + i] = -1;
-    for (size_t i = 0; i < wall_slots(sim); i++) directions[np + nk + 2 + i] = -1;
+    directions[SLOT_PEAK] = directions[SLOT_PEAKS_AHEAD] = -1;
+    for (size_t i = 0; i < wall_slots(sim); i++) directions[SLOT_WALLS + i] = -1;
     /* the right wall's both ways: a peak down, the contact's opening up
      * (and a minimum of its force while it pushes, which only returns to
      * the caller) */
-    if (sim->model.wall_right) directions[np + nk + 2 + wall_slots(sim) - 1] = 0;
+    if (sim->model.wall_right) directions[SLOT_WALLS + wall_slots(sim) - 1] = 0;
 }
 
 /* Slots a ring needs so that granules first..last all have one. */
@@ -390,11 +460,12 @@ int taper_events_fit_rings(taper_sim *sim)
     /* Granules ahead of hi are at rest: no event until a root return grows
      * the window.  Granule hi keeps its slots (its back contact may open
      * before the front reaches hi+1: a peak as the contact opens). */
-    const size_t hi = sim->dyn.hi;
-    int changed = fit_ring(&p->pass_slots, ring_needed(p->next_pass, hi < sim->pass_limit ? hi : sim->pass_limit));
-    if (p->arm_all)
-        changed |= fit_ring(&p->peak_slots, ring_needed(p->next_peak, hi < sim->target ? hi : sim->target));
-    return changed;
+    const size_t hi = sim->dyn.hi, slots = taper_events_slots(sim);
+    fit_ring(&p->pass_slots, ring_needed(p->next_pass, hi < sim->pass_limit ? hi : sim->pass_limit));
+    if (p->arm_all) fit_ring(&p->peak_slots, ring_needed(p->next_peak, hi < sim->target ? hi : sim->target));
+    /* (a ring's granules beyond the next are one root function, however
+     * many: the stepper's functions stay as they were) */
+    return taper_events_slots(sim) != slots;
 }
 
 /* Acceleration of granule k as the equations of motion have it (0 ahead
@@ -547,25 +618,55 @@ static void advance_rings(taper_sim *sim, const double *y)
     }
 }
 
+/* Marks, for the root return being recorded, of the granules of a group
+ * whose event the return holds (pulse.events' own bits are TAPER_EV_*). */
+#define FOUND_PASS 4u
+#define FOUND_PEAK 8u
+
+/* The granules of the ahead groups whose function has crossed in the state
+ * y the stepper returned (>= 0 for a pass, <= 0 for a peak: "Why a group
+ * loses no root" above), marked before any event is recorded: recording
+ * one moves v_ref, which arms others. */
+static void mark_crossed(taper_sim *sim, const double *y, const int *roots_found)
+{
+    taper_pulse *p = &sim->pulse;
+    if (roots_found[SLOT_PASSES_AHEAD] > 0)
+        for (size_t k = p->next_pass + 1; k < p->next_pass + p->pass_slots && k <= sim->pass_limit; k++)
+            if (pass_armed(sim, y, k) && pass_function(sim, y, k) >= 0.0) p->events[k - 1] |= FOUND_PASS;
+    if (roots_found[SLOT_PEAKS_AHEAD] < 0)
+        for (size_t k = p->next_peak + 1; k < p->next_peak + p->peak_slots && k <= sim->target; k++)
+            if (peak_armed(sim, y, k) && peak_function(sim, y, k) <= 0.0) p->events[k - 1] |= FOUND_PEAK;
+}
+
 taper_root_report taper_events_record(taper_sim *sim, const int *roots_found, taper_root_locator where)
 {
     const double *y = taper_sim_entries(sim);
-    const size_t passed_before = sim->pulse.next_pass;
-    /* Granules in increasing order, mapped with the ring as it was when
-     * CVODE evaluated the slots. */
-    const size_t np = sim->pulse.pass_slots, nk = sim->pulse.peak_slots;
-    for (size_t k = sim->pulse.next_pass; k < sim->pulse.next_pass + np; k++)
-        if (roots_found[(k - 1) % np] > 0 && k <= sim->pass_limit) record_pass(sim, y, k, where);
-    for (size_t k = sim->pulse.next_peak; k < sim->pulse.next_peak + nk; k++)
-        if (roots_found[np + (k - 1) % nk] < 0 && k <= sim->target) record_peak(sim, y, k, where);
+    taper_pulse *p = &sim->pulse;
+    const size_t passed_before = p->next_pass;
+    mark_crossed(sim, y, roots_found);
+    /* Granules in increasing order, the next first, as the ring was when
+     * the stepper evaluated the functions. */
+    const size_t next_pass = p->next_pass, next_peak = p->next_peak;
+    if (roots_found[SLOT_PASS] > 0 && next_pass <= sim->pass_limit) record_pass(sim, y, next_pass, where);
+    for (size_t k = next_pass + 1; k < next_pass + p->pass_slots && k <= sim->pass_limit; k++)
+        if (p->events[k - 1] & FOUND_PASS) {
+            p->events[k - 1] &= (unsigned char)~FOUND_PASS;
+            record_pass(sim, y, k, where);
+        }
+    if (roots_found[SLOT_PEAK] < 0 && next_peak <= sim->target) record_peak(sim, y, next_peak, where);
+    for (size_t k = next_peak + 1; k < next_peak + p->peak_slots && k <= sim->target; k++)
+        if (p->events[k - 1] & FOUND_PEAK) {
+            p->events[k - 1] &= (unsigned char)~FOUND_PEAK;
+            record_peak(sim, y, k, where);
+        }
     advance_rings(sim, y);
-    size_t slot = np + nk + 2;
+    size_t slot = SLOT_WALLS;
     if (sim->model.wall_left && roots_found[slot++] < 0) record_wall(sim, y, TAPER_LEFT);
     if (sim->model.wall_right && roots_found[slot] < 0) record_wall(sim, y, TAPER_RIGHT);
     return (taper_root_report){
-        .grow = roots_found[np + nk] > 0,
-        .gap_closed = roots_found[np + nk + 1] > 0,
-        .passed = sim->pulse.next_pass != passed_before,
+        .grow = roots_found[SLOT_GROW] > 0,
+        .gap_closed = roots_found[SLOT_GAP] > 0,
+        .passed = p->next_pass != passed_before,
     };
 }
 

@@ -64,11 +64,12 @@
 
 #include <math.h>
 
-/* Root-function slots: a ring of pass slots and a ring of peak slots that
- * follow the front, then one slot for growing the window and one for the
- * gap behind it (taper_pulse.pass_slots, .peak_slots; events.c).  Rings
- * start with TAPER_RING_SLOTS each; where every root is armed from the
- * start they grow to cover every window granule whose event is unknown. */
+/* The events' rings: the granules whose pass and peak the root functions
+ * watch follow the front (taper_pulse.pass_slots, .peak_slots; events.c,
+ * which gives the stepper six root functions and one per wall, however
+ * many granules the rings hold).  Rings start with TAPER_RING_SLOTS
+ * granules each; where every root is armed from the start they grow to
+ * cover every window granule whose event is unknown. */
 #define TAPER_RING_SLOTS 3
 
 /* Event bits of a granule: known (timed, or found to have happened before
@@ -129,9 +130,10 @@ typedef struct taper_pulse {
                                v_k - v_{k+1} = 0 there)                     */
     unsigned char *events;  /* per granule: TAPER_EV_* bits                  */
     size_t untimed_passes, untimed_peaks;
-    /* Root slots: pass ring [0, pass_slots), peak ring [pass_slots,
-     * pass_slots + peak_slots), then grow and gap.  arm_all: every pending
-     * event of the window is armed (a root finder that compares signs:
+    /* The rings: granules next_pass .. next_pass + pass_slots - 1 and
+     * next_peak .. next_peak + peak_slots - 1 are watched (events.c,
+     * "the stepper's root functions").  arm_all: every pending event of
+     * the window is armed (a root finder that compares signs:
      * taper_events_arm);
      * otherwise fixed rings of TAPER_RING_SLOTS armed near the front. */
     size_t pass_slots, peak_slots;
@@ -353,7 +355,8 @@ void taper_events_arm(taper_sim *sim, int sees_tiny_sign_changes);
 /* The root functions' values at the state's entries y (taper_events_slots
  * of them). */
 void taper_events_root_values(const taper_sim *sim, const double *y, double *g);
-/* Slots in all: the two rings, grow and gap, and the walls'. */
+/* Root functions in all: the rings' (four, events.c), grow and gap, and
+ * the walls'. */
 size_t taper_events_slots(const taper_sim *sim);
 /* The slot of the window's growth (its root need not be located: the
  * window grows where the stepper's step ends, solve.c). */
@@ -364,8 +367,8 @@ void taper_events_directions(const taper_sim *sim, int *directions);
 /* Where every root is armed: enlarges the rings to cover every window
  * granule whose event is unknown, after a root return (the stepper then
  * re-evaluates every root function before it looks for the next root, so
- * slots may be re-mapped).  1 if the slot count changed (the caller arms
- * the stepper's roots again), else 0. */
+ * the functions' granules may change).  1 if the number of root functions
+ * changed (the caller arms the stepper's roots again), else 0. */
 int taper_events_fit_rings(taper_sim *sim);
 /* Records the events of one root return at the current state: roots_found
  * holds each slot's crossing (+1 up, -1 down, 0 none); each event's time

@@ -180,8 +180,11 @@ static int attach_solvers(cvode_stepper *cv, taper_error *err)
 {
     const taper_sim *sim = cv->sim;
     if (sim->spec.method == TAPER_ADAMS) {
-        /* Non-stiff: fixed-point iteration needs no Jacobian at all. */
-        cv->nonlinear = SUNNonlinSol_FixedPoint(cv->y, 0, cv->ctx);
+        /* Non-stiff: fixed-point iteration needs no Jacobian at all.  On
+         * the window, SUNDIALS' iteration fused over its entries
+         * (stepper_cvode_corrector.c); on the whole chain, SUNDIALS'. */
+        cv->nonlinear = cv->window ? cvode_corrector_new(cv->y, rhs, &cv->corrector_rhs_evals, cv->ctx)
+                                   : SUNNonlinSol_FixedPoint(cv->y, 0, cv->ctx);
         if (!cv->nonlinear) return taper_fail(err, TAPER_ENOMEM, "cannot create the fixed-point solver");
         return check(CVodeSetNonlinearSolver(cv->mem, cv->nonlinear), "CVodeSetNonlinearSolver", cv, err);
     }
@@ -334,6 +337,7 @@ static taper_step_counters read_counters(const cvode_stepper *cv)
     if (!mem) return c;
     CVodeGetNumSteps(mem, &c.steps);
     CVodeGetNumRhsEvals(mem, &c.rhs_evals);
+    c.rhs_evals += cv->corrector_rhs_evals;
     CVodeGetNumGEvals(mem, &c.root_evals);
     if (cv->linear) CVodeGetNumJacEvals(mem, &c.jac_evals);
     CVodeGetNumNonlinSolvIters(mem, &c.nonlin_iters);
@@ -369,6 +373,7 @@ static taper_status cvode_restart(taper_stepper *s, taper_error *err)
                           solver_message(cv));
     cv->tn_seen = sim->t; /* CVODE's counters start again from 0 */
     cv->nst_seen = 0;
+    cv->corrector_rhs_evals = 0;
     CVodeSetInitStep(cv->mem, TAPER_STEPPER_FIRST_STEP * 1e-2);
     return TAPER_OK;
 }

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * stepper_cvode_memory.h -- the CVODE stepper's memory, shared by its files:
- * stepper_cvode.c (set-up, CVODE's callbacks, the stepper's operations)
- * and stepper_cvode_clock.c (CVODE's clock, and its roots located again on
- * its interpolant).  Private to them: the rest of the run sees a
+ * stepper_cvode.c (set-up, CVODE's callbacks, the stepper's operations),
+ * stepper_cvode_clock.c (CVODE's clock, and its roots located again on
+ * its interpolant) and stepper_cvode_corrector.c (the Adams corrector on
+ * the window).  Private to them: the rest of the run sees a
  * taper_stepper (stepper.h) and no SUNDIALS type.
  */
 #ifndef TAPER_STEPPER_CVODE_MEMORY_H
@@ -43,6 +44,9 @@ typedef struct cvode_stepper {
     double t_shift;
     double tn_seen;         /* CVODE's tn and step count when last tracked  */
     long nst_seen;
+    /* Right-hand sides the window's corrector evaluated since CVODE's last
+     * (re-)initialisation: CVODE's nfe does not count them. */
+    long corrector_rhs_evals;
 } cvode_stepper;
 
 /* Pointer to the entry at absolute index taper_dyn_begin of one of the
@@ -59,5 +63,14 @@ static inline double *cvode_entries(const cvode_stepper *cv, N_Vector v)
 void cvode_clock_track(cvode_stepper *cv);
 /* The CVODE stepper's refine_root (stepper.h). */
 double cvode_refine_root(taper_stepper *s, taper_root_value g, size_t k, const double **y);
+
+/* ---- stepper_cvode_corrector.c --------------------------------------------- */
+/* CVODE's right-hand side (CVRhsFn). */
+typedef int (*cvode_rhs_fn)(double t, N_Vector y, N_Vector ydot, void *user);
+/* The fixed-point corrector of Adams steps on window vectors like y
+ * (nvector_window.h): SUNDIALS' fixed-point iteration, fused.  rhs is the
+ * right-hand side CVODE was given; each evaluation made here is counted in
+ * *rhs_evals.  NULL on allocation failure. */
+SUNNonlinearSolver cvode_corrector_new(N_Vector y, cvode_rhs_fn rhs, long *rhs_evals, SUNContext ctx);
 
 #endif
