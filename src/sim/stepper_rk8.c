@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * stepper_rk8.c -- method 'rk8': an explicit single-step integrator, GSL's
- * rk8pd (Prince-Dormand 8(7), 13 stages), with root finding, as a stepper
- * (stepper.h).  It integrates the sim's equations under their error
- * weights (equations.c) with events.c's root functions armed, on its own
- * entries of the state (the window's buffer, window_storage.h, or the
- * whole chain's), and calls GSL; nothing else.
+ * stepper_rk8.c -- method 'rk8': an explicit single-step integrator,
+ * Prince and Dormand's 8(7) pair with 13 stages as GSL's rk8pd has it
+ * (stepper_rk8_tableau.h), with root finding, as a stepper (stepper.h).
+ * It integrates the sim's equations under their error weights
+ * (equations.c) with events.c's root functions armed, on its own entries
+ * of the state (the window's buffer, window_storage.h, or the whole
+ * chain's); nothing else.
  *
  * Why a single-step method: a contact's force has a kink where the contact
  * opens or closes (r z^n for z > 0, 0 otherwise), and every kink costs a
@@ -39,9 +40,8 @@
  */
 #include "illinois.h"
 #include "stepper.h"
+#include "stepper_rk8_tableau.h"
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_odeiv2.h>
 
 #include <float.h>
 #include <math.h>
@@ -78,10 +78,11 @@ typedef enum rk8_result {
 typedef struct rk8_stepper {
     taper_sim *sim;
     double *state;          /* the state's storage (sim->state.buffer)      */
-    gsl_odeiv2_step *step;  /* rk8pd for up to step_capacity entries        */
-    size_t step_capacity, dim; /* dim: the current state's entries          */
-    double *y1, *y_root, *y_trial, *err, *w, *f0, *f1; /* `capacity` each  */
-    int f0_valid;           /* f0 is y' at the step's start state          */
+    size_t dim;             /* the current state's entries                  */
+    double *k[13];          /* the stages (k[0]: y' at the start), `capacity`
+                               entries each, in one block                   */
+    double *y_stage, *y1, *y_root, *y_trial, *err, *w, *f1; /* `capacity` each */
+    int f0_valid;           /* k[0] is y' at the step's start state        */
     int g0_valid;           /* g0 holds the root functions there           */
     size_t capacity;
     double *g0, *g1, *g_trial; /* `slot_capacity` entries each             */
@@ -124,8 +125,12 @@ static int fit(rk8_stepper *rk, size_t dim, size_t slots)
 {
     if (dim > rk->capacity) {
         size_t c = 2 * dim;
+        double *k = rk->k[0];
+        if (grow_array(&k, 13 * c)) return -1;
+        for (int i = 0; i < 13; i++) rk->k[i] = k + (size_t)i * c;
+        rk->f0_valid = 0;
         if (grow_array(&rk->y1, c) || grow_array(&rk->y_root, c) || grow_array(&rk->y_trial, c) ||
-            grow_array(&rk->err, c) || grow_array(&rk->w, c) || grow_array(&rk->f0, c) ||
+            grow_array(&rk->err, c) || grow_array(&rk->w, c) || grow_array(&rk->y_stage, c) ||
             grow_array(&rk->f1, c) || grow_array(&rk->y_start, c) || grow_array(&rk->y_ahead, c))
             return -1;
         rk->capacity = c;
@@ -137,51 +142,85 @@ static int fit(rk8_stepper *rk, size_t dim, size_t slots)
         if (!f || grow_array(&rk->g0, c) || grow_array(&rk->g1, c) || grow_array(&rk->g_trial, c)) return -1;
         rk->slot_capacity = c;
     }
-    /* GSL's allocators report a failed malloc to GSL's error handler, whose
-     * default aborts (the library never does; fit.c leaves GSL one
-     * allocation too), so they are kept few: the stepper is allocated for
-     * twice the entries the state has, and its apply function, which takes
-     * the dimension of each call, runs on the current ones (rk8pd's stages
-     * touch no entry beyond it).  A window of up to 2^k entries costs k
-     * allocations. */
-    if (dim > rk->step_capacity) {
-        if (rk->step) gsl_odeiv2_step_free(rk->step);
-        rk->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 2 * dim);
-        rk->step_capacity = rk->step ? 2 * dim : 0;
-        if (!rk->step) return -1;
-    }
     rk->dim = dim;
     return 0;
 }
 
 /* ---- one step -------------------------------------------------------------- */
-static int system_rhs(double t, const double y[], double dydt[], void *params)
+static void rhs(rk8_stepper *rk, double t, const double *y, double *dydt)
 {
-    rk8_stepper *rk = params;
     rk->count.rhs_evals++;
     taper_equations_rhs(rk->sim, t, y, dydt);
-    return GSL_SUCCESS;
 }
 
-/* One rk8pd step of size h from (t, y) into out; 0, or -1 if the
- * right-hand side failed.  The error estimate is left in rk->err.  y' at
- * the start is computed once per start state (rk->f0) and handed to every
- * step from it: the retries after a failed error test and the trial steps
- * of root location. */
-static int step(rk8_stepper *rk, const double *y, double t, double h, double *out)
+/* One rk8pd step of size h from (t, y) into out, its error estimate into
+ * rk->err: GSL's rk8pd_apply (ode-initval2/rk8pd.c), operation for
+ * operation in the same order, so that a step is GSL's to the bit, on the
+ * state's few entries at once: each stage one fused loop with the
+ * tableau's constants, the right-hand side called directly.  y' at the
+ * start is computed once per start state (rk->k[0]) and serves every step
+ * from it: the retries after a failed error test and the trial steps of
+ * root location. */
+static void step(rk8_stepper *rk, const double *restrict y, double t, double h, double *restrict out)
 {
+    const size_t n = rk->dim;
+    double *restrict s = rk->y_stage;
+    double *restrict k1 = rk->k[0], *restrict k2 = rk->k[1], *restrict k3 = rk->k[2];
+    double *restrict k4 = rk->k[3], *restrict k5 = rk->k[4], *restrict k6 = rk->k[5];
+    double *restrict k7 = rk->k[6], *restrict k8 = rk->k[7], *restrict k9 = rk->k[8];
+    double *restrict k10 = rk->k[9], *restrict k11 = rk->k[10], *restrict k12 = rk->k[11];
+    double *restrict k13 = rk->k[12], *restrict err = rk->err;
     if (!rk->f0_valid) {
-        if (system_rhs(t, y, rk->f0, rk) != GSL_SUCCESS) return -1;
+        rhs(rk, t, y, k1);
         rk->f0_valid = 1;
     }
-    gsl_odeiv2_system sys = {system_rhs, NULL, rk->dim, rk};
-    memcpy(out, y, rk->dim * sizeof *out);
-    /* rk8pd keeps nothing from one step to the next (no FSAL, no history):
-     * no reset between steps */
-    return rk->step->type->apply(rk->step->state, rk->dim, t, h, out, rk->err, rk->f0, NULL, &sys) ==
-                   GSL_SUCCESS
-               ? 0
-               : -1;
+    for (size_t i = 0; i < n; i++) s[i] = y[i] + RK8_A21 * h * k1[i];
+    rhs(rk, t + RK8_C2 * h, s, k2);
+    for (size_t i = 0; i < n; i++) s[i] = y[i] + h * (RK8_A31 * k1[i] + RK8_A32 * k2[i]);
+    rhs(rk, t + RK8_C3 * h, s, k3);
+    for (size_t i = 0; i < n; i++) s[i] = y[i] + h * (RK8_A41 * k1[i] + RK8_A43 * k3[i]);
+    rhs(rk, t + RK8_C4 * h, s, k4);
+    for (size_t i = 0; i < n; i++) s[i] = y[i] + h * (RK8_A51 * k1[i] + RK8_A53 * k3[i] + RK8_A54 * k4[i]);
+    rhs(rk, t + RK8_C5 * h, s, k5);
+    for (size_t i = 0; i < n; i++) s[i] = y[i] + h * (RK8_A61 * k1[i] + RK8_A64 * k4[i] + RK8_A65 * k5[i]);
+    rhs(rk, t + RK8_C6 * h, s, k6);
+    for (size_t i = 0; i < n; i++)
+        s[i] = y[i] + h * (RK8_A71 * k1[i] + RK8_A74 * k4[i] + RK8_A75 * k5[i] + RK8_A76 * k6[i]);
+    rhs(rk, t + RK8_C7 * h, s, k7);
+    for (size_t i = 0; i < n; i++)
+        s[i] = y[i] + h * (RK8_A81 * k1[i] + RK8_A84 * k4[i] + RK8_A85 * k5[i] + RK8_A86 * k6[i] +
+                           RK8_A87 * k7[i]);
+    rhs(rk, t + RK8_C8 * h, s, k8);
+    for (size_t i = 0; i < n; i++)
+        s[i] = y[i] + h * (RK8_A91 * k1[i] + RK8_A94 * k4[i] + RK8_A95 * k5[i] + RK8_A96 * k6[i] +
+                           RK8_A97 * k7[i] + RK8_A98 * k8[i]);
+    rhs(rk, t + RK8_C9 * h, s, k9);
+    for (size_t i = 0; i < n; i++)
+        s[i] = y[i] + h * (RK8_A10_1 * k1[i] + RK8_A10_4 * k4[i] + RK8_A10_5 * k5[i] + RK8_A10_6 * k6[i] +
+                           RK8_A10_7 * k7[i] + RK8_A10_8 * k8[i] + RK8_A10_9 * k9[i]);
+    rhs(rk, t + RK8_C10 * h, s, k10);
+    for (size_t i = 0; i < n; i++)
+        s[i] = y[i] + h * (RK8_A11_1 * k1[i] + RK8_A11_4 * k4[i] + RK8_A11_5 * k5[i] + RK8_A11_6 * k6[i] +
+                           RK8_A11_7 * k7[i] + RK8_A11_8 * k8[i] + RK8_A11_9 * k9[i] + RK8_A11_10 * k10[i]);
+    rhs(rk, t + RK8_C11 * h, s, k11);
+    for (size_t i = 0; i < n; i++)
+        s[i] = y[i] + h * (RK8_A12_1 * k1[i] + RK8_A12_4 * k4[i] + RK8_A12_5 * k5[i] + RK8_A12_6 * k6[i] +
+                           RK8_A12_7 * k7[i] + RK8_A12_8 * k8[i] + RK8_A12_9 * k9[i] + RK8_A12_10 * k10[i] +
+                           RK8_A12_11 * k11[i]);
+    rhs(rk, t + h, s, k12);
+    for (size_t i = 0; i < n; i++)
+        s[i] = y[i] + h * (RK8_A13_1 * k1[i] + RK8_A13_4 * k4[i] + RK8_A13_5 * k5[i] + RK8_A13_6 * k6[i] +
+                           RK8_A13_7 * k7[i] + RK8_A13_8 * k8[i] + RK8_A13_9 * k9[i] + RK8_A13_10 * k10[i] +
+                           RK8_A13_11 * k11[i]);
+    rhs(rk, t + h, s, k13);
+    for (size_t i = 0; i < n; i++) {
+        const double ksum8 = RK8_B1 * k1[i] + RK8_B6 * k6[i] + RK8_B7 * k7[i] + RK8_B8 * k8[i] + RK8_B9 * k9[i] +
+                             RK8_B10 * k10[i] + RK8_B11 * k11[i] + RK8_B12 * k12[i] + RK8_B13 * k13[i];
+        const double ksum7 = RK8_BHAT1 * k1[i] + RK8_BHAT6 * k6[i] + RK8_BHAT7 * k7[i] + RK8_BHAT8 * k8[i] +
+                             RK8_BHAT9 * k9[i] + RK8_BHAT10 * k10[i] + RK8_BHAT11 * k11[i] + RK8_BHAT12 * k12[i];
+        out[i] = y[i] + h * ksum8;
+        err[i] = h * (ksum7 - ksum8);
+    }
 }
 
 /* The error estimate in units of the tolerance: max_i |err_i| w_i, the
@@ -215,7 +254,7 @@ static void root_values(rk8_stepper *rk, const double *y, double *g)
     taper_events_root_values(rk->sim, y, g);
 }
 
-/* The cubic Hermite interpolant of the step of size h from (y, f0) to
+/* The cubic Hermite interpolant of the step of size h from (y, k[0]) to
  * (y1, f1) at tau, into out. */
 static void hermite(const rk8_stepper *rk, const double *y, double h, double tau, double *out)
 {
@@ -223,7 +262,7 @@ static void hermite(const rk8_stepper *rk, const double *y, double h, double tau
     const double h00 = (1.0 + 2.0 * th) * u * u, h10 = th * u * u * h;
     const double h01 = th * th * (3.0 - 2.0 * th), h11 = -th * th * u * h;
     for (size_t i = 0; i < rk->dim; i++)
-        out[i] = h00 * y[i] + h10 * rk->f0[i] + h01 * rk->y1[i] + h11 * rk->f1[i];
+        out[i] = h00 * y[i] + h10 * rk->k[0][i] + h01 * rk->y1[i] + h11 * rk->f1[i];
 }
 
 /* Where the interpolant puts slot i's crossing in (0, b]: the Illinois
@@ -263,7 +302,7 @@ static double locate(rk8_stepper *rk, const double *y, double t, double h, size_
             const double s = guess + (it ? 1.0 : -1.0) * SEED_BRACKET * br.b;
             if (s > br.a && s < br.b) c = s;
         }
-        if (step(rk, y, t, c, rk->y_trial) != 0) break;
+        step(rk, y, t, c, rk->y_trial);
         root_values(rk, rk->y_trial, rk->g_trial);
         const double gc = rk->g_trial[i];
         const int far = crossing(g_start, gc, direction) != 0; /* crossed by c */
@@ -292,7 +331,7 @@ static size_t find_roots(rk8_stepper *rk, const double *y, double t, double h, c
         located = 1;
         if (i == unlocated) continue; /* reported where the step ends */
         if (!have_f1) { /* the interpolant's end slope */
-            if (system_rhs(t + h, rk->y1, rk->f1, rk) != GSL_SUCCESS) memset(rk->f1, 0, rk->dim * sizeof(double));
+            rhs(rk, t + h, rk->y1, rk->f1);
             have_f1 = 1;
         }
         /* crossed before the earliest root so far: that is earlier */
@@ -324,10 +363,11 @@ static void set_time(rk8_stepper *rk, double t)
 }
 
 /* The state at time `at` inside the step held ahead: a fresh step from
- * its start (whose y' rk->f0 still holds). */
+ * its start (whose y' rk->k[0] still holds). */
 static int output_inside(rk8_stepper *rk, double at, double *y)
 {
-    return step(rk, rk->y_start, rk->t_start, at - rk->t_start, y);
+    step(rk, rk->y_start, rk->t_start, at - rk->t_start, y);
+    return 0;
 }
 
 /* Leaves the step held ahead: the caller's state becomes the integrator's. */
@@ -388,7 +428,7 @@ static rk8_result advance_to(rk8_stepper *rk, double *y, size_t dim, const int *
         if (!(rk->t < tout)) return RK8_REACHED;
         const int last = rk->t + rk->h >= tstop;
         const double h = last ? tstop - rk->t : rk->h;
-        if (step(rk, y, rk->t, h, rk->y1) != 0) goto rhs_failed;
+        step(rk, y, rk->t, h, rk->y1);
         taper_equations_weights(rk->sim, y, rk->w);
         const double e = error_norm(rk);
         if (!(e <= 1.0)) {
@@ -445,9 +485,9 @@ static void rk8_free(taper_stepper *s)
 {
     rk8_stepper *rk = (rk8_stepper *)s;
     if (!rk) return;
-    if (rk->step) gsl_odeiv2_step_free(rk->step);
-    free(rk->y1), free(rk->y_root), free(rk->y_trial), free(rk->err), free(rk->w);
-    free(rk->f0), free(rk->f1);
+    free(rk->k[0]);
+    free(rk->y_stage), free(rk->y1), free(rk->y_root), free(rk->y_trial), free(rk->err), free(rk->w);
+    free(rk->f1);
     free(rk->g0), free(rk->g1), free(rk->g_trial), free(rk->found_ahead);
     free(rk->y_start), free(rk->y_ahead);
     free(rk->directions), free(rk->found);
