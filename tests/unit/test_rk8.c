@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * test_rk8.c -- method 'rk8' (src/sim/rk8.c) integrates what CVODE does,
+ * test_rk8.c -- method 'rk8' (src/sim/stepper_rk8.c) integrates what CVODE does,
  * on every kind of chain the run supports, and is refused what it has not.
  *
  * rk8 at rtol 1e-12 against CVODE Adams at 1e-14, whose error is ~100
