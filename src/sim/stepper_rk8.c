@@ -37,8 +37,9 @@
  *   run's steps do not depend on its outputs, nor on its roots.
  * - Roots: every slot's value at both ends of an accepted step; a sign
  *   change in the slot's direction is located by the Illinois method on the
- *   dense output, to a few ulps of t, the earliest first, and every slot
- *   that changed sign up to it is reported.  The next root of the step is
+ *   dense output (to CVODE's root tolerance, below rtol 1e-11 to a few
+ *   ulps of t), the earliest first, and every slot that changed sign up
+ *   to it is reported.  The next root of the step is
  *   searched from the last one (not from an output between them), so that
  *   outputs do not move roots.
  * - A step never goes past the stop time (a discontinuity, the end of the
@@ -54,7 +55,6 @@
 
 #include <float.h>
 #include <math.h>
-#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
