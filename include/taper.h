@@ -620,9 +620,8 @@ TAPER_API double taper_solver_spec_t_end(const taper_solver_spec *spec);
  * sim positioned at that time: inside the call taper_sim_time,
  * taper_sim_state, taper_sim_striker_state and taper_sim_forces read the
  * state at the sample time (interpolated by CVODE to its own accuracy,
- * without stopping the integration; method rk8, which has no interpolant
- * of its order, by a fresh step from the start of the step that holds
- * the sample time, the step itself kept).  Return non-zero to stop the run
+ * without stopping the integration; method rk8 by its dense output of
+ * order 7, the step itself kept).  Return non-zero to stop the run
  * (TAPER_EINTERRUPTED). */
 typedef struct taper_sim taper_sim;
 typedef int (*taper_sample_fn)(const taper_sim *sim, void *user);

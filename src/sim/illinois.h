@@ -4,8 +4,7 @@
  * put twice in a row has its value halved): a root finder that keeps its
  * bracket [a, b] and converges superlinearly.  Used where a root is
  * located again on CVODE's interpolant (stepper_cvode_clock.c) and where
- * rk8 locates its roots on trial steps and on its Hermite interpolant
- * (stepper_rk8.c).  A
+ * rk8 locates its roots on its dense output (stepper_rk8.c).  A
  * leaf: header-only, nothing of the sim.
  */
 #ifndef TAPER_ILLINOIS_H

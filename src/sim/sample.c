@@ -9,8 +9,8 @@
  * solve.c asks the stepper for t_j as an output time (stepper.h, advance).
  * The stepper steps as it would anyway and, once its own time passes t_j,
  * returns the state there, inside its step (CVODE interpolates its
- * Nordsieck history, to its own accuracy; rk8 takes a fresh step from the
- * step's start) without changing its steps; roots before t_j are returned
+ * Nordsieck history, to its own accuracy; rk8 evaluates its dense output
+ * of order 7) without changing its steps; roots before t_j are returned
  * first, so the window at t_j is the one in force then.  The state and
  * sim->t then hold t_j, and every reader (taper_sim_time, _state,
  * _striker_state, _forces) sees the sample time.

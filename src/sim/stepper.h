@@ -101,8 +101,8 @@ typedef struct taper_stepper_type {
      * at the first root on the way, whichever comes first, or short of
      * them after taper_stepper_steps_per_call steps.  An output time inside
      * a step need not end the step: the state is then the stepper's
-     * account of it there (CVODE's interpolant, a fresh rk8pd step from the
-     * step's start) and the next advance goes on from where the stepper
+     * account of it there (CVODE's interpolant, rk8's dense output of order
+     * 7) and the next advance goes on from where the stepper
      * is.  t_end, the end of the run's phase (>= tout), bounds the outputs
      * to come: a stepper may end its steps there as at a stop time. */
     taper_step_outcome (*advance)(taper_stepper *s, double tout, double t_end, taper_step *step);

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * test_rk8.c -- method 'rk8' (src/sim/rk8.c) integrates what CVODE does,
+ * test_rk8.c -- method 'rk8' (src/sim/stepper_rk8.c) integrates what CVODE does,
  * on every kind of chain the run supports, and is refused what it has not.
  *
  * rk8 at rtol 1e-12 against CVODE Adams at 1e-14, whose error is ~100
@@ -10,10 +10,17 @@
  * observable, is rk8's error with room: a missed or doubled event, a wrong
  * window move or a lost quadrature is off by far more.  Accuracy against
  * converged references is test `accuracy`.
+ *
+ * The method's coefficients (src/sim/stepper_rk8_tableau.h) against the
+ * order conditions of Butcher's rooted trees (Hairer, Norsett and Wanner,
+ * "Solving Ordinary Differential Equations I", II.2): rk8pd's weights of
+ * order 8 and 7, and its dense output of order 7 at every point of the
+ * step, with the stage orders its extra stages are built for.
  */
 #include "test_chains.h"
 #include "test_util.h"
 #include "taper.h"
+#include "sim/stepper_rk8_tableau.h"
 
 #include <stdlib.h>
 
@@ -265,6 +272,162 @@ static void stopped_run_keeps_its_passes(void **state)
     taper_chain_free(c);
 }
 
+/* ---- the coefficients against the order conditions -------------------------- */
+/* Rooted trees up to order 8, each the root with its children; a tree is
+ * enumerated as its child of largest index plus the tree of the root with
+ * the others (`rest`, whose children have no larger index), so that each
+ * multiset of children comes once: 1, 1, 2, 4, 9, 20, 48, 115 of orders 1
+ * to 8.  Phi(tree)_i = prod over children c of (A Phi(c))_i, the stage
+ * weights; the condition of a tree on weights b is sum_i b_i Phi_i =
+ * 1 / gamma(tree). */
+#define MAX_ORDER 8
+#define MAX_TREES 200
+#define STAGES RK8_DENSE_STAGES
+
+typedef struct trees {
+    size_t n;
+    int order[MAX_TREES], max_child[MAX_TREES];
+    long double gamma[MAX_TREES];
+    long double phi[MAX_TREES][STAGES];
+} trees;
+
+static void tableau(long double a[STAGES][STAGES], long double c[STAGES])
+{
+    static const double rows[13][12] = {
+        {0},
+        {RK8_A21},
+        {RK8_A31, RK8_A32},
+        {RK8_A41, 0, RK8_A43},
+        {RK8_A51, 0, RK8_A53, RK8_A54},
+        {RK8_A61, 0, 0, RK8_A64, RK8_A65},
+        {RK8_A71, 0, 0, RK8_A74, RK8_A75, RK8_A76},
+        {RK8_A81, 0, 0, RK8_A84, RK8_A85, RK8_A86, RK8_A87},
+        {RK8_A91, 0, 0, RK8_A94, RK8_A95, RK8_A96, RK8_A97, RK8_A98},
+        {RK8_A10_1, 0, 0, RK8_A10_4, RK8_A10_5, RK8_A10_6, RK8_A10_7, RK8_A10_8, RK8_A10_9},
+        {RK8_A11_1, 0, 0, RK8_A11_4, RK8_A11_5, RK8_A11_6, RK8_A11_7, RK8_A11_8, RK8_A11_9, RK8_A11_10},
+        {RK8_A12_1, 0, 0, RK8_A12_4, RK8_A12_5, RK8_A12_6, RK8_A12_7, RK8_A12_8, RK8_A12_9, RK8_A12_10,
+         RK8_A12_11},
+        {RK8_A13_1, 0, 0, RK8_A13_4, RK8_A13_5, RK8_A13_6, RK8_A13_7, RK8_A13_8, RK8_A13_9, RK8_A13_10,
+         RK8_A13_11, 0},
+    };
+    static const double b[13] = {RK8_B1, 0, 0, 0, 0, RK8_B6, RK8_B7, RK8_B8, RK8_B9, RK8_B10, RK8_B11, RK8_B12,
+                                 RK8_B13};
+    for (int i = 0; i < STAGES; i++)
+        for (int j = 0; j < STAGES; j++) a[i][j] = 0.0L;
+    for (int i = 0; i < 13; i++)
+        for (int j = 0; j < i; j++) a[i][j] = rows[i][j];
+    for (int j = 0; j < 13; j++) a[13][j] = b[j]; /* k_14 = y' at the step's end */
+    for (int i = 0; i < RK8_DENSE_EXTRA; i++)
+        for (int j = 0; j < 14 + i; j++) a[14 + i][j] = rk8_dense_a[i][j];
+    for (int i = 0; i < STAGES; i++) {
+        c[i] = 0.0L;
+        for (int j = 0; j < i; j++) c[i] += a[i][j];
+    }
+}
+
+static void grow_trees(trees *t, long double a[STAGES][STAGES])
+{
+    t->n = 1; /* the root alone */
+    t->order[0] = 1, t->max_child[0] = -1, t->gamma[0] = 1.0L;
+    for (int i = 0; i < STAGES; i++) t->phi[0][i] = 1.0L;
+    for (int n = 2; n <= MAX_ORDER; n++) {
+        const size_t before = t->n;
+        for (size_t child = 0; child < before; child++)
+            for (size_t rest = 0; rest < before; rest++) {
+                if (t->order[child] + t->order[rest] != n || t->max_child[rest] > (int)child) continue;
+                const size_t k = t->n++;
+                assert_true(k < MAX_TREES);
+                t->order[k] = n, t->max_child[k] = (int)child;
+                t->gamma[k] = n * t->gamma[child] * t->gamma[rest] / t->order[rest];
+                for (int i = 0; i < STAGES; i++) {
+                    long double ac = 0.0L;
+                    for (int j = 0; j < i; j++) ac += a[i][j] * t->phi[child][j];
+                    t->phi[k][i] = ac * t->phi[rest][i];
+                }
+            }
+    }
+}
+
+/* The largest residual of the conditions of the trees of order lo..hi on
+ * weights w scaled by theta (sum w_i Phi_i = theta^order / gamma). */
+static long double residual(const trees *t, const long double *w, long double theta, int lo, int hi)
+{
+    long double worst = 0.0L;
+    for (size_t k = 0; k < t->n; k++) {
+        if (t->order[k] < lo || t->order[k] > hi) continue;
+        long double sum = 0.0L;
+        for (int i = 0; i < STAGES; i++) sum += w[i] * t->phi[k][i];
+        worst = fmaxl(worst, fabsl(sum - powl(theta, t->order[k]) / t->gamma[k]));
+    }
+    return worst;
+}
+
+/* The dense output's weights at theta (its Bernstein form, as the stepper
+ * evaluates it). */
+static void dense_weights(long double theta, long double *w)
+{
+    for (int i = 0; i < STAGES; i++) {
+        w[i] = 0.0L;
+        for (int j = 0; j <= RK8_DENSE_DEGREE; j++)
+            w[i] += rk8_dense_b[i][j] * powl(theta, j) * powl(1.0L - theta, RK8_DENSE_DEGREE - j);
+    }
+}
+
+static void coefficients_meet_their_order_conditions(void **state)
+{
+    (void)state;
+    static long double a[STAGES][STAGES], c[STAGES];
+    static trees t;
+    tableau(a, c);
+    grow_trees(&t, a);
+    int count[MAX_ORDER + 1] = {0};
+    for (size_t k = 0; k < t.n; k++) count[t.order[k]]++;
+    static const int butcher[MAX_ORDER + 1] = {0, 1, 1, 2, 4, 9, 20, 48, 115};
+    for (int n = 1; n <= MAX_ORDER; n++) assert_int_equal(count[n], butcher[n]);
+    /* the pair: order 8 and 7 (GSL's rationals satisfy them to ~1e-18;
+     * their doubles to rounding), and the 7th-order weights not 8 */
+    long double b8[STAGES] = {0}, b7[STAGES] = {0};
+    for (int j = 0; j < 13; j++) b8[j] = a[13][j];
+    const double bhat[12] = {RK8_BHAT1, 0, 0, 0, 0, RK8_BHAT6, RK8_BHAT7, RK8_BHAT8, RK8_BHAT9, RK8_BHAT10,
+                             RK8_BHAT11, RK8_BHAT12};
+    for (int j = 0; j < 12; j++) b7[j] = bhat[j];
+    const long double r8 = residual(&t, b8, 1.0L, 1, 8), r7 = residual(&t, b7, 1.0L, 1, 7);
+    const long double r7_8 = residual(&t, b7, 1.0L, 8, 8);
+    print_message("rk8pd: order-8 conditions to %.1Le, the embedded order-7 to %.1Le (its order-8 residual "
+                  "%.1Le)\n", r8, r7, r7_8);
+    assert_true(r8 < 1e-15L && r7 < 1e-15L && r7_8 > 1e-6L);
+    /* the extra stages: 15, 16 of stage order 5, 17..19 of stage order 6
+     * (the conditions of a stage: its row's weights, scaled by c_i) */
+    for (int i = 14; i < STAGES; i++) {
+        const int q = i < 16 ? 5 : 6;
+        const long double r = residual(&t, a[i], c[i], 1, q);
+        print_message("dense output's stage %d at c = %.3Lf: stage order %d to %.1Le\n", i + 1, c[i], q, r);
+        assert_true(r < 1e-15L);
+        assert_true(fabsl(c[i] - rk8_dense_c[i - 14]) < 1e-15L);
+        for (int j = 1; j < 5; j++) assert_true(a[i][j] == 0.0L); /* the stepper skips stages 2..5 */
+    }
+    /* the dense output: order 7 at every point, b(0) = 0, b(1) = b, and
+     * the stages the stepper skips weigh nothing */
+    long double worst = 0.0L, principal = 0.0L, w[STAGES];
+    for (int m = 1; m <= 20; m++) {
+        const long double theta = m / 20.0L;
+        dense_weights(theta, w);
+        worst = fmaxl(worst, residual(&t, w, theta, 1, 7));
+        principal = fmaxl(principal, residual(&t, w, theta, 8, 8));
+    }
+    dense_weights(1.0L, w);
+    long double end = 0.0L;
+    for (int i = 0; i < STAGES; i++) end = fmaxl(end, fabsl(w[i] - b8[i]));
+    dense_weights(0.0L, w);
+    for (int i = 0; i < STAGES; i++) assert_true(w[i] == 0.0L);
+    print_message("dense output: order-7 conditions to %.1Le on [0, 1], its order-8 residuals up to %.1Le "
+                  "(the embedded pair's: %.1Le), b(1) - b to %.1Le\n", worst, principal, r7_8, end);
+    assert_true(worst < 1e-15L && end < 1e-16L && principal < r7_8);
+    static const int weightless[] = {1, 2, 3, 4, 14, 15};
+    for (size_t k = 0; k < sizeof weightless / sizeof *weightless; k++)
+        for (int j = 0; j <= RK8_DENSE_DEGREE; j++) assert_true(rk8_dense_b[weightless[k]][j] == 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -273,6 +436,7 @@ int main(void)
         cmocka_unit_test(losses_and_load),
         cmocka_unit_test(max_order_refused),
         cmocka_unit_test(stopped_run_keeps_its_passes),
+        cmocka_unit_test(coefficients_meet_their_order_conditions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
