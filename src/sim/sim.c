@@ -206,8 +206,8 @@ static taper_status theory_and_scales(taper_sim *sim, taper_error *err)
  * integrated: t + h == t inside it, and the pass times from there on are
  * equal to rounding.  The binary collision theory gives both sides of that
  * comparison before the run: the residence time T_k of eq. (18) and the
- * time t_k of eq. (19).  Measured (docs/robustness.md, the stress
- * matrix): forward linear at its last valid S (N = 10: T_9 = 0.18 eps
+ * time t_k of eq. (19).  Measured (docs/robustness.md, "The stress
+ * matrix"): forward linear at its last valid S (N = 10: T_9 = 0.18 eps
  * t_9; N = 100: 4e-3 eps t_99) and forward exponential q = 1000, N = 10
  * (1.5e-9) stopped with CVODE flag -4 after warnings "t + h = t" whatever
  * the method; smoother forward tapers below the limit (q = 0.4 and 0.5 at

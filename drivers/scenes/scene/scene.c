@@ -558,11 +558,11 @@ static void ensure_table(void)
         pthread_once(&table_once, build_table_once);
 }
 
-/* Every validated scene's echo must read back (docs/robustness.md, "The
- * echo reads back").  The echo writes a list value in at most 32 bytes (24
- * for %.17g of a double, then ',' and at most a line break and 6 spaces);
- * all lists of more than one value hold at most SCENE_MAX_LIST values
- * together (scene_parse.c); every other variable is one line: an own row of
+/* Every validated scene's echo must read back (docs/robustness.md,
+ * "Fuzzing the scene parser").  The echo writes a list value in at most 32
+ * bytes (24 for %.17g of a double, then ',' and at most a line break and 6
+ * spaces); all lists of more than one value hold at most SCENE_MAX_LIST
+ * values together (scene_parse.c); every other variable is one line: an own row of
  * at most SCENE_MAX_LINE characters (a string echoes as long as it was
  * written) plus its name and unit, a library row (a number or a choice's
  * name, never a string) of at most 256. */
