@@ -251,11 +251,11 @@ static taper_status check_time_resolution(const taper_sim *sim, taper_error *err
  * shorter than a collision (tau = (mu_1 / r_1)^(1/n), eq. (18)'s time at
  * unit velocity up to a factor of order one), the equations are stiff:
  * Adams, whose corrector is a fixed-point iteration, and rk8, an explicit
- * method, step at the relaxation time for the whole run, while the pulse,
- * overdamped, creeps on for ever longer (monodisperse N = 100, drag 100: absorbed at
- * t = 1.8e6 after 2.4e8 Adams steps, 212 s; BDF: 1437 steps, 0.01 s, the
- * same pass times to 3e-4, which a creeping front makes ill-conditioned).
- * A note, not a refusal: the run is correct, only slow. */
+ * method, step at the relaxation time for as long as the overdamped pulse
+ * creeps on; BDF steps with the creep.  A note, not a refusal: the run is
+ * correct, only slower.  (Where the creep's energy falls below rtol E(0)
+ * while the window holds it, the run ends there: "the pulse has left the
+ * chain", solve.c; whole-chain BDF follows a creeping front further.) */
 static void advise_on_stiff_drag(const taper_sim *sim)
 {
     const taper_model *m = &sim->model;
@@ -270,8 +270,8 @@ static void advise_on_stiff_drag(const taper_sim *sim)
         taper_sim_log(sim, 1,
                       "drag = %g relaxes the lightest granule's velocity in m/drag = %.3g, %.0f times "
                       "faster than a collision ((mu/r)^(1/n) = %.3g): the equations are stiff, and "
-                      "method '%s' steps at that relaxation time for the whole run; method = 'bdf' takes "
-                      "far fewer steps (monodisperse, 100 granules, drag 100: 1437 against 2.4e8)",
+                      "method '%s' steps at that relaxation time while the pulse creeps on; method = "
+                      "'bdf' steps with the creep (CVODE BDF, implicit)",
                       m->drag, m_min / m->drag, ratio, tau, taper_method_name(sim->spec.method));
 }
 

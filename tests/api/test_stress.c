@@ -1404,9 +1404,9 @@ static void physics_ranges(size_t n_max)
             {.what = "damping 1e4", .n = n, .exponent = 2.5, .damping = 1e4, .costly = 1},
             {.what = "drag 0.1", .n = n, .exponent = 2.5, .drag = 0.1},
             {.what = "drag 1", .n = n, .exponent = 2.5, .drag = 1, .costly = 1},
-            /* Adams steps at the relaxation time m/drag = 0.01 for the whole
-             * creep (N = 100: 2.4e8 steps, 212 s); the library warns and
-             * names BDF (1437 steps), which the N >= 100 cells follow. */
+            /* Adams steps at the relaxation time m/drag = 0.01 while the
+             * creep goes on; the library warns and names BDF, which the
+             * N >= 100 cells follow. */
             {.what = "drag 100", .n = n, .exponent = 2.5, .drag = 100, .costly = 1, .bdf = n >= 100},
             {.what = "decorated", .profile = TAPER_DECORATED, .param = 0.1, .n = n, .exponent = 2.5},
             {.what = "decorated", .profile = TAPER_DECORATED, .param = 0.01, .n = n, .exponent = 2.5, .costly = 1},
