@@ -390,6 +390,9 @@ static PyObject *thin_rows(PyObject *column, size_t every)
     return thin;
 }
 
+/* Granules converted between two looks at Ctrl-C. */
+#define CONVERT_BLOCK ((size_t)1 << 18)
+
 /* The columns of a run as granules.tsv has them (&output columns, every),
  * in its order, converted to the scene's units. */
 static int shape_columns(PyObject *d, const scene_config *at, PyObject *units)
@@ -408,14 +411,26 @@ static int shape_columns(PyObject *d, const scene_config *at, PyObject *units)
         PyErr_NoMemory();
         return -1;
     }
-    if (rest) memcpy(rest, PyArray_DATA((PyArrayObject *)x0), n * sizeof *rest);
+    if (rest && core_copy_checked(rest, PyArray_DATA((PyArrayObject *)x0), n) < 0) {
+        free(rest);
+        return -1;
+    }
     PyObject *cols = PyDict_New();
     for (int c = 0; cols && c < SCENE_N_COLUMNS; c++) {
         const char *name = scene_column_name((scene_column)c);
         PyObject *a = PyDict_GetItemString(raw, name);
         if (!a || !(at->output.column_set & (1u << c))) continue;
-        if (si && c != SCENE_COL_K)
-            scene_column_convert(at, (scene_column)c, PyArray_DATA((PyArrayObject *)a), rest, n);
+        /* in blocks, Ctrl-C looked for between them (the GIL is held) */
+        double *values = PyArray_DATA((PyArrayObject *)a);
+        for (size_t from = 0; si && c != SCENE_COL_K && from < n; from += CONVERT_BLOCK) {
+            if (from && PyErr_CheckSignals() < 0) {
+                Py_CLEAR(cols);
+                break;
+            }
+            scene_column_convert(at, (scene_column)c, values + from, rest + from,
+                                 n - from < CONVERT_BLOCK ? n - from : CONVERT_BLOCK);
+        }
+        if (!cols) break;
         PyObject *kept = at->output.every > 1 ? thin_rows(a, (size_t)at->output.every)
                                               : Py_NewRef(a);
         if (core_put(cols, name, kept) < 0 ||
