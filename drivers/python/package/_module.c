@@ -119,6 +119,12 @@ static PyObject *py_scene_settings(PyObject *self, PyObject *args)
     return WITH_NUMPY(pyscene_settings(args));
 }
 
+static PyObject *py_pulse_speed(PyObject *self, PyObject *args)
+{
+    (void)self;
+    return WITH_NUMPY(pyscene_pulse_speed(args));
+}
+
 /* ---- the calls that are not scenes (_core.c) ----------------------------------- */
 
 static PyObject *py_collision_time(PyObject *self, PyObject *args, PyObject *kwargs)
@@ -228,6 +234,9 @@ static PyMethodDef methods[] = {
     {"scene_settings", py_scene_settings, METH_VARARGS,
      "scene_settings(scene, point) -> dict: every variable of a result's scene by its name, "
      "at its point."},
+    {"pulse_speed", py_pulse_speed, METH_VARARGS,
+     "pulse_speed(X, t, k) -> float: the pulse's speed over the last tenth of the granules "
+     "passed, as granules.tsv's header has it (drivers/scenes/results/pulse.h)."},
     {"collision_time", (PyCFunction)(void (*)(void))py_collision_time, METH_VARARGS | METH_KEYWORDS,
      "collision_time(mu, r, zdot0, n=2.5) -> float: residence time of one binary collision, "
      "eq. (18)."},

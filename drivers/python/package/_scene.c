@@ -29,6 +29,7 @@
  */
 #include "_scene.h"
 
+#include "results/pulse.h"
 #include "scene/scene.h"
 
 #include <limits.h>
@@ -390,6 +391,20 @@ static PyObject *thin_rows(PyObject *column, size_t every)
     return thin;
 }
 
+/* stats["pulse_speed"] of a run (results/pulse.h), from its whole columns
+ * converted to the scene's units, as granules.tsv's header has it. */
+static int add_pulse_speed(PyObject *d, PyObject *raw, const scene_config *at, PyObject *units)
+{
+    PyObject *stats = PyDict_GetItemString(d, "stats");
+    PyObject *x = PyDict_GetItemString(raw, taper_observable_name(TAPER_X_PASS));
+    PyObject *t = PyDict_GetItemString(raw, taper_observable_name(TAPER_T_PASS));
+    if (!stats || !x || !t) return 0; /* the theory alone */
+    const double v = pulse_speed(PyArray_DATA((PyArrayObject *)x), PyArray_DATA((PyArrayObject *)t),
+                                 NULL, (size_t)PyArray_DIM((PyArrayObject *)x, 0));
+    if (core_put(stats, PULSE_SPEED_NAME, PyFloat_FromDouble(v)) < 0) return -1;
+    return put_unit(units, at, PULSE_SPEED_NAME, TAPER_DIM_VELOCITY);
+}
+
 /* Granules converted between two looks at Ctrl-C. */
 #define CONVERT_BLOCK ((size_t)1 << 18)
 
@@ -419,7 +434,7 @@ static int shape_columns(PyObject *d, const scene_config *at, PyObject *units)
     for (int c = 0; cols && c < SCENE_N_COLUMNS; c++) {
         const char *name = scene_column_name((scene_column)c);
         PyObject *a = PyDict_GetItemString(raw, name);
-        if (!a || !(at->output.column_set & (1u << c))) continue;
+        if (!a) continue;
         /* in blocks, Ctrl-C looked for between them (the GIL is held) */
         double *values = PyArray_DATA((PyArrayObject *)a);
         for (size_t from = 0; si && c != SCENE_COL_K && from < n; from += CONVERT_BLOCK) {
@@ -431,6 +446,7 @@ static int shape_columns(PyObject *d, const scene_config *at, PyObject *units)
                                  n - from < CONVERT_BLOCK ? n - from : CONVERT_BLOCK);
         }
         if (!cols) break;
+        if (!(at->output.column_set & (1u << c))) continue; /* converted for the speed */
         PyObject *kept = at->output.every > 1 ? thin_rows(a, (size_t)at->output.every)
                                               : Py_NewRef(a);
         if (core_put(cols, name, kept) < 0 ||
@@ -438,6 +454,7 @@ static int shape_columns(PyObject *d, const scene_config *at, PyObject *units)
             Py_CLEAR(cols);
     }
     free(rest);
+    if (cols && add_pulse_speed(d, raw, at, units) < 0) Py_CLEAR(cols);
     return cols ? core_put(d, "columns", cols) : -1;
 }
 
@@ -746,4 +763,25 @@ PyObject *pyscene_columns(int theory_only)
     PyObject *t = l ? PyList_AsTuple(l) : NULL;
     Py_XDECREF(l);
     return t;
+}
+
+PyObject *pyscene_pulse_speed(PyObject *args)
+{
+    PyObject *xo, *to, *ko;
+    if (!PyArg_ParseTuple(args, "OOO:pulse_speed", &xo, &to, &ko)) return NULL;
+    PyArrayObject *x = (PyArrayObject *)PyArray_FROMANY(xo, NPY_DOUBLE, 1, 1, NPY_ARRAY_CARRAY_RO);
+    PyArrayObject *t = x ? (PyArrayObject *)PyArray_FROMANY(to, NPY_DOUBLE, 1, 1, NPY_ARRAY_CARRAY_RO)
+                         : NULL;
+    PyArrayObject *k = t ? (PyArrayObject *)PyArray_FROMANY(ko, NPY_INT64, 1, 1, NPY_ARRAY_CARRAY_RO)
+                         : NULL;
+    PyObject *out = NULL;
+    if (k && (PyArray_DIM(t, 0) != PyArray_DIM(x, 0) || PyArray_DIM(k, 0) != PyArray_DIM(x, 0)))
+        PyErr_SetString(PyExc_ValueError, "pulse_speed: X, t and k differ in length");
+    else if (k)
+        out = PyFloat_FromDouble(pulse_speed(PyArray_DATA(x), PyArray_DATA(t),
+                                             PyArray_DATA(k), (size_t)PyArray_DIM(x, 0)));
+    Py_XDECREF(x);
+    Py_XDECREF(t);
+    Py_XDECREF(k);
+    return out;
 }

@@ -48,5 +48,9 @@ PyObject *pyscene_settings(PyObject *args);
 /* The names of granules.tsv's columns in their order; theory_only: those
  * a run without numerics has. */
 PyObject *pyscene_columns(int theory_only);
+/* pulse_speed(X, t, k): the pulse's speed over the last tenth of the
+ * granules passed (results/pulse.h), from float64 arrays X and t and the
+ * int64 granule numbers k of their rows. */
+PyObject *pyscene_pulse_speed(PyObject *args);
 
 #endif
