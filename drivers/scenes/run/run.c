@@ -624,8 +624,16 @@ static int run_init(run *r, const scene *sc, size_t point, const char *dir, cons
     return r->dir && r->label ? 0 : -1;
 }
 
+static double thread_cpu_seconds(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return NAN;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 void run_point(const scene *sc, size_t point, const char *dir, const char *name, run_outcome *o)
 {
+    const double cpu_start = thread_cpu_seconds();
     size_t n_out = 0, n_log = 0;
     memset(o, 0, sizeof *o);
     FILE *out = open_memstream(&o->out, &n_out), *log = open_memstream(&o->log, &n_log);
@@ -641,6 +649,7 @@ void run_point(const scene *sc, size_t point, const char *dir, const char *name,
         o->rc = r.rc;
     }
     run_free(&r);
+    o->cpu_seconds = thread_cpu_seconds() - cpu_start;
     if (out) fclose(out);
     if (log) fclose(log);
     if (!out || !log) {
