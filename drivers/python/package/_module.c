@@ -113,6 +113,12 @@ static PyObject *py_variables(PyObject *self, PyObject *unused)
     return pyscene_variables(); /* imports numpy itself if a default is a list */
 }
 
+static PyObject *py_scene_swept(PyObject *self, PyObject *args)
+{
+    (void)self;
+    return pyscene_swept(args);
+}
+
 static PyObject *py_scene_settings(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -231,6 +237,9 @@ static PyMethodDef methods[] = {
     {"scene_text", py_scene_text, METH_VARARGS,
      "scene_text(scene, point) -> str: the resolved scene of a result, as a namelist (the "
      "driver's echo)."},
+    {"scene_swept", py_scene_swept, METH_VARARGS,
+     "scene_swept(scene, point) -> (name, [(variable, value), ...]): the run of a sweep as "
+     "the driver names it and runs.tsv's swept columns."},
     {"scene_settings", py_scene_settings, METH_VARARGS,
      "scene_settings(scene, point) -> dict: every variable of a result's scene by its name, "
      "at its point."},

@@ -673,6 +673,26 @@ PyObject *pyscene_settings(PyObject *args)
     return sc ? settings_of(sc, (size_t)point) : NULL;
 }
 
+PyObject *pyscene_swept(PyObject *args)
+{
+    Py_ssize_t point;
+    const scene *sc = scene_point(args, "On:scene_swept", &point);
+    if (!sc) return NULL;
+    const scene_config *cfg = scene_cfg(sc);
+    char *name = scene_point_name(cfg, (size_t)point);
+    if (!name) return PyErr_NoMemory();
+    PyObject *values = PyList_New(0);
+    for (size_t k = 0; values && k < cfg->runs.n_swept; k++) {
+        PyObject *pair = Py_BuildValue("(sd)", scene_swept_name(cfg, k),
+                                       scene_swept_value(cfg, (size_t)point, k));
+        if (!pair || PyList_Append(values, pair) < 0) Py_CLEAR(values);
+        Py_XDECREF(pair);
+    }
+    PyObject *out = values ? Py_BuildValue("(sN)", name, values) : NULL;
+    free(name);
+    return out;
+}
+
 PyObject *pyscene_text(PyObject *args)
 {
     Py_ssize_t point;

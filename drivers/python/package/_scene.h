@@ -40,6 +40,9 @@ struct scene *pyscene_scene(pyscene_kind kind, PyObject *args, PyObject *kwargs)
 PyObject *pyscene_run_file(PyObject *path);
 /* variables(): one dict per scene variable, in the table's order. */
 PyObject *pyscene_variables(void);
+/* scene_swept(scene, point): (the run's name, [(swept variable, value),
+ * ...]) as the driver names the run's directory and runs.tsv's columns. */
+PyObject *pyscene_swept(PyObject *args);
 /* scene_text(scene, point): the echo of a result's scene at its point. */
 PyObject *pyscene_text(PyObject *args);
 /* scene_settings(scene, point): {keyword: value} of every variable of a
