@@ -97,6 +97,10 @@ static PyObject *py_check(PyObject *self, PyObject *args, PyObject *kwargs)
 static PyObject *py_cite(PyObject *self, PyObject *args, PyObject *kwargs)
 {
     (void)self;
+    /* The keywords' values are read with numpy's C API (a numpy bool or
+     * float is a value too): cite(method="rk8") as a process's first call
+     * dereferenced numpy's table before it was imported. */
+    if (kwargs && PyDict_Size(kwargs) > 0 && core_numpy() < 0) return NULL;
     return pyscene_call(PYSCENE_CITE, args, kwargs);
 }
 
