@@ -2,7 +2,13 @@
 /*
  * _scene.c -- every call of the package that runs a chain is a scene of the
  * driver's scene module (drivers/scenes/scene/scene.h): the same variables,
- * defaults, validation and messages as `taper SCENE.nml`.
+ * defaults, validation and messages as `taper SCENE.nml`.  Why the package
+ * links the scenes' library (taper_scenes) rather than ship the driver and
+ * read back its granules.tsv: a keyword, a file's variable and `taper --set`
+ * then mean one thing with one default, range, message and unit, with no
+ * subprocess, no files written and no second copy of libtaper (the driver
+ * links libtaper.so).  The scene costs a call some microseconds, two thirds
+ * of taper.theory(n_granules=2) (drivers/bench/python_overheads.py).
  *
  * Keywords: a keyword is a scene variable's one name (scene_var_keyword_at:
  * the key in its group, with the group's name in front where two groups
