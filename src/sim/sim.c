@@ -382,10 +382,6 @@ static void pulse_init(taper_sim *sim)
     p->peak_slots = TAPER_RING_SLOTS;
 }
 
-/* The chain's own checks (taper_chain_alloc: damping needs n >= 2, ...) are
- * done; here those of the solver settings against this chain, then the
- * bodies, the result arrays, the theory and tolerance scales, and the
- * time-resolution check, which needs the theory. */
 /* Between the set-up's passes over the whole chain of a long chain the
  * monitor is asked too (window 0..0, as during the theory, and like it only
  * for chains of TAPER_LONG_CHAIN granules or more), so that the set-up of a
@@ -398,6 +394,10 @@ static taper_status go_on(const taper_sim *sim, const char *step, taper_error *e
     return taper_fail(err, TAPER_EINTERRUPTED, "interrupted while the run was set up (%s)", step);
 }
 
+/* The chain's own checks (taper_chain_alloc: damping needs n >= 2, ...) are
+ * done; here those of the solver settings against this chain, then the
+ * bodies, the result arrays, the theory and tolerance scales, and the
+ * time-resolution check, which needs the theory. */
 taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec, taper_error *err)
 {
     taper_solver_spec defaults;

@@ -718,6 +718,19 @@ static void monitor_phases(void)
     CHECK(sim == NULL && err.status == TAPER_EINTERRUPTED, "sim_alloc's theory: status %d",
           err.status);
     taper_sim_free(sim);
+    /* taper_sim_alloc of a chain this long asks between its passes over it
+     * too: before and after the result arrays, then the theory's three
+     * looks, after the scales and the time-resolution check (7 calls); the
+     * last stops it, naming the step. */
+    w = (theory_watch){.stop_at = 1000000, .window_zero = 1};
+    sim = taper_sim_alloc(chain, spec, &err);
+    CHECK(sim && w.calls == 7 && w.window_zero, "sim_alloc's looks: %d", w.calls);
+    taper_sim_free(sim);
+    w = (theory_watch){.stop_at = 7, .window_zero = 1};
+    sim = taper_sim_alloc(chain, spec, &err);
+    CHECK(!sim && err.status == TAPER_EINTERRUPTED && strstr(err.message, "time resolution"),
+          "sim_alloc stopped at its last look: '%s'", err.message);
+    taper_sim_free(sim);
     taper_solver_spec_free(spec);
     taper_chain_free(chain);
 
