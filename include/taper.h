@@ -529,8 +529,8 @@ TAPER_API taper_status taper_method_from_name(const char *name, taper_method *me
                                               taper_error *err);
 
 /* Given to the monitor during a run: after each pulse event, after each
- * sample of a sampler, and at least every ~0.1 s of integration (every
- * 2e6 granule-steps of the active window, at most 20000 steps); and while
+ * sample of a sampler, and at least every ~0.05 s of integration (every
+ * 1e6 granule-steps of the active window, at most 20000 steps); and while
  * the binary-collision theory of a chain is computed (taper_sim_alloc,
  * taper_theory_compute_monitored), every 65536 granules, with window_lo =
  * window_hi = 0, granule the granule reached, target N, t its t_k and

@@ -23,7 +23,7 @@
  * Python handler (KeyboardInterrupt) runs when the main thread calls
  * PyErr_CheckSignals, which needs the GIL.  The library calls our monitor
  * on the thread building the chain or running the sim or the theory (after
- * every pulse event and sample, at least every ~0.1 s of integration, every
+ * every pulse event and sample, at least every ~0.05 s of integration, every
  * 65536 granules of the chain and of the theory: taper.h); at most every CHECK_INTERVAL seconds the monitor takes
  * the GIL (PyGILState_Ensure), calls PyErr_CheckSignals, and asks the
  * library to stop if it raised.  The run then ends with TAPER_EINTERRUPTED,

@@ -586,7 +586,7 @@ static void write_doc_outro(FILE *fp)
           "(\"nothing of this run is written\") | 3 |\n"
           "| during the integration, also after the pulse (a loaded chain, `t_end`, the "
           "samples of `&sensors`) | the monitor: after each pulse event and sample, and every "
-          "~0.1 s of steps | `granules.partial.tsv` (`# PARTIAL result (interrupted): "
+          "~0.05 s of steps | `granules.partial.tsv` (`# PARTIAL result (interrupted): "
           "interrupted by SIGTERM`) and the time series so far (their headers say `# "
           "PARTIAL`) | 3 |\n"
           "| while the results of a complete run are written | the writer, every few thousand "

@@ -115,7 +115,7 @@ PHASES = {
     # the first steps before any pass, the integration, the columns
     "simulate": ("taper.simulate(n_granules=10**6)", 3.0),
     # a loaded chain after the pulse: a window of 800 granules and no event
-    # (the integration's own look at the monitor, every ~0.1 s of steps)
+    # (the integration's own look at the monitor, every ~0.05 s of steps)
     "wide window": ("taper.simulate(n_granules=800, load=1e-3, t_end=1e6)", 4.0),
     # the same sampled: every call of the integrator ends at a sample, never
     # at the steps' limit, and the pulse has passed (the sampler's look)
