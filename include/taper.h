@@ -529,20 +529,23 @@ TAPER_API taper_status taper_method_from_name(const char *name, taper_method *me
                                               taper_error *err);
 
 /* Given to the monitor during a run: after each pulse event, after each
- * sample of a sampler, and at least every ~0.1 s of integration (every
- * 2e6 granule-steps of the active window, at most 20000 steps); and while
+ * sample of a sampler, and at least every ~0.05 s of integration (every
+ * 1e6 granule-steps of the active window, at most 20000 steps); and while
  * the binary-collision theory of a chain is computed (taper_sim_alloc,
  * taper_theory_compute_monitored), every 65536 granules, with window_lo =
  * window_hi = 0, granule the granule reached, target N, t its t_k and
- * steps 0.  Filled by the library: a later version may append fields,
- * never reorder them. */
+ * steps 0; and so while a chain is built (taper_chain_alloc_monitored),
+ * with t 0, and between taper_sim_alloc's other passes over the chain,
+ * with granule 0.  Filled by the library: a later version may append
+ * fields, never reorder them. */
 typedef struct taper_progress {
     size_t granule;     /* highest k whose t_pass is known (0: none yet)      */
     size_t target;      /* the run ends once the pulse passed this granule    */
     double t;           /* time of the event                                  */
     long steps;         /* internal steps so far                              */
     size_t window_lo;   /* active window: granules window_lo..window_hi move  */
-    size_t window_hi;   /* (0 and 0: the theory is being computed)            */
+    size_t window_hi;   /* (0 and 0: the theory or the chain is being
+                           computed)                                          */
 } taper_progress;
 
 /* Return non-zero to stop the run (it then ends with TAPER_EINTERRUPTED,
@@ -555,11 +558,22 @@ typedef int (*taper_monitor_fn)(const taper_progress *progress, void *user);
 /* taper_theory_compute, asking `monitor` (NULL: never) every 65536 granules
  * whether to go on (progress as above: window 0..0), so that the theory of
  * the longest chains stops at once.  A non-zero answer ends it with
- * TAPER_EINTERRUPTED, the arrays NaN from the granule it had reached on. */
+ * TAPER_EINTERRUPTED naming the last granule K computed: the arrays hold
+ * granules 1..K, NaN at K+1, and nothing is written after it (so that it
+ * returns at once, whatever N). */
 TAPER_API taper_status taper_theory_compute_monitored(const taper_chain *chain, double *v,
                                                       double *mu, double *T, double *t,
                                                       taper_monitor_fn monitor, void *user,
                                                       taper_error *err);
+
+/* taper_chain_alloc, asking `monitor` (NULL: never) every 65536 granules
+ * of each loop over the chain whether to go on (progress: granule the
+ * loop's granule, target N, t 0, steps 0, window 0..0), so that building
+ * the longest chains (10^7 granules: a fraction of a second) stops at
+ * once.  A non-zero answer: NULL with TAPER_EINTERRUPTED, nothing kept. */
+TAPER_API taper_chain *taper_chain_alloc_monitored(const taper_chain_spec *spec,
+                                                   taper_monitor_fn monitor, void *user,
+                                                   taper_error *err);
 
 /* Diagnostics the library would otherwise have printed, called from the
  * thread running the simulation: level 1 (warning) for CVODE's own messages
@@ -857,11 +871,12 @@ TAPER_API taper_dimension taper_statistic_dimension(taper_statistic which);
 
 /* Prepares a run of `chain` (which must outlive the sim), and computes its
  * binary collision theory once (taper_sim_theory), asking the spec's
- * monitor as taper_theory_compute_monitored does.  Copies spec (NULL: the
+ * monitor as taper_theory_compute_monitored does, and between its other
+ * passes over the chain (window 0..0 too).  Copies spec (NULL: the
  * defaults).  Returns a sim the caller owns (release with taper_sim_free),
  * or NULL: TAPER_EINVAL for a NULL chain or settings that do not fit it
  * (last_granule > N, max_order beyond the method's), TAPER_ERANGE from the
- * theory, TAPER_EINTERRUPTED when the monitor stopped the theory,
+ * theory, TAPER_EINTERRUPTED when the monitor stopped the set-up,
  * TAPER_ENOMEM.  CVODE is set up by taper_sim_run. */
 TAPER_API taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *spec,
                                      taper_error *err);

@@ -89,7 +89,10 @@ static void send_run(int dest, long long i)
     MPI_Send(&v, 1, MPI_INT64_T, dest, TAG_RUN, MPI_COMM_WORLD);
 }
 
-enum { RESULT_HEAD = 8 + 4 * 4 };
+/* A result: the run's index (8 bytes), rc, the worker's signal, the
+ * lengths of stdout and stderr text (4 each), its CPU seconds (a double),
+ * then the texts. */
+enum { RESULT_HEAD = 8 + 4 * 4 + 8 };
 
 /* Unpacks a result message into an outcome (texts malloc'd) and the
  * worker's signal. */
@@ -105,6 +108,7 @@ static long long unpack(const unsigned char *buf, int len, run_outcome *o, int32
     memcpy(sig, buf + 12, sizeof *sig);
     memcpy(&n_out, buf + 16, sizeof n_out);
     memcpy(&n_log, buf + 20, sizeof n_log);
+    memcpy(&o->cpu_seconds, buf + 24, sizeof o->cpu_seconds);
     if (n_out < 0 || n_log < 0 || (size_t)len != RESULT_HEAD + (size_t)n_out + (size_t)n_log)
         return -1;
     o->rc = rc;
@@ -263,6 +267,7 @@ static void send_result(worker_ctx *w, size_t i, const run_outcome *o)
     memcpy(buf + 12, &sig, sizeof sig);
     memcpy(buf + 16, &n_out, sizeof n_out);
     memcpy(buf + 20, &n_log, sizeof n_log);
+    memcpy(buf + 24, &o->cpu_seconds, sizeof o->cpu_seconds);
     if (n_out) memcpy(buf + RESULT_HEAD, o->out, (size_t)n_out);
     if (n_log) memcpy(buf + RESULT_HEAD + n_out, o->log, (size_t)n_log);
     pthread_mutex_lock(&w->lock);

@@ -22,6 +22,29 @@
 #define MASS_MIN 1e-300
 #define MASS_MAX 1e300
 
+/* Granules between two looks at the caller's monitor while a chain is
+ * built (taper_chain_alloc_monitored): a few milliseconds of the loops
+ * below, so that a signal stops the building of the longest chain within
+ * a fraction of a second, as the theory's recursion does. */
+#define MONITOR_EVERY 65536
+
+/* The caller's monitor and the chain's length, for its progress. */
+typedef struct build_watch {
+    taper_monitor_fn monitor; /* NULL: never asked */
+    void *user;
+    size_t n;
+} build_watch;
+
+/* 1 when the monitor, asked at every MONITOR_EVERY-th granule k (not at 0),
+ * says stop (progress: granule k of target N, window 0..0 as for the
+ * theory). */
+static int stop_asked(const build_watch *w, size_t k)
+{
+    if (!w->monitor || k == 0 || k % MONITOR_EVERY != 0) return 0;
+    const taper_progress p = {.granule = k, .target = w->n};
+    return w->monitor(&p, w->user) != 0;
+}
+
 /* ln R_k for the analytic profiles, k = 1..N (ln avoids overflow in the
  * exponential chains before we can name the offending granule). */
 static double log_radius(const taper_chain_spec *spec, size_t k)
@@ -50,15 +73,23 @@ static const char *taper_parameter(taper_profile profile)
     return (profile == TAPER_BACKWARD_LINEAR || profile == TAPER_FORWARD_LINEAR) ? "s" : "q";
 }
 
+static taper_status interrupted(size_t k, size_t n, taper_error *err)
+{
+    return taper_fail(err, TAPER_EINTERRUPTED, "chain: interrupted at granule %zu of %zu", k, n);
+}
+
 /* Masses must stay representable with room for the dynamics.  The analytic
  * profiles have ln R_k monotonic in k with R_1 = 1 in range, so the first
  * granule out of range is found by bisection in O(log N) evaluations. */
-static taper_status check_mass_range(const taper_chain_spec *spec, taper_error *err)
+static taper_status check_mass_range(const taper_chain_spec *spec, const build_watch *w,
+                                     taper_error *err)
 {
     size_t first_bad = 0; /* 0: none */
     if (spec->profile == TAPER_CUSTOM) {
-        for (size_t k = 1; k <= spec->n_granules && !first_bad; k++)
+        for (size_t k = 1; k <= spec->n_granules && !first_bad; k++) {
+            if (stop_asked(w, k)) return interrupted(k, spec->n_granules, err);
             if (!mass_in_range(spec, k)) first_bad = k;
+        }
     } else if (spec->profile == TAPER_DECORATED) {
         /* Periodic: the first period holds every radius there is. */
         for (size_t k = 1; k <= spec->n_granules && k <= spec->n_pattern && !first_bad; k++)
@@ -161,10 +192,11 @@ static double compliance_of(const taper_chain_spec *spec, size_t k)
  * 2 c_1 / (c_a + c_b) with c_1 = 1. */
 static double material_factor(double a, double b) { return 2.0 / (a + b); }
 
-static void fill_geometry(taper_chain *c, const taper_chain_spec *spec)
+/* Radii and masses of granules first..last. */
+static void fill_masses(taper_chain *c, const taper_chain_spec *spec, size_t first, size_t last)
 {
     int disordered = spec->disorder_amplitude > 0.0;
-    for (size_t k = 1; k <= c->n; k++) {
+    for (size_t k = first; k <= last; k++) {
         double R = profile_radius(spec, k);
         if (disordered) R *= disorder_factor(spec, TAPER_DISORDER_RADIUS, k);
         c->radius[k - 1] = R;
@@ -172,14 +204,36 @@ static void fill_geometry(taper_chain *c, const taper_chain_spec *spec)
         if (spec->density) c->mass[k - 1] *= spec->density[k - 1];
         if (disordered) c->mass[k - 1] *= disorder_factor(spec, TAPER_DISORDER_MASS, k);
     }
-    c->rest[0] = 0.0;
-    for (size_t k = 1; k < c->n; k++) {
+}
+
+/* Contact factors of the pairs (k, k+1) and rest positions X0(k+1), k =
+ * first..last (< N), the radii known. */
+static void fill_contacts(taper_chain *c, const taper_chain_spec *spec, size_t first, size_t last)
+{
+    for (size_t k = first; k <= last; k++) {
         c->contact[k - 1] = contact_factor(c->radius[k - 1], c->radius[k]);
         if (spec->compliance)
             c->contact[k - 1] *= material_factor(spec->compliance[k - 1], spec->compliance[k]);
         c->rest[k] = c->rest[k - 1] + c->radius[k - 1] + c->radius[k];
     }
-    c->contact[c->n - 1] = NAN;
+}
+
+/* In blocks of MONITOR_EVERY granules, the monitor asked between them:
+ * 0, or the granule where it said stop. */
+static size_t fill_geometry(taper_chain *c, const taper_chain_spec *spec, const build_watch *w)
+{
+    const size_t n = c->n;
+    for (size_t first = 1; first <= n; first += MONITOR_EVERY) {
+        if (stop_asked(w, first - 1)) return first - 1;
+        fill_masses(c, spec, first, n - first < MONITOR_EVERY ? n : first + MONITOR_EVERY - 1);
+    }
+    c->rest[0] = 0.0;
+    for (size_t first = 1; first < n; first += MONITOR_EVERY) {
+        if (stop_asked(w, first - 1)) return first - 1;
+        fill_contacts(c, spec, first, n - 1 - first < MONITOR_EVERY ? n - 1 : first + MONITOR_EVERY - 1);
+    }
+    c->contact[n - 1] = NAN;
+    return 0;
 }
 
 /* Walls and striker (NaN where absent); a wall is eq. (7) with the other
@@ -212,7 +266,7 @@ static void fill_ends(taper_chain *c, const taper_chain_spec *spec)
 /* Densities, mass disorder and the striker move masses away from R^3: the
  * limits of check_mass_range, checked on the built values. */
 static taper_status check_final_masses(const taper_chain *c, const taper_chain_spec *spec,
-                                       taper_error *err)
+                                       const build_watch *w, taper_error *err)
 {
     if (spec->striker_radius > 0.0
         && !(c->striker_mass >= MASS_MIN && c->striker_mass <= MASS_MAX))
@@ -222,6 +276,7 @@ static taper_status check_final_masses(const taper_chain *c, const taper_chain_s
                                 c->striker_mass, MASS_MIN, MASS_MAX);
     if (!spec->density && !(spec->disorder_amplitude > 0.0)) return TAPER_OK;
     for (size_t k = 1; k <= c->n; k++) {
+        if (stop_asked(w, k)) return interrupted(k, c->n, err);
         double m = c->mass[k - 1];
         if (!(m >= MASS_MIN && m <= MASS_MAX))
             return taper_fail_field(err, TAPER_ERANGE, spec->density ? "densities" : "disorder_amplitude",
@@ -234,20 +289,32 @@ static taper_status check_final_masses(const taper_chain *c, const taper_chain_s
 
 taper_chain *taper_chain_alloc(const taper_chain_spec *spec, taper_error *err)
 {
+    return taper_chain_alloc_monitored(spec, NULL, NULL, err);
+}
+
+taper_chain *taper_chain_alloc_monitored(const taper_chain_spec *spec, taper_monitor_fn monitor,
+                                         void *user, taper_error *err)
+{
     if (!spec) {
         taper_fail(err, TAPER_EINVAL, "taper_chain_alloc: spec is NULL");
         return NULL;
     }
     if (taper_chain_spec_check(spec, err) != TAPER_OK) return NULL;
-    if (check_mass_range(spec, err) != TAPER_OK) return NULL;
+    const build_watch w = {monitor, user, spec->n_granules};
+    if (check_mass_range(spec, &w, err) != TAPER_OK) return NULL;
     taper_chain *c = chain_new(spec);
     if (!c) {
         taper_fail(err, TAPER_ENOMEM, "cannot allocate a chain of %zu granules", spec->n_granules);
         return NULL;
     }
-    fill_geometry(c, spec);
+    const size_t stopped = fill_geometry(c, spec, &w);
+    if (stopped) {
+        taper_chain_free(c);
+        interrupted(stopped, spec->n_granules, err);
+        return NULL;
+    }
     fill_ends(c, spec);
-    if (check_final_masses(c, spec, err) != TAPER_OK) {
+    if (check_final_masses(c, spec, &w, err) != TAPER_OK) {
         taper_chain_free(c);
         return NULL;
     }

@@ -382,6 +382,18 @@ static void pulse_init(taper_sim *sim)
     p->peak_slots = TAPER_RING_SLOTS;
 }
 
+/* Between the set-up's passes over the whole chain of a long chain the
+ * monitor is asked too (window 0..0, as during the theory, and like it only
+ * for chains of TAPER_LONG_CHAIN granules or more), so that the set-up of a
+ * long chain stops at once (10^6 granules: each pass some 10 ms). */
+static taper_status go_on(const taper_sim *sim, const char *step, taper_error *err)
+{
+    if (!sim->spec.monitor || sim->n < TAPER_LONG_CHAIN) return TAPER_OK;
+    const taper_progress p = {.target = sim->model.granules};
+    if (!sim->spec.monitor(&p, sim->spec.monitor_data)) return TAPER_OK;
+    return taper_fail(err, TAPER_EINTERRUPTED, "interrupted while the run was set up (%s)", step);
+}
+
 /* The chain's own checks (taper_chain_alloc: damping needs n >= 2, ...) are
  * done; here those of the solver settings against this chain, then the
  * bodies, the result arrays, the theory and tolerance scales, and the
@@ -416,16 +428,20 @@ taper_sim *taper_sim_alloc(const taper_chain *chain, const taper_solver_spec *sp
     sim->mass = m->mass;
     sim->contact = m->contact;
     sim->rest = m->rest;
+    if (go_on(sim, "the bodies", err) != TAPER_OK) goto fail;
     if (alloc_arrays(sim) != 0) {
         taper_fail(err, TAPER_ENOMEM, "cannot allocate results for %zu granules", n);
         goto fail;
     }
+    if (go_on(sim, "the arrays", err) != TAPER_OK) goto fail;
     if (theory_and_scales(sim, err) != TAPER_OK) goto fail;
+    if (go_on(sim, "the tolerance scales", err) != TAPER_OK) goto fail;
     const size_t target = spec->last_granule ? spec->last_granule : n;
     sim->target = target + m->off;
     sim->pass_limit = (target < n ? target : n - 1) + m->off;
     sim->dyn.carried = light_end_carried(sim);
     if (check_time_resolution(sim, err) != TAPER_OK) goto fail;
+    if (go_on(sim, "the time resolution", err) != TAPER_OK) goto fail;
     if (sim->dyn.carried) /* a warning: two observables are the limit's */
         taper_sim_log(sim, 1,
                       "granule %zu, %.3g times the mass of granule %zu, rides on it and is "

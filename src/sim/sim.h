@@ -72,6 +72,12 @@
  * cover every window granule whose event is unknown. */
 #define TAPER_RING_SLOTS 3
 
+/* A chain this long or longer is a long one: the monitor is asked between
+ * the passes of the set-up and before the energy budget walks the whole
+ * chain (sim.c, solve.c), as the theory asks it every 65536 granules; a
+ * shorter chain's monitor sees the run's events alone. */
+#define TAPER_LONG_CHAIN 65536
+
 /* Event bits of a granule: known (timed, or found to have happened before
  * its root function could see it, "untimed": its value stays NaN). */
 #define TAPER_EV_PASS 1u

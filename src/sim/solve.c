@@ -439,6 +439,10 @@ static void watch_passes(const taper_sim *sim, progress_watch *w)
     w->interval = PEAK_GRACE * w->longest;
 }
 
+/* 1: the pulse has left; 0: not; -1: the monitor, asked before the budget
+ * walks the whole of a long chain (10^6 granules: tens of milliseconds,
+ * and before the first pass it is looked at after every event), said
+ * stop. */
 static int pulse_has_left(taper_sim *sim, progress_watch *w)
 {
     if (sim->pulse.next_pass != w->next_pass) {
@@ -447,6 +451,7 @@ static int pulse_has_left(taper_sim *sim, progress_watch *w)
     }
     if (sim->t - w->since < w->interval) return 0;
     w->since = sim->t; /* the next look after another interval */
+    if (sim->n >= TAPER_LONG_CHAIN && call_monitor(sim)) return -1;
     taper_budget_compute(sim, quadratures_now(sim));
     const double left = sim->stats.energy_in_chain, e0 = sim->stats.energy_initial;
     return isfinite(left) && left <= sim->spec.rtol * e0;
@@ -472,7 +477,8 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
         if (status != TAPER_OK) return status;
         if (grace && sim->t >= tout && sim->t > t_before) break;
         if ((absorbed = absorbed_by_drag(sim))) break;
-        if ((left = pulse_has_left(sim, &watch))) break;
+        if ((left = pulse_has_left(sim, &watch)) < 0) return stop(sim, err, STOP_INTERRUPTED);
+        if (left) break;
     }
     const size_t next_peak = sim->pulse.next_peak;
     if (!taper_events_walls_settled(sim)) /* the grace time ended it (a steady piston) */

@@ -623,7 +623,8 @@ static void dynamics_nulls(void)
     taper_chain_free(chain);
 }
 
-/* The monitor stops every phase (issue 36, item 1): the theory
+/* The monitor stops every phase (issue 36, item 1): building the chain
+ * (taper_chain_alloc_monitored), the theory
  * (taper_theory_compute_monitored and taper_sim_alloc, TAPER_EINTERRUPTED,
  * the columns NaN from where it stopped), and a sampled run past the pulse,
  * whose calls end at samples, never at an event. */
@@ -669,18 +670,66 @@ static void monitor_phases(void)
           "theory: status %d '%s'", status, err.message);
     CHECK(w.calls == 2 && w.window_zero && w.last_granule > 0, "theory's monitor: %d calls",
           w.calls);
-    CHECK(!isnan(v[0]) && isnan(v[N - 1]) && isnan(t[N - 2]) && !isnan(t[w.last_granule - 1]),
-          "theory interrupted: columns known to granule %zu, NaN after", w.last_granule);
+    char said[64];
+    snprintf(said, sizeof said, "after granule %zu of %d", w.last_granule, N);
+    CHECK(!isnan(v[0]) && !isnan(t[w.last_granule - 1]) && isnan(v[w.last_granule]) &&
+          isnan(t[w.last_granule]) && strstr(err.message, said),
+          "theory interrupted: columns known to granule %zu, NaN at the next ('%s')",
+          w.last_granule, err.message);
     w = (theory_watch){.stop_at = 1000000, .window_zero = 1};
     status = taper_theory_compute_monitored(chain, v, NULL, NULL, t, watch_theory, &w, &err);
     CHECK(status == TAPER_OK && w.calls == N / 65536 && !isnan(t[N - 2]),
           "theory not stopped: status %d, %d calls", status, w.calls);
+    /* Building the chain: stopped at the monitor's second look (NULL,
+     * EINTERRUPTED); not stopped, asked every 65536 granules of each of
+     * its two loops over the chain, and the chain taper_chain_alloc's bit
+     * for bit (a backward linear chain: radii, masses, contacts, rest
+     * positions all computed). */
+    taper_chain_spec *cs = taper_chain_spec_alloc(NULL);
+    taper_chain_spec_set_profile(cs, TAPER_BACKWARD_LINEAR, NULL);
+    taper_chain_spec_set_s(cs, 1e-3, NULL);
+    taper_chain_spec_set_n_granules(cs, N, NULL);
+    w = (theory_watch){.stop_at = 2, .window_zero = 1};
+    taper_chain *built = taper_chain_alloc_monitored(cs, watch_theory, &w, &err);
+    CHECK(!built && err.status == TAPER_EINTERRUPTED && strstr(err.message, "interrupted") &&
+          w.calls == 2 && w.window_zero, "chain stopped: status %d '%s', %d calls", err.status,
+          err.message, w.calls);
+    w = (theory_watch){.stop_at = 1000000, .window_zero = 1};
+    built = taper_chain_alloc_monitored(cs, watch_theory, &w, &err);
+    taper_chain *plain = taper_chain_alloc(cs, NULL);
+    CHECK(built && plain && err.status == TAPER_OK && w.calls == 2 * (N / 65536),
+          "chain not stopped: status %d, %d calls", err.status, w.calls);
+    if (built && plain) {
+        const double *a[] = {taper_chain_radius(built), taper_chain_mass(built),
+                             taper_chain_contact(built), taper_chain_rest_position(built)};
+        const double *b[] = {taper_chain_radius(plain), taper_chain_mass(plain),
+                             taper_chain_contact(plain), taper_chain_rest_position(plain)};
+        for (int c = 0; c < 4; c++)
+            CHECK(memcmp(a[c], b[c], (N - (c == 2)) * sizeof(double)) == 0,
+                  "monitored chain: array %d differs from taper_chain_alloc's", c);
+    }
+    taper_chain_free(built);
+    taper_chain_free(plain);
+    taper_chain_spec_free(cs);
     taper_solver_spec *spec = taper_solver_spec_alloc(NULL);
     w = (theory_watch){.stop_at = 1, .window_zero = 1};
     taper_solver_spec_set_monitor(spec, watch_theory, &w);
     taper_sim *sim = taper_sim_alloc(chain, spec, &err);
     CHECK(sim == NULL && err.status == TAPER_EINTERRUPTED, "sim_alloc's theory: status %d",
           err.status);
+    taper_sim_free(sim);
+    /* taper_sim_alloc of a chain this long asks between its passes over it
+     * too: before and after the result arrays, then the theory's three
+     * looks, after the scales and the time-resolution check (7 calls); the
+     * last stops it, naming the step. */
+    w = (theory_watch){.stop_at = 1000000, .window_zero = 1};
+    sim = taper_sim_alloc(chain, spec, &err);
+    CHECK(sim && w.calls == 7 && w.window_zero, "sim_alloc's looks: %d", w.calls);
+    taper_sim_free(sim);
+    w = (theory_watch){.stop_at = 7, .window_zero = 1};
+    sim = taper_sim_alloc(chain, spec, &err);
+    CHECK(!sim && err.status == TAPER_EINTERRUPTED && strstr(err.message, "time resolution"),
+          "sim_alloc stopped at its last look: '%s'", err.message);
     taper_sim_free(sim);
     taper_solver_spec_free(spec);
     taper_chain_free(chain);

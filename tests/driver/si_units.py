@@ -9,7 +9,10 @@ off, every SI column's unit is the one of its dimension, and every value of
 the SI file equals the rescaled value times the SI value of one rescaled unit
 (granules.tsv's "# unit_DIM = VALUE UNIT" lines) to printing precision
 (%.17g: a relative difference of at most 4 ulp), nan where the other is nan.
-The statistics of the header lines with a unit are checked the same way.
+The statistics of the header lines with a unit are checked the same way,
+but pulse_speed, a difference of X_pass over one of t_pass (so not a
+rescaled speed times one scale): each file's is checked against its own
+columns.
 Sizes are in units of R_1, displacements in unit_length (eq. (5)): R and X0
 scale with unit_radius (&material radius), X_pass = X0 + x_k becomes
 X0 unit_radius + x_k unit_length (to 1e-12: x_k = X_pass - X0 is a
@@ -44,6 +47,19 @@ def scales(comments):
         if m:
             out["radius"] = (float(m.group(1)), "m")
     return out
+
+
+def pulse_speed(names, rows):
+    """The pulse's speed over the last tenth of the granules passed, as
+    drivers/scenes/results/pulse.h defines it, from a granules.tsv's rows."""
+    k, x, t = names.index("k"), names.index("X_pass"), names.index("t_pass")
+    known = [r for r in rows if math.isfinite(r[x]) and math.isfinite(r[t])]
+    if len(known) < 2:
+        return math.nan
+    reached = int(known[-1][k])
+    first = next(r for r in known if r[k] >= reached - max(1, reached // 10))
+    dt = known[-1][t] - first[t]
+    return (known[-1][x] - first[x]) / dt if dt else math.nan
 
 
 def close(a, b, rtol=4 * 2.0**-52):
@@ -104,6 +120,15 @@ def main():
         for l in sc:
             m = re.match(r"# (\w+)\[(.+)\] = (\S+)$", l)
             if not m or m.group(1) not in rstats:
+                continue
+            if m.group(1) == "pulse_speed":
+                checked += 2
+                for file, names, rows, value in ((rp, rn, rr, rstats["pulse_speed"]),
+                                                 (sp, sn, sr, m.group(3))):
+                    want = pulse_speed([re.sub(r"\[.*\]$", "", c) for c in names], rows)
+                    if not close(want, float(value), 1e-15):
+                        bad += 1
+                        print(f"{file}: pulse_speed {value}, its columns give {want!r}")
                 continue
             checked += 1
             x = float(rstats[m.group(1)])

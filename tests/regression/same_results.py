@@ -30,7 +30,10 @@ file's footer ("# end: rows N, bytes N, crc32 X", docs/scene.md, "Result
 files") is checked against the file (a footer that does not match is a
 difference) and not compared: only one side may have it.  A table whose
 header gained columns (runs.tsv's per-run statistics) is compared on the
-reference's columns, by name, and the added ones are named.
+reference's columns, by name, and the added ones are named; so are
+statistics lines ("# pulse_speed = ...") a header gained.  runs.tsv's
+cpu_time[s], the CPU time each run took, is never compared: it is a
+measurement of the machine, not a result.
 
 Each scene gets one line:
     same     every compared line identical as text
@@ -221,7 +224,48 @@ def number(text):
     return float(text) if NUMBER.match(text) else None
 
 
-ADDED = {}  # file -> the columns it has beyond the reference's
+ADDED = {}  # file -> the columns and statistics it has beyond the reference's
+# Columns that measure the machine, not the physics: never compared.
+UNCOMPARED = {"cpu_time[s]"}
+STATISTIC = re.compile(r"#\s*([a-z_0-9]+)(\[[^]]*\])?\s*=\s*\S+$")
+
+
+def statistic_name(line):
+    m = STATISTIC.match(line)
+    return m.group(1) if m else None
+
+
+def common_statistics(la, lb):
+    """b's lines without the statistics lines ("# name = value") whose name
+    a does not have, and those names."""
+    have = {statistic_name(line) for _, line in la} - {None}
+    kept, added = [], []
+    for i, line in lb:
+        name = statistic_name(line)
+        if name is not None and name not in have:
+            added.append(name)
+        else:
+            kept.append((i, line))
+    return kept, added
+
+
+def drop_uncompared(lines):
+    """The lines of a table without the UNCOMPARED columns (by the header's
+    names)."""
+    if not lines or lines[0][1].startswith("#"):
+        return lines
+    header = lines[0][1].split("\t")
+    drop = {k for k, name in enumerate(header) if name in UNCOMPARED}
+    if not drop:
+        return lines
+    out = []
+    for i, line in lines:
+        cells = line.split("\t")
+        if line.startswith("#") or len(cells) != len(header):
+            out.append((i, line))
+        else:
+            out.append((i, "\t".join(c for k, c in enumerate(cells) if k not in drop)))
+    return out
 
 
 def common_columns(la, lb):
@@ -251,7 +295,14 @@ def compare_file(a, b):
         problem = footer_problem(path)
         if problem:
             return "differ", math.inf, problem
-    la, lb, added = common_columns(compared_lines(a), compared_lines(b))
+    la, lb = compared_lines(a), compared_lines(b)
+    header_a = la[0][1].split("\t") if la else []
+    added_uncompared = [name for name in (lb[0][1].split("\t") if lb else [])
+                        if name in UNCOMPARED and name not in header_a]
+    la, lb = drop_uncompared(la), drop_uncompared(lb)
+    lb, added_statistics = common_statistics(la, lb)
+    la, lb, added = common_columns(la, lb)
+    added += added_uncompared + added_statistics
     if len(la) != len(lb):
         return "differ", math.inf, f"{len(lb)} lines compared, the reference {len(la)}"
     verdict, worst, where = "same", 0.0, ""
@@ -348,7 +399,7 @@ def main():
         added = sorted({f"{os.path.basename(f)}: {' '.join(ADDED[rb[f]])}"
                         for f in rb if ADDED.get(rb[f])})
         if added:
-            files += f"; columns added in {', '.join(added)}"
+            files += f"; columns or statistics added in {', '.join(added)}"
         if verdict == "same":
             print(f"same     {scene} ({files})")
         elif verdict == "equal":

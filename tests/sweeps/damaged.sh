@@ -10,6 +10,7 @@
 # removed, and said.
 set -u
 TAPER=$1
+. "$(dirname "$0")/same_result.sh"
 case $TAPER in /*) ;; *) TAPER=$(pwd)/$TAPER ;; esac
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -50,7 +51,7 @@ grep -q "run s=0.2: .*its result files are not those its scene.hash vouches for"
 (cd run/out && find . -type f ! -name .taper.lock | LC_ALL=C sort) > files.run
 diff files.ref files.run >&2 || fail "files differ from the undamaged sweep's"
 while read -r f; do
-    cmp -s "ref/out/$f" "run/out/$f" || fail "$f differs from the undamaged sweep's"
+    same_result "ref/out/$f" "run/out/$f" || fail "$f differs from the undamaged sweep's"
 done < files.ref
 [ $failures -eq 0 ] && echo "damaged results: found, said and computed again"
 [ $failures -eq 0 ]

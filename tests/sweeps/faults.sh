@@ -75,7 +75,9 @@ awk -F '\t' 'NR > 1 && !/^#/ { print $1 " " $3 }' ut/runs.tsv | tr '\n' ' ' | gr
 # One variable (issue 36, item 9): a forward linear sweep over s from the
 # monodisperse limit s = 0, with one s beyond N < 1 + 1/s: that run fails
 # alone (refused, the reason in runs.tsv), the others complete, status 5,
-# and runs.tsv carries each run's statistics under granules.tsv's names.
+# and runs.tsv carries each run's statistics under granules.tsv's names,
+# the pulse's speed among them (the header's), and the CPU time each run
+# took (the refused one's too: it ran until the library refused it).
 printf "&chain profile = 'forward_linear', n_granules = 20, s = 0, 0.01, 0.1, 0.02 /\n" > one.nml
 "$TAPER" one.nml -o one > one.out 2> one.err
 status=$?
@@ -83,22 +85,29 @@ status=$?
 grep -q "^one.nml:1: &chain n_granules: forward_linear with s = 0.10000000000000001 needs n_granules < 1 + 1/s = 11 .*(run s=0.1)$" one.err ||
     fail "one variable: the refused point not named: $(cat one.err)"
 awk -F '\t' 'NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i }
-     NR > 1 && !/^#/ { printf "%s %s %s %s %.6f\n", $col["run"], $col["status"],
+     NR > 1 && !/^#/ { printf "%s %s %s %s %.6f %s %s\n", $col["run"], $col["status"],
                        $col["steps"] ~ /^[1-9][0-9]*$/ ? "steps" : $col["steps"],
                        $col["t_final"] ~ /^[0-9.e+-]+$/ ? "t_final" : $col["t_final"],
-                       $col["energy_transmitted"] + $col["energy_reflected"] + $col["energy_in_chain"] }' \
+                       $col["energy_transmitted"] + $col["energy_reflected"] + $col["energy_in_chain"],
+                       ($col["pulse_speed"] + 0 > 0 ? "speed" : $col["pulse_speed"]),
+                       ($col["cpu_time[s]"] ~ /^[0-9]+\.[0-9][0-9][0-9][0-9][0-9][0-9]$/ &&
+                        $col["cpu_time[s]"] + 0 > 0 ? "cpu" : $col["cpu_time[s]"]) }' \
     one/runs.tsv > one.status
 cat > one.want <<'TXT'
-s=0 complete steps t_final 0.500000
-s=0.01 complete steps t_final 0.500000
-s=0.1 refused nan nan nan
-s=0.02 complete steps t_final 0.500000
+s=0 complete steps t_final 0.500000 speed cpu
+s=0.01 complete steps t_final 0.500000 speed cpu
+s=0.1 refused nan nan nan nan cpu
+s=0.02 complete steps t_final 0.500000 speed cpu
 TXT
 diff one.want one.status >&2 || fail "one variable: runs.tsv $(cat one/runs.tsv)"
-head -1 one/runs.tsv | grep -q "^run	s	status	steps	rhs_evals	.*	t_final	energy_error	.*	message$" ||
+head -1 one/runs.tsv | grep -q "^run	s	status	steps	rhs_evals	.*	t_final	energy_error	.*	pulse_speed	cpu_time\[s\]	message$" ||
     fail "runs.tsv: column names: $(head -1 one/runs.tsv)"
 awk -F '\t' '$1 == "s=0.1" { print $NF }' one/runs.tsv | grep -q "needs n_granules < 1 + 1/s = 11" ||
     fail "runs.tsv: the refused run's reason"
+speed=$(awk -F '\t' 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "pulse_speed") c = i }
+                      $1 == "s=0.02" { print $c }' one/runs.tsv)
+grep -qx "# pulse_speed = $speed" one/s=0.02/granules.tsv ||
+    fail "runs.tsv: pulse_speed $speed is not the header's: $(grep pulse_speed one/s=0.02/granules.tsv)"
 # s = 0 is the monodisperse chain: its rows are the monodisperse scene's.
 printf "&chain n_granules = 20 /\n" > mono.nml
 "$TAPER" mono.nml -o mono > /dev/null 2>&1 || fail "monodisperse: exit status $?"

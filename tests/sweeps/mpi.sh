@@ -7,6 +7,7 @@
 # mpirun, byte-identical again.
 set -u
 TAPER=$1
+. "$(dirname "$0")/same_result.sh"
 MPIRUN=$2
 case $TAPER in /*) ;; *) TAPER=$(pwd)/$TAPER ;; esac
 tmp=$(mktemp -d)
@@ -30,7 +31,7 @@ same_as_serial() { # DIR: every file as in serial/out
     (cd "$1/out" && find . -type f ! -name .taper.lock | LC_ALL=C sort) > "files.$1"
     diff files.serial "files.$1" >&2 || { fail "$1: not the serial sweep's files"; return; }
     while IFS= read -r f; do
-        cmp -s "serial/out/$f" "$1/out/$f" || fail "$1: $f differs from the serial sweep's"
+        same_result "serial/out/$f" "$1/out/$f" || fail "$1: $f differs from the serial sweep's"
     done < files.serial
 }
 mkdir serial np2 np3 killed

@@ -14,6 +14,7 @@
 #    the status is not 0, and the sweep resumes all the same.
 set -u
 TAPER=$1
+. "$(dirname "$0")/same_result.sh"
 MPIRUN=$2
 case $TAPER in /*) ;; *) TAPER=$(pwd)/$TAPER ;; esac
 tmp=$(mktemp -d)
@@ -87,7 +88,7 @@ resume() {
     (cd "$1/out" && find . -type f ! -name .taper.lock | LC_ALL=C sort) > "files.$1"
     diff files.serial "files.$1" >&2 || fail "$1: not the serial sweep's files"
     while IFS= read -r f; do
-        cmp -s "serial/out/$f" "$1/out/$f" || fail "$1: $f differs from the serial sweep's"
+        same_result "serial/out/$f" "$1/out/$f" || fail "$1: $f differs from the serial sweep's"
     done < files.serial
 }
 

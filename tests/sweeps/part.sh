@@ -3,9 +3,11 @@
 # part.sh TAPER -- a sweep split without MPI: parts
 # 1/3, 2/3, 3/3 (a job array) each compute their share of the runs into the
 # same directory, then the command without --part merges them (reuses all,
-# computes none) into results byte-identical to the whole sweep in one go.
+# computes none) into results byte-identical to the whole sweep in one go
+# (but for each run's CPU time, which runs.tsv takes from its scene.hash).
 set -u
 TAPER=$1
+. "$(dirname "$0")/same_result.sh"
 case $TAPER in /*) ;; *) TAPER=$(pwd)/$TAPER ;; esac
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -38,8 +40,18 @@ grep -q '^! resuming: 6 of 6 runs reused' parts/merge.txt || fail "merge compute
 (cd parts/out && find . -type f ! -name .taper.lock | LC_ALL=C sort) > files.parts
 diff files.whole files.parts >&2 || fail "merged files differ from the whole sweep's"
 while IFS= read -r f; do
-    cmp -s "whole/out/$f" "parts/out/$f" || fail "$f differs after the merge"
+    same_result "whole/out/$f" "parts/out/$f" || fail "$f differs after the merge"
 done < files.whole
+# The merge computed nothing: each run's CPU time in runs.tsv is the one
+# its part recorded in its scene.hash (positive, to the microsecond).
+awk -F '\t' 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "cpu_time[s]") c = i }
+              NR > 1 && !/^#/ { print $1, $c }' parts/out/runs.tsv > cpu.runs
+for d in parts/out/*/; do
+    run=$(basename "$d")
+    echo "$run $(sed -n 's/^cpu_time\[s\] //p' "$d/scene.hash")"
+done | LC_ALL=C sort > cpu.stamps
+LC_ALL=C sort cpu.runs | diff - cpu.stamps >&2 || fail "runs.tsv's CPU times are not the parts' scene.hash's"
+awk '!($2 > 0) { bad = 1 } END { exit bad || NR != 6 }' cpu.runs || fail "CPU times: $(cat cpu.runs)"
 
 for bad in 0/3 4/3 1/0 x 2/ -1/2; do
     "$TAPER" grid.nml -o bad --part "$bad" > /dev/null 2> err.txt

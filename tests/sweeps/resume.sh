@@ -10,6 +10,7 @@
 #    (rtol) reuses nothing.
 set -u
 TAPER=$1
+. "$(dirname "$0")/same_result.sh"
 case $TAPER in /*) ;; *) TAPER=$(pwd)/$TAPER ;; esac
 tmp=$(mktemp -d)
 trap '[ -n "${KEEP:-}" ] || rm -rf "$tmp"' EXIT
@@ -49,7 +50,7 @@ reused=$(sed -n 's/^! resuming: \([0-9]*\) of 8 runs reused.*/\1/p' run/out2.txt
 (cd run/out && find . -type f ! -name .taper.lock | LC_ALL=C sort) > files.run
 diff files.ref files.run >&2 || fail "the resumed sweep's files differ from the uninterrupted one's"
 while IFS= read -r f; do
-    cmp -s "ref/out/$f" "run/out/$f" || fail "$f differs after resume"
+    same_result "ref/out/$f" "run/out/$f" || fail "$f differs after resume"
 done < files.ref
 
 # Ctrl-C (SIGINT): the run in progress ends partial, exit status 3, no
@@ -73,7 +74,7 @@ if [ "$(ls int/out/*/scene.hash 2> /dev/null | wc -l)" -lt 8 ]; then
 fi
 (cd int && "$TAPER" ../sweep.nml -o out > out2.txt 2> err2.txt) || fail "after SIGINT: $(cat int/err2.txt)"
 while IFS= read -r f; do
-    cmp -s "ref/out/$f" "int/out/$f" || fail "$f differs after SIGINT and resume"
+    same_result "ref/out/$f" "int/out/$f" || fail "$f differs after SIGINT and resume"
 done < files.ref
 [ "$(cd int/out && find . -type f ! -name .taper.lock | LC_ALL=C sort)" = "$(cat files.ref)" ] || fail "SIGINT: files differ"
 

@@ -21,6 +21,7 @@ back as numpy arrays.  (On PyPI the distribution is taper-chains.)
     taper.theory(profile="backward_linear", s=0.5, n_granules=200)  # no integration
     taper.run_scene("share/scenes/backward_linear.nml")             # the driver's reader
     taper.read_granules("out/default/granules.tsv")                 # a driver's output
+    taper.read_sweep("out/sweep")          # a sweep: a row per run (DataFrame with pandas)
     taper.variables()                      # every keyword: group, type, default, unit
 
     taper.chain(profile="backward_linear", s=0.5).mu   # R m X0, contact factors r, mu
@@ -59,14 +60,16 @@ from ._core import InvalidArgumentError, SceneError, TaperError, collision_time
 from ._fit import FitResult, fit
 from ._geometry import radii_from_taper, taper_from_radii
 from ._optimise import Calibration, Design, calibrate, design
+from ._sweep import SweepTable, read_sweep
 from ._variables import Variable, variables
 from .result import COLUMNS, THEORY_COLUMNS, Result, read_granules
 
 __all__ = [
-    "simulate", "theory", "run_scene", "read_granules", "plot", "collision_time", "version",
+    "simulate", "theory", "run_scene", "read_granules", "read_sweep", "plot", "collision_time", "version",
     "build_info", "chain", "cite", "fit", "asymptotic", "variables", "taper_from_radii",
     "radii_from_taper", "calibrate", "design",
-    "Result", "Chain", "FitResult", "Variable", "Calibration", "Design", "TaperError",
+    "Result", "Chain", "FitResult", "Variable", "Calibration", "Design", "SweepTable",
+    "TaperError",
     "InvalidArgumentError",
     "SceneError", "PROFILES", "METHODS", "STATISTICS", "OBSERVABLES", "THEORY_QUANTITIES",
     "LAWS", "FIT_MODELS", "COLUMNS", "THEORY_COLUMNS", "CHAIN_COLUMNS",

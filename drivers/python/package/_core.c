@@ -22,9 +22,9 @@
  * Ctrl-C: Python's C-level SIGINT handler only records the signal; the
  * Python handler (KeyboardInterrupt) runs when the main thread calls
  * PyErr_CheckSignals, which needs the GIL.  The library calls our monitor
- * on the thread running the sim or the theory (after every pulse event and
- * sample, at least every ~0.1 s of integration, every 65536 granules of the
- * theory: taper.h); at most every CHECK_INTERVAL seconds the monitor takes
+ * on the thread building the chain or running the sim or the theory (after
+ * every pulse event and sample, at least every ~0.05 s of integration, every
+ * 65536 granules of the chain and of the theory: taper.h); at most every CHECK_INTERVAL seconds the monitor takes
  * the GIL (PyGILState_Ensure), calls PyErr_CheckSignals, and asks the
  * library to stop if it raised.  The run then ends with TAPER_EINTERRUPTED,
  * the partial sim is freed, and the KeyboardInterrupt propagates: no
@@ -220,17 +220,33 @@ PyArrayObject *core_real_vector(const char *name, PyObject *v)
 
 /* ---- results -------------------------------------------------------------- */
 
+/* Values between two looks at Ctrl-C while a long column is copied with
+ * the GIL held: 2 MB, about a millisecond (a column of 10^7 granules, 80 MB
+ * written to fresh pages, took 0.05 s and up to 0.2 s on a loaded machine
+ * in one piece). */
+#define COPY_BLOCK ((size_t)1 << 18)
+
+int core_copy_checked(double *dst, const double *src, size_t n)
+{
+    for (size_t at = 0; at < n; at += COPY_BLOCK) {
+        if (at && PyErr_CheckSignals() < 0) return -1;
+        size_t m = n - at < COPY_BLOCK ? n - at : COPY_BLOCK;
+        if (src) memcpy(dst + at, src + at, m * sizeof(double));
+        else for (size_t i = at; i < at + m; i++) dst[i] = NAN;
+    }
+    return 0;
+}
+
 PyObject *core_double_array(const double *src, size_t n)
 {
-    /* Ctrl-C between the columns of a long chain: each copy of 10^7
-     * granules takes ~0.05 s with the GIL held. */
-    if (n >= (1u << 20) && PyErr_CheckSignals() < 0) return NULL;
+    if (n >= COPY_BLOCK && PyErr_CheckSignals() < 0) return NULL;
     npy_intp dim = (npy_intp)n;
     PyObject *a = PyArray_SimpleNew(1, &dim, NPY_DOUBLE);
     if (!a) return NULL;
-    double *dst = PyArray_DATA((PyArrayObject *)a);
-    if (src) memcpy(dst, src, n * sizeof(double));
-    else for (size_t i = 0; i < n; i++) dst[i] = NAN;
+    if (core_copy_checked(PyArray_DATA((PyArrayObject *)a), src, n) < 0) {
+        Py_DECREF(a);
+        return NULL;
+    }
     return a;
 }
 
@@ -250,7 +266,13 @@ static int chain_columns(PyObject *cols, const taper_chain *chain)
     PyObject *k = PyArray_SimpleNew(1, &dim, NPY_INT64);
     if (!k) return -1;
     int64_t *kd = PyArray_DATA((PyArrayObject *)k);
-    for (size_t i = 0; i < n; i++) kd[i] = (int64_t)(i + 1);
+    for (size_t i = 0; i < n; i++) {
+        if (i % COPY_BLOCK == 0 && i && PyErr_CheckSignals() < 0) {
+            Py_DECREF(k);
+            return -1;
+        }
+        kd[i] = (int64_t)(i + 1);
+    }
     if (core_put(cols, "k", k) < 0) return -1;
     if (core_put(cols, "R", core_double_array(taper_chain_radius(chain), n)) < 0) return -1;
     if (core_put(cols, "m", core_double_array(taper_chain_mass(chain), n)) < 0) return -1;
@@ -417,8 +439,11 @@ static PyObject *samples_dict(const run_ctx *ctx)
         npy_intp dims[2] = {s, parts[j].cols};
         PyObject *a = PyArray_SimpleNew(2, dims, NPY_DOUBLE);
         if (!a) goto fail;
-        if (s) memcpy(PyArray_DATA((PyArrayObject *)a), parts[j].src,
-                      (size_t)(s * parts[j].cols) * sizeof(double));
+        if (s && core_copy_checked(PyArray_DATA((PyArrayObject *)a), parts[j].src,
+                                   (size_t)(s * parts[j].cols)) < 0) {
+            Py_DECREF(a);
+            goto fail;
+        }
         if (core_put(d, parts[j].key, a) < 0) goto fail;
     }
     return d;
@@ -476,6 +501,25 @@ static PyObject *stats_dict(const taper_sim *sim)
         }
     }
     return d;
+}
+
+/* The chain of cs, built without the GIL, Ctrl-C looked for while it is
+ * built (taper_chain_alloc_monitored: 10^7 granules take a fraction of a
+ * second).  NULL with the exception set: the library's refusal, or
+ * KeyboardInterrupt. */
+static taper_chain *build_chain(const taper_chain_spec *cs)
+{
+    run_ctx ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.last_check = monotonic();
+    taper_error err;
+    taper_chain *chain;
+    Py_BEGIN_ALLOW_THREADS
+    chain = taper_chain_alloc_monitored(cs, monitor, &ctx, &err);
+    Py_END_ALLOW_THREADS
+    if (!chain && !ctx.interrupted) core_raise_library(&err);
+    ctx_free(&ctx);
+    return chain;
 }
 
 /* Builds the chain from cs and either the theory alone (ss NULL) or a full
@@ -536,15 +580,12 @@ PyObject *core_run(const taper_chain_spec *cs, taper_solver_spec *ss,
     memset(&ctx, 0, sizeof ctx);
     taper_status rc = TAPER_OK;
 
-    Py_BEGIN_ALLOW_THREADS
-    chain = taper_chain_alloc(cs, &err);
-    Py_END_ALLOW_THREADS
-    if (!chain) return core_raise_library(&err);
+    if (!(chain = build_chain(cs))) return NULL;
     const size_t n = taper_chain_size(chain);
     const char *note = taper_chain_theory_note(chain);
 
-    /* Ctrl-C between the steps that hold the GIL (the chain of 10^7
-     * granules takes ~0.2 s, its columns as long again). */
+    /* Ctrl-C between the steps that hold the GIL (each column of 10^7
+     * granules a copy of 80 MB: core_double_array looks before each). */
     if (PyErr_CheckSignals() < 0) goto fail;
     if (!(out = PyDict_New()) || !(cols = PyDict_New())) goto fail;
     if (chain_columns(cols, chain) < 0) goto fail;
@@ -682,11 +723,8 @@ fail:
 PyObject *core_chain(const taper_chain_spec *cs)
 {
     taper_error err;
-    taper_chain *chain;
-    Py_BEGIN_ALLOW_THREADS
-    chain = taper_chain_alloc(cs, &err);
-    Py_END_ALLOW_THREADS
-    if (!chain) return core_raise_library(&err);
+    taper_chain *chain = build_chain(cs);
+    if (!chain) return NULL;
     size_t n = taper_chain_size(chain);
     PyObject *out = PyDict_New(), *cols = PyDict_New(), *mu = NULL;
     if (!out || !cols) goto fail;

@@ -58,8 +58,11 @@ int core_get_bool(const char *name, PyObject *v, int *out);
 int core_get_str(const char *name, PyObject *v, const char **out);
 PyArrayObject *core_real_vector(const char *name, PyObject *v);
 
-/* A new float64 array of n values (NaN when src is NULL). */
+/* A new float64 array of n values (NaN when src is NULL); Ctrl-C looked
+ * for every 2 MB of a long one (NULL with KeyboardInterrupt set). */
 PyObject *core_double_array(const double *src, size_t n);
+/* The same copy into dst: 0, or -1 with the exception set. */
+int core_copy_checked(double *dst, const double *src, size_t n);
 /* dict[key] = value, the reference to value stolen; -1 when value is NULL. */
 int core_put(PyObject *dict, const char *key, PyObject *value);
 

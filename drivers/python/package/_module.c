@@ -14,16 +14,54 @@
 #include "_optimise.h"
 #include "_scene.h"
 
+#include <signal.h>
+
+/* SIGINT while numpy is imported, noted (a signal handler's flag). */
+static volatile sig_atomic_t sigint_noted;
+static void note_sigint(int sig)
+{
+    (void)sig;
+    sigint_noted = 1;
+}
+
+/* numpy's import, whole.  Ctrl-C during it (the first call that needs
+ * numpy: 0.1 s and more) raised KeyboardInterrupt inside numpy's
+ * initialisation, or an ImportError numpy made of it, and left numpy half
+ * loaded: its extension cannot be loaded twice in a process, so every later
+ * call failed ("cannot load module more than once per process") until the
+ * interpreter was restarted.  So during the import SIGINT is only noted
+ * (where Python's handler would act on it), and handed to Python once
+ * numpy is whole: KeyboardInterrupt then, as always. */
+static int import_numpy(void)
+{
+    static int importing; /* another thread's import is under way: the
+                             import lock serialises them, its handler notes */
+    PyOS_sighandler_t python_handler = PyOS_getsig(SIGINT);
+    const int watch = !importing && python_handler != SIG_IGN && python_handler != SIG_DFL;
+    if (watch) {
+        importing = 1;
+        sigint_noted = 0;
+        PyOS_setsig(SIGINT, note_sigint);
+    }
+    int rc = _import_array();
+    if (watch) {
+        PyOS_setsig(SIGINT, python_handler);
+        importing = 0;
+        if (sigint_noted) PyErr_SetInterruptEx(SIGINT); /* as if it came now */
+    }
+    return rc;
+}
+
 int core_numpy(void)
 {
     static int ready; /* written with the GIL held */
     if (ready) return 0;
-    if (_import_array() < 0) {
+    if (import_numpy() < 0) {
         if (!PyErr_Occurred()) PyErr_SetString(PyExc_ImportError, "numpy's C API did not load");
         return -1;
     }
     ready = 1;
-    return 0;
+    return PyErr_CheckSignals(); /* a Ctrl-C noted during the import */
 }
 
 /* Every function below that may meet a numpy object or type (the Python
@@ -59,7 +97,11 @@ static PyObject *py_check(PyObject *self, PyObject *args, PyObject *kwargs)
 static PyObject *py_cite(PyObject *self, PyObject *args, PyObject *kwargs)
 {
     (void)self;
-    return WITH_NUMPY(pyscene_call(PYSCENE_CITE, args, kwargs));
+    /* The keywords' values are read with numpy's C API (a numpy bool or
+     * float is a value too): cite(method="rk8") as a process's first call
+     * dereferenced numpy's table before it was imported. */
+    if (kwargs && PyDict_Size(kwargs) > 0 && core_numpy() < 0) return NULL;
+    return pyscene_call(PYSCENE_CITE, args, kwargs);
 }
 
 static PyObject *py_run_scene(PyObject *self, PyObject *arg)
@@ -75,10 +117,22 @@ static PyObject *py_variables(PyObject *self, PyObject *unused)
     return pyscene_variables(); /* imports numpy itself if a default is a list */
 }
 
+static PyObject *py_scene_swept(PyObject *self, PyObject *args)
+{
+    (void)self;
+    return pyscene_swept(args);
+}
+
 static PyObject *py_scene_settings(PyObject *self, PyObject *args)
 {
     (void)self;
     return WITH_NUMPY(pyscene_settings(args));
+}
+
+static PyObject *py_pulse_speed(PyObject *self, PyObject *args)
+{
+    (void)self;
+    return WITH_NUMPY(pyscene_pulse_speed(args));
 }
 
 /* ---- the calls that are not scenes (_core.c) ----------------------------------- */
@@ -187,9 +241,15 @@ static PyMethodDef methods[] = {
     {"scene_text", py_scene_text, METH_VARARGS,
      "scene_text(scene, point) -> str: the resolved scene of a result, as a namelist (the "
      "driver's echo)."},
+    {"scene_swept", py_scene_swept, METH_VARARGS,
+     "scene_swept(scene, point) -> (name, [(variable, value), ...]): the run of a sweep as "
+     "the driver names it and runs.tsv's swept columns."},
     {"scene_settings", py_scene_settings, METH_VARARGS,
      "scene_settings(scene, point) -> dict: every variable of a result's scene by its name, "
      "at its point."},
+    {"pulse_speed", py_pulse_speed, METH_VARARGS,
+     "pulse_speed(X, t, k) -> float: the pulse's speed over the last tenth of the granules "
+     "passed, as granules.tsv's header has it (drivers/scenes/results/pulse.h)."},
     {"collision_time", (PyCFunction)(void (*)(void))py_collision_time, METH_VARARGS | METH_KEYWORDS,
      "collision_time(mu, r, zdot0, n=2.5) -> float: residence time of one binary collision, "
      "eq. (18)."},

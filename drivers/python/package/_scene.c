@@ -2,7 +2,13 @@
 /*
  * _scene.c -- every call of the package that runs a chain is a scene of the
  * driver's scene module (drivers/scenes/scene/scene.h): the same variables,
- * defaults, validation and messages as `taper SCENE.nml`.
+ * defaults, validation and messages as `taper SCENE.nml`.  Why the package
+ * links the scenes' library (taper_scenes) rather than ship the driver and
+ * read back its granules.tsv: a keyword, a file's variable and `taper --set`
+ * then mean one thing with one default, range, message and unit, with no
+ * subprocess, no files written and no second copy of libtaper (the driver
+ * links libtaper.so).  The scene costs a call some microseconds, two thirds
+ * of taper.theory(n_granules=2) (drivers/bench/python_overheads.py).
  *
  * Keywords: a keyword is a scene variable's one name (scene_var_keyword_at:
  * the key in its group, with the group's name in front where two groups
@@ -29,6 +35,7 @@
  */
 #include "_scene.h"
 
+#include "results/pulse.h"
 #include "scene/scene.h"
 
 #include <limits.h>
@@ -390,6 +397,23 @@ static PyObject *thin_rows(PyObject *column, size_t every)
     return thin;
 }
 
+/* stats["pulse_speed"] of a run (results/pulse.h), from its whole columns
+ * converted to the scene's units, as granules.tsv's header has it. */
+static int add_pulse_speed(PyObject *d, PyObject *raw, const scene_config *at, PyObject *units)
+{
+    PyObject *stats = PyDict_GetItemString(d, "stats");
+    PyObject *x = PyDict_GetItemString(raw, taper_observable_name(TAPER_X_PASS));
+    PyObject *t = PyDict_GetItemString(raw, taper_observable_name(TAPER_T_PASS));
+    if (!stats || !x || !t) return 0; /* the theory alone */
+    const double v = pulse_speed(PyArray_DATA((PyArrayObject *)x), PyArray_DATA((PyArrayObject *)t),
+                                 NULL, (size_t)PyArray_DIM((PyArrayObject *)x, 0));
+    if (core_put(stats, PULSE_SPEED_NAME, PyFloat_FromDouble(v)) < 0) return -1;
+    return put_unit(units, at, PULSE_SPEED_NAME, TAPER_DIM_VELOCITY);
+}
+
+/* Granules converted between two looks at Ctrl-C. */
+#define CONVERT_BLOCK ((size_t)1 << 18)
+
 /* The columns of a run as granules.tsv has them (&output columns, every),
  * in its order, converted to the scene's units. */
 static int shape_columns(PyObject *d, const scene_config *at, PyObject *units)
@@ -408,14 +432,27 @@ static int shape_columns(PyObject *d, const scene_config *at, PyObject *units)
         PyErr_NoMemory();
         return -1;
     }
-    if (rest) memcpy(rest, PyArray_DATA((PyArrayObject *)x0), n * sizeof *rest);
+    if (rest && core_copy_checked(rest, PyArray_DATA((PyArrayObject *)x0), n) < 0) {
+        free(rest);
+        return -1;
+    }
     PyObject *cols = PyDict_New();
     for (int c = 0; cols && c < SCENE_N_COLUMNS; c++) {
         const char *name = scene_column_name((scene_column)c);
         PyObject *a = PyDict_GetItemString(raw, name);
-        if (!a || !(at->output.column_set & (1u << c))) continue;
-        if (si && c != SCENE_COL_K)
-            scene_column_convert(at, (scene_column)c, PyArray_DATA((PyArrayObject *)a), rest, n);
+        if (!a) continue;
+        /* in blocks, Ctrl-C looked for between them (the GIL is held) */
+        double *values = PyArray_DATA((PyArrayObject *)a);
+        for (size_t from = 0; si && c != SCENE_COL_K && from < n; from += CONVERT_BLOCK) {
+            if (from && PyErr_CheckSignals() < 0) {
+                Py_CLEAR(cols);
+                break;
+            }
+            scene_column_convert(at, (scene_column)c, values + from, rest + from,
+                                 n - from < CONVERT_BLOCK ? n - from : CONVERT_BLOCK);
+        }
+        if (!cols) break;
+        if (!(at->output.column_set & (1u << c))) continue; /* converted for the speed */
         PyObject *kept = at->output.every > 1 ? thin_rows(a, (size_t)at->output.every)
                                               : Py_NewRef(a);
         if (core_put(cols, name, kept) < 0 ||
@@ -423,6 +460,7 @@ static int shape_columns(PyObject *d, const scene_config *at, PyObject *units)
             Py_CLEAR(cols);
     }
     free(rest);
+    if (cols && add_pulse_speed(d, raw, at, units) < 0) Py_CLEAR(cols);
     return cols ? core_put(d, "columns", cols) : -1;
 }
 
@@ -641,6 +679,26 @@ PyObject *pyscene_settings(PyObject *args)
     return sc ? settings_of(sc, (size_t)point) : NULL;
 }
 
+PyObject *pyscene_swept(PyObject *args)
+{
+    Py_ssize_t point;
+    const scene *sc = scene_point(args, "On:scene_swept", &point);
+    if (!sc) return NULL;
+    const scene_config *cfg = scene_cfg(sc);
+    char *name = scene_point_name(cfg, (size_t)point);
+    if (!name) return PyErr_NoMemory();
+    PyObject *values = PyList_New(0);
+    for (size_t k = 0; values && k < cfg->runs.n_swept; k++) {
+        PyObject *pair = Py_BuildValue("(sd)", scene_swept_name(cfg, k),
+                                       scene_swept_value(cfg, (size_t)point, k));
+        if (!pair || PyList_Append(values, pair) < 0) Py_CLEAR(values);
+        Py_XDECREF(pair);
+    }
+    PyObject *out = values ? Py_BuildValue("(sN)", name, values) : NULL;
+    free(name);
+    return out;
+}
+
 PyObject *pyscene_text(PyObject *args)
 {
     Py_ssize_t point;
@@ -731,4 +789,25 @@ PyObject *pyscene_columns(int theory_only)
     PyObject *t = l ? PyList_AsTuple(l) : NULL;
     Py_XDECREF(l);
     return t;
+}
+
+PyObject *pyscene_pulse_speed(PyObject *args)
+{
+    PyObject *xo, *to, *ko;
+    if (!PyArg_ParseTuple(args, "OOO:pulse_speed", &xo, &to, &ko)) return NULL;
+    PyArrayObject *x = (PyArrayObject *)PyArray_FROMANY(xo, NPY_DOUBLE, 1, 1, NPY_ARRAY_CARRAY_RO);
+    PyArrayObject *t = x ? (PyArrayObject *)PyArray_FROMANY(to, NPY_DOUBLE, 1, 1, NPY_ARRAY_CARRAY_RO)
+                         : NULL;
+    PyArrayObject *k = t ? (PyArrayObject *)PyArray_FROMANY(ko, NPY_INT64, 1, 1, NPY_ARRAY_CARRAY_RO)
+                         : NULL;
+    PyObject *out = NULL;
+    if (k && (PyArray_DIM(t, 0) != PyArray_DIM(x, 0) || PyArray_DIM(k, 0) != PyArray_DIM(x, 0)))
+        PyErr_SetString(PyExc_ValueError, "pulse_speed: X, t and k differ in length");
+    else if (k)
+        out = PyFloat_FromDouble(pulse_speed(PyArray_DATA(x), PyArray_DATA(t),
+                                             PyArray_DATA(k), (size_t)PyArray_DIM(x, 0)));
+    Py_XDECREF(x);
+    Py_XDECREF(t);
+    Py_XDECREF(k);
+    return out;
 }

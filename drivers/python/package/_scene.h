@@ -40,6 +40,9 @@ struct scene *pyscene_scene(pyscene_kind kind, PyObject *args, PyObject *kwargs)
 PyObject *pyscene_run_file(PyObject *path);
 /* variables(): one dict per scene variable, in the table's order. */
 PyObject *pyscene_variables(void);
+/* scene_swept(scene, point): (the run's name, [(swept variable, value),
+ * ...]) as the driver names the run's directory and runs.tsv's columns. */
+PyObject *pyscene_swept(PyObject *args);
 /* scene_text(scene, point): the echo of a result's scene at its point. */
 PyObject *pyscene_text(PyObject *args);
 /* scene_settings(scene, point): {keyword: value} of every variable of a
@@ -48,5 +51,9 @@ PyObject *pyscene_settings(PyObject *args);
 /* The names of granules.tsv's columns in their order; theory_only: those
  * a run without numerics has. */
 PyObject *pyscene_columns(int theory_only);
+/* pulse_speed(X, t, k): the pulse's speed over the last tenth of the
+ * granules passed (results/pulse.h), from float64 arrays X and t and the
+ * int64 granule numbers k of their rows. */
+PyObject *pyscene_pulse_speed(PyObject *args);
 
 #endif

@@ -180,20 +180,24 @@ class Result(Columns):
         at which the pulse passes them (X_pass, t_pass; for the theory alone
         the rest positions X0 and the theory's t_k of eq. (19)).  By default
         over the last tenth of the granules the pulse passed (at least two),
-        where a tapered chain has settled into its asymptotic law.  In the
-        Result's units (``units["X_pass"]`` / ``units["t_pass"]`` in SI);
-        NaN where fewer than two granules were passed."""
+        where a tapered chain has settled into its asymptotic law: for a run
+        ``stats["pulse_speed"]``, the statistic granules.tsv's header and
+        runs.tsv carry, computed by the same C function
+        (drivers/scenes/results/pulse.h) from every granule's columns.  In
+        the Result's units (``units["pulse_speed"]``, m/s, in SI); NaN where
+        fewer than two granules were passed."""
+        if first is None and last is None and "pulse_speed" in self.stats:
+            return float(self.stats["pulse_speed"])
         x, t = ("X_pass", "t_pass") if "t_pass" in self._columns else ("X0", "theory_t")
         if x not in self._columns or t not in self._columns or "k" not in self._columns:
             return math.nan
         k, X, T = self._columns["k"], self._columns[x], self._columns[t]
+        if first is None and last is None:
+            return _core.pulse_speed(X, T, k)
         known = np.flatnonzero(np.isfinite(X) & np.isfinite(T))
         if len(known) < 2:
             return math.nan
-        if last is None:
-            i1 = known[-1]
-        else:
-            i1 = _row_of(k, last)
+        i1 = known[-1] if last is None else _row_of(k, last)
         if first is None:
             reached = int(k[known[-1]])
             i0 = known[np.searchsorted(k[known], reached - max(1, reached // 10))]
@@ -276,7 +280,8 @@ class Result(Columns):
         speed = self.pulse_speed()
         if speed == speed:
             x_unit, t_unit = units.get("X_pass", units.get("X0")), units.get("t_pass")
-            parts.append(f"pulse speed {_with_unit(speed, f'{x_unit}/{t_unit}' if x_unit and t_unit else None)}")
+            unit = units.get("pulse_speed", f"{x_unit}/{t_unit}" if x_unit and t_unit else None)
+            parts.append(f"pulse speed {_with_unit(speed, unit)}")
         for side in ("left", "right"):
             force = self.stats.get(f"wall_peak_force_{side}", math.nan)
             if force == force:
@@ -420,7 +425,7 @@ def read_granules(path: PathLike, verify: bool = True) -> Result:
         text = data.decode("utf-8")
     except UnicodeDecodeError as e:
         raise ValueError(f"{path}: not a text file of taper ({e})") from None
-    statistics = set(_core.STATISTICS)
+    statistics = set(_core.STATISTICS) | {"pulse_speed"}  # the header's (results/pulse.h)
     statuses = {desc: ident for ident, (_, desc) in _core.statuses().items()}
     stats: Dict[str, Any] = {}
     units: Dict[str, str] = {}

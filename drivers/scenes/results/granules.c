@@ -5,6 +5,7 @@
 #include "results/granules.h"
 
 #include "results/output.h"
+#include "results/pulse.h"
 #include "util/number.h"
 #include "util/text.h"
 
@@ -49,7 +50,7 @@ static void write_dimensioned(const granules_run *r, FILE *fp, taper_statistic w
  * budget adds up to), and the peak force, its time and the impulse of each
  * wall the chain has (a free end has none: no line; a piston's are the left
  * wall's). */
-static void write_stats_comment(const granules_run *r, FILE *fp)
+static void write_stats_comment(const granules_run *r, const out_columns *cols, FILE *fp)
 {
     if (!r->sim) {
         fputs("# numerics = .false.: theory only, no dynamics\n", fp);
@@ -73,6 +74,13 @@ static void write_stats_comment(const granules_run *r, FILE *fp)
     }
     for (int i = TAPER_STAT_ENERGY_INITIAL; i <= TAPER_STAT_ENERGY_IN_CHAIN; i++)
         write_dimensioned(r, fp, (taper_statistic)i, taper_statistic_dimension((taper_statistic)i));
+    /* The pulse's speed from the columns as written (pulse.h): in SI m/s. */
+    const char *speed_unit = scene_unit_suffix(&r->at, TAPER_DIM_VELOCITY);
+    char speed[NUMBER_SIZE];
+    number_shortest(speed, pulse_speed(cols->col[4 + TAPER_X_PASS], cols->col[4 + TAPER_T_PASS],
+                                       NULL, cols->n));
+    fprintf(fp, "# %s%s%s%s = %s\n", PULSE_SPEED_NAME, speed_unit ? "[" : "",
+            speed_unit ? speed_unit : "", speed_unit ? "]" : "", speed);
     /* A piston: the budget adds up to its work, E(0) = 0 (the energy error
      * above is relative to it); its force is the left wall's. */
     const int piston = taper_chain_piston_duration(r->chain) > 0.0;
@@ -190,7 +198,7 @@ static int write_granules(const granules_run *r, out_file *f, int partial)
                 "describe this chain)\n", r->theory_note);
     write_units_comment(r, fp);
     write_scene_comment(r, fp);
-    write_stats_comment(r, fp);
+    write_stats_comment(r, &cols, fp);
     out_write_rows(f, &cols, NULL, 0);
     free_columns(owned);
     return 0;

@@ -183,10 +183,32 @@ static int refused(const run *r, scene_lib lib)
     return r->err.status == TAPER_ENOMEM ? RUN_FAILED : RUN_INPUT;
 }
 
+/* A long chain's building or theory stopped by a signal
+ * (taper_chain_alloc_monitored, taper_sim_alloc or
+ * taper_theory_compute_monitored): nothing of the run is written. */
+static int stopped_before_run(run *r, const char *while_what)
+{
+    char by[64];
+    interrupt_describe(by, sizeof by);
+    free(r->message);
+    r->message = text_printf("%s: interrupted by %s while %s (%s): nothing of this run is "
+                             "written", r->label, by, while_what, r->err.message);
+    r->computed = 0;
+    return RUN_PARTIAL;
+}
+
+static int theory_interrupted(run *r)
+{
+    return stopped_before_run(r, "the binary-collision theory was computed");
+}
+
 static int build_chain(run *r)
 {
     if (!(r->spec = scene_chain_spec(r->cfg, r->point, &r->err))) return refused(r, SCENE_LIB_CHAIN);
-    if (!(r->chain = taper_chain_alloc(r->spec, &r->err))) return refused(r, SCENE_LIB_CHAIN);
+    /* The monitor: a signal stops the building of a long chain too. */
+    if (!(r->chain = taper_chain_alloc_monitored(r->spec, monitor, &r->progress, &r->err)))
+        return r->err.status == TAPER_EINTERRUPTED ? stopped_before_run(r, "the chain was built")
+                                                   : refused(r, SCENE_LIB_CHAIN);
     return RUN_COMPLETE;
 }
 
@@ -269,20 +291,6 @@ static int check_output_size(run *r)
     return RUN_INPUT;
 }
 
-/* The theory of a long chain stopped by a signal (taper_sim_alloc or
- * taper_theory_compute_monitored): nothing of the run is written. */
-static int theory_interrupted(run *r)
-{
-    char by[64];
-    interrupt_describe(by, sizeof by);
-    free(r->message);
-    r->message = text_printf("%s: interrupted by %s while the binary-collision theory was "
-                             "computed (%s): nothing of this run is written", r->label, by,
-                             r->err.message);
-    r->computed = 0;
-    return RUN_PARTIAL;
-}
-
 static int build_sim(run *r)
 {
     taper_solver_spec *spec = scene_solver_spec(r->cfg, &r->err);
@@ -297,7 +305,7 @@ static int build_sim(run *r)
     r->sim = taper_sim_alloc(r->chain, spec, &r->err);
     taper_solver_spec_free(spec);
     if (!r->sim) {
-        if (r->err.status == TAPER_EINTERRUPTED) return theory_interrupted(r);
+        if (r->err.status == TAPER_EINTERRUPTED) return stopped_before_run(r, "the run was set up");
         if (r->err.field) return refused(r, SCENE_LIB_SOLVER);
         /* The theory overflowing, or memory: not the scene's syntax. */
         fprintf(r->log, "%s: %s\n", r->label, r->err.message);
@@ -616,8 +624,16 @@ static int run_init(run *r, const scene *sc, size_t point, const char *dir, cons
     return r->dir && r->label ? 0 : -1;
 }
 
+static double thread_cpu_seconds(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return NAN;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 void run_point(const scene *sc, size_t point, const char *dir, const char *name, run_outcome *o)
 {
+    const double cpu_start = thread_cpu_seconds();
     size_t n_out = 0, n_log = 0;
     memset(o, 0, sizeof *o);
     FILE *out = open_memstream(&o->out, &n_out), *log = open_memstream(&o->log, &n_log);
@@ -633,6 +649,7 @@ void run_point(const scene *sc, size_t point, const char *dir, const char *name,
         o->rc = r.rc;
     }
     run_free(&r);
+    o->cpu_seconds = thread_cpu_seconds() - cpu_start;
     if (out) fclose(out);
     if (log) fclose(log);
     if (!out || !log) {

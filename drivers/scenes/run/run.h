@@ -47,17 +47,19 @@ int run_worst(int a, int b);
 int run_scene(const scene *sc);
 
 /* What one run of a sweep printed: stdout and stderr text (malloc'd, may be
- * NULL), and its run_status. */
+ * NULL), its run_status, and the CPU time it took (NaN: not known). */
 typedef struct run_outcome {
     int rc;
     char *out;
     char *log;
+    double cpu_seconds; /* on its thread, from its chain to its last file  */
 } run_outcome;
 
 /* Computes run `point` of the scene into dir (granules.tsv, or
  * granules.partial.tsv; report.tsv when the scene's fits, table or figure
  * need rows or columns its granules.tsv leaves out): chain, sim, result
- * files.  Prints nothing; its messages name the run (`name`, e.g.
+ * files; o->cpu_seconds the CPU time of the calling thread meanwhile (a
+ * run is computed on one thread).  Prints nothing; its messages name the run (`name`, e.g.
  * "q=0.05,exponent=2.5").  Thread-safe.  Free with run_outcome_free. */
 void run_point(const scene *sc, size_t point, const char *dir, const char *name,
                run_outcome *o);

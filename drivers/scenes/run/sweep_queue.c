@@ -67,6 +67,7 @@ sweep *sweep_open(const scene *sc)
         if (!(it->name = scene_point_name(cfg, i))) goto fail;
         if (!(it->dir = text_printf("%s/%s", cfg->output.dir, it->name))) goto fail;
         it->cost = estimate(cfg, i);
+        it->outcome.cpu_seconds = NAN; /* until it is computed or reused */
         sw->cost_todo += it->cost;
     }
     if (order_by_cost(sw) != 0) goto fail;
@@ -116,12 +117,13 @@ void sweep_deal(sweep *sw, size_t part, size_t parts)
     pthread_mutex_unlock(&sw->lock);
 }
 
-void sweep_reuse(sweep *sw, size_t i, int rc)
+void sweep_reuse(sweep *sw, size_t i, int rc, double cpu_seconds)
 {
     pthread_mutex_lock(&sw->lock);
     sweep_item *it = &sw->items[i];
     it->reused = 1;
     it->outcome.rc = rc;
+    it->outcome.cpu_seconds = cpu_seconds;
     sw->untrusted += rc == RUN_UNTRUSTED;
     sw->reused++;
     set_done_before(sw, i);

@@ -62,8 +62,9 @@ size_t sweep_size(const sweep *sw);
  * are this part's, the others are done elsewhere. */
 void sweep_deal(sweep *sw, size_t part, size_t parts);
 /* Run i is done already, its result on disk (resume): rc RUN_COMPLETE or
- * RUN_UNTRUSTED. */
-void sweep_reuse(sweep *sw, size_t i, int rc);
+ * RUN_UNTRUSTED, and the CPU time its computation took (its scene.hash;
+ * NaN: not recorded). */
+void sweep_reuse(sweep *sw, size_t i, int rc, double cpu_seconds);
 
 /* The next run to compute (dearest first), or SIZE_MAX when none is left
  * or the sweep was interrupted.  Thread-safe. */

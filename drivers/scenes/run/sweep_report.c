@@ -434,7 +434,10 @@ static const char *summary_value(const summary *sm, size_t i, const char *col)
 
 /* DIR/runs.tsv: each run, its swept values, how it ended, the statistics
  * of its granules.tsv (granules.partial.tsv for a run that ended early;
- * nan for one that did not run) and the message of a run without rows.
+ * nan for one that did not run), the CPU seconds it took (the one column
+ * that differs between two computations of the same sweep: the tests that
+ * compare sweeps byte for byte leave it out) and the message of a run
+ * without rows.
  * The column names on the first line, as in granules.tsv. */
 static int write_runs_tsv(sweep *sw)
 {
@@ -454,20 +457,25 @@ static int write_runs_tsv(sweep *sw)
     for (size_t k = 0; k < cfg->runs.n_swept; k++) fprintf(f->fp, "%s\t", scene_swept_name(cfg, k));
     fputs("status", f->fp);
     for (size_t c = 0; c < sm.n_cols; c++) fprintf(f->fp, "\t%s", sm.col[c]);
-    fputs("\tmessage\n", f->fp);
+    fputs("\tcpu_time[s]\tmessage\n", f->fp);
     fprintf(f->fp, "# taper %s runs of the sweep over ", taper_version());
     write_lead_header(cfg, f->fp);
     fputs(": status complete, untrusted (granules.tsv says why), partial "
           "(granules.partial.tsv), refused (the library refused the point), failed; then the "
           "statistics of each run's granules.tsv header (granules.partial.tsv for a partial "
-          "run, nan for a run without a result: docs/scene.md, \"Result files\"), and the "
-          "message of a run without rows\n", f->fp);
+          "run, nan for a run without a result: docs/scene.md, \"Result files\"), the CPU "
+          "time the run took (where and when it was computed: a reused run's is its "
+          "scene.hash's), and the message of a run without rows\n", f->fp);
     for (size_t i = 0; i < sw->n; i++) {
         const sweep_item *it = &sw->items[i];
         fprintf(f->fp, "%s\t", it->name);
         for (size_t k = 0; k < cfg->runs.n_swept; k++) out_cell(f->fp, scene_swept_value(cfg, i, k), 0);
         fputs(status_name(it->outcome.rc), f->fp);
         for (size_t c = 0; c < sm.n_cols; c++) fprintf(f->fp, "\t%s", summary_value(&sm, i, sm.col[c]));
+        if (isnan(it->outcome.cpu_seconds))
+            fputs("\tnan", f->fp);
+        else
+            fprintf(f->fp, "\t%.6f", it->outcome.cpu_seconds);
         /* Runs with rows: no message (an untrusted one's granules.tsv says why),
          * so that runs.tsv is the same whether a run was reused or not. */
         char *why = sweep_has_rows(it->outcome.rc) ? text_dup("") : first_line(sw, it);

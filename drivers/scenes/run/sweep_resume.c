@@ -11,6 +11,7 @@
 #include "util/text.h"
 
 #include <inttypes.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -122,12 +123,32 @@ static int untrusted_file(const char *dir)
     return found;
 }
 
-/* 1: run i's complete result is on disk, made from this scene, every file
- * as the run wrote it.  A result whose stamp matches but whose files do
- * not (cut, changed, another run's copied in) is said on stdout and
- * computed again. */
-static int reusable(const sweep *sw, size_t i)
+/* The last line of a stamp: the CPU time the run took (runs.tsv's
+ * cpu_time[s]), a measurement, not part of what the stamp vouches for. */
+#define CPU_LINE "cpu_time[s] "
+
+/* The CPU seconds of a stamp's last line after `vouched` (the text the
+ * run's scene and files give), or NaN when it has none; -1 when anything
+ * else follows. */
+static double stamp_cpu(const char *have, const char *vouched)
 {
+    const size_t n = strlen(vouched);
+    if (strncmp(have, vouched, n) != 0) return -1.0;
+    const char *rest = have + n;
+    if (!*rest) return NAN; /* a stamp of a taper that did not record it */
+    if (strncmp(rest, CPU_LINE, strlen(CPU_LINE)) != 0) return -1.0;
+    char *end;
+    const double cpu = strtod(rest + strlen(CPU_LINE), &end);
+    return end != rest + strlen(CPU_LINE) && strcmp(end, "\n") == 0 && cpu >= 0.0 ? cpu : -1.0;
+}
+
+/* 1: run i's complete result is on disk, made from this scene, every file
+ * as the run wrote it (*cpu: the CPU time its stamp records, or NaN).  A
+ * result whose stamp matches but whose files do not (cut, changed, another
+ * run's copied in) is said on stdout and computed again. */
+static int reusable(const sweep *sw, size_t i, double *cpu)
+{
+    *cpu = NAN;
     const sweep_item *it = &sw->items[i];
     char *path = text_printf("%s/scene.hash", it->dir);
     char *have = path ? read_small_file(path) : NULL;
@@ -137,7 +158,8 @@ static int reusable(const sweep *sw, size_t i)
     if (ok) {
         char *why = NULL, *files = files_text(it->dir, &why);
         char *whole = files ? text_printf("%s%s", want, files) : NULL;
-        ok = whole && strcmp(have, whole) == 0;
+        *cpu = whole ? stamp_cpu(have, whole) : -1.0;
+        ok = !(*cpu < 0.0); /* NaN: vouched for, no CPU time recorded */
         if (!ok && files)
             why = text_printf("%s: its result files are not those its scene.hash vouches for "
                               "(changed or copied in after the run)", it->dir);
@@ -152,7 +174,7 @@ static int reusable(const sweep *sw, size_t i)
     return ok;
 }
 
-static int write_stamp(const sweep *sw, size_t i, char **msg)
+static int write_stamp(const sweep *sw, size_t i, double cpu_seconds, char **msg)
 {
     char *why = NULL;
     char *head = stamp_text(sw, i), *files = head ? files_text(sw->items[i].dir, &why) : NULL;
@@ -162,7 +184,10 @@ static int write_stamp(const sweep *sw, size_t i, char **msg)
         return -1;
     }
     out_file *f = out_open(sw->items[i].dir, "scene.hash", msg);
-    if (f) fprintf(f->fp, "%s%s", head, files);
+    if (f) {
+        fprintf(f->fp, "%s%s", head, files);
+        if (cpu_seconds >= 0.0) fprintf(f->fp, CPU_LINE "%.6f\n", cpu_seconds);
+    }
     free(head);
     free(files);
     return f ? out_commit(f, msg) : -1;
@@ -187,7 +212,7 @@ void sweep_compute(sweep *sw, size_t i, run_outcome *o)
     if (stamp) unlink(stamp);
     free(stamp);
     run_point(sw->sc, i, it->dir, it->name, o);
-    if (sweep_has_rows(o->rc) && write_stamp(sw, i, &msg) != 0) {
+    if (sweep_has_rows(o->rc) && write_stamp(sw, i, o->cpu_seconds, &msg) != 0) {
         /* without its stamp the run is done again on resume */
         append_log(o, scene_path(sw->sc), msg ? msg : "out of memory");
         o->rc = out_was_stopped(msg) ? RUN_PARTIAL : RUN_FAILED;
@@ -215,7 +240,9 @@ size_t sweep_find_reusable(sweep *sw)
         const sweep_item *it = &sw->items[i];
         if (it->state != SWEEP_TODO) continue; /* another part's */
         removed += outdir_remove_temporaries(it->dir);
-        if (reusable(sw, i)) sweep_reuse(sw, i, untrusted_file(it->dir) ? RUN_UNTRUSTED : RUN_COMPLETE);
+        double cpu;
+        if (reusable(sw, i, &cpu))
+            sweep_reuse(sw, i, untrusted_file(it->dir) ? RUN_UNTRUSTED : RUN_COMPLETE, cpu);
     }
     return removed;
 }

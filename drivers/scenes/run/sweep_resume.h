@@ -5,7 +5,9 @@
  * Each complete run leaves DIR/RUN/scene.hash: a hash of the resolved scene
  * at its point (the text its granules.tsv echoes, the scene's path and
  * taper's version), and the row count and CRC-32 of each result file it
- * wrote (their footers, results/footer.h).  Running the same sweep again
+ * wrote (their footers, results/footer.h), then the CPU time the run took
+ * (a measurement, not vouched for: runs.tsv's cpu_time[s]).  Running the
+ * same sweep again
  * reuses every run whose hash matches and whose files pass their footers
  * and are the ones the hash names; a run whose files were cut, changed or
  * replaced after it ran is computed again (said on stdout), partial runs

@@ -33,6 +33,14 @@ def test_cite_names_what_the_run_uses():
     assert "kuwabara1987restitution" in taper.cite(damping=0.1)
 
 
+def test_cite_with_keywords_as_a_process_first_call():
+    """cite(method=...) before any other call: its keywords are read with
+    numpy's C API, which the first call of a process imports (it crashed)."""
+    code = "import taper; print('sundials' in taper.cite(method='rk8'), len(taper.cite()) > 0)"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stdout == "False True\n", (p.returncode, p.stderr)
+
+
 def test_cite_signature_and_refusals():
     assert set(inspect.signature(taper.cite).parameters) == \
         set(inspect.signature(taper.simulate).parameters)

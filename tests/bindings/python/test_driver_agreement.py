@@ -77,12 +77,14 @@ def test_statistics_are_the_driver_header(runs):
     path, r = runs
     header = taper.read_granules(path).stats
     assert r.stats["complete"] is True and r.stats["granule_reached"] == 39
-    assert set(r.stats) == set(taper.STATISTICS)
+    assert set(r.stats) == set(taper.STATISTICS) | {"pulse_speed"}
     # The driver leaves out what the run does not have (the wall statistics
     # of a chain without walls are NaN); everything else is there.
     missing = [n for n in taper.STATISTICS if n != "complete" and n not in header
                and not math.isnan(r.stats[n])]
     assert not missing, f"statistics missing from the driver's header: {missing}"
+    # the pulse's speed: one C function for the header and the package
+    assert header["pulse_speed"] == r.stats["pulse_speed"] == r.pulse_speed() > 0
     for name in taper.STATISTICS:
         if name == "complete" or name not in header:  # a line of its own; absent: NaN
             continue

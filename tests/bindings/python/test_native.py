@@ -106,6 +106,28 @@ def test_pulse_speed_against_the_columns_and_the_theory():
     assert math.isnan(taper.simulate(n_granules=30, max_steps=5).pulse_speed())
 
 
+def test_pulse_speed_is_the_drivers_whatever_the_rows_and_columns(tmp_path):
+    """stats["pulse_speed"] comes from every granule's columns in the
+    result's units (drivers/scenes/results/pulse.h), so that neither &output
+    every nor columns changes it, and granules.tsv's header (the driver's
+    file, rows thinned, X_pass and t_pass left out) holds the same double;
+    the theory alone gets it from the same function."""
+    r = taper.simulate(n_granules=200)
+    thin = taper.simulate(n_granules=200, every=7, columns="k v_peak")
+    assert "X_pass" not in thin.columns and thin.stats["pulse_speed"] == r.stats["pulse_speed"]
+    assert thin.pulse_speed() == r.pulse_speed() == r.pulse_speed(180, 199)
+    scene = tmp_path / "thin.nml"
+    scene.write_text("&chain n_granules = 200 /\n&output every = 7, columns = 'k v_peak' /\n")
+    subprocess.run([os.environ["TAPER_DRIVER"], str(scene), "-o", str(tmp_path / "out")],
+                   check=True, capture_output=True)
+    header = taper.read_granules(tmp_path / "out" / "granules.tsv")
+    assert header.stats["pulse_speed"] == r.stats["pulse_speed"]
+    th = taper.theory(n_granules=200)
+    k0, k1 = 180, 199   # the theory's t_k is known to granule 199
+    assert th.pulse_speed() == (th.X0[k1 - 1] - th.X0[k0 - 1]) / (th.theory_t[k1 - 1] -
+                                                                  th.theory_t[k0 - 1])
+
+
 def test_repr_shows_what_a_physicist_checks_first():
     r = taper.simulate(profile="backward_linear", s=0.5, n_granules=60)
     text = repr(r)

@@ -62,7 +62,7 @@ def test_result_contents():
     assert len(r) == 30 and r.k.dtype == np.int64 and list(r.k) == list(range(1, 31))
     for c in r.columns[1:]:
         assert r[c].dtype == np.float64 and r[c].shape == (30,)
-    assert set(r.stats) == set(taper.STATISTICS)
+    assert set(r.stats) == set(taper.STATISTICS) | {"pulse_speed"}
     assert r.stats["complete"] is True and isinstance(r.stats["steps"], int)
     assert r.stats["granule_reached"] == 29
     assert 0 <= r.energy_error < 1e-6 and 0 <= r.momentum_error < 1e-6

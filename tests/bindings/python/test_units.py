@@ -49,7 +49,8 @@ def test_si_columns_stats_and_units():
                         "energy_in_chain": "J", "wall_peak_force_left": "N",
                         "wall_peak_time_left": "s", "wall_impulse_left": "N s",
                         "wall_peak_force_right": "N", "wall_peak_time_right": "s",
-                        "wall_impulse_right": "N s", "x_final": "m", "v_final": "m/s"}
+                        "wall_impulse_right": "N s", "pulse_speed": "m/s", "x_final": "m",
+                        "v_final": "m/s"}
     assert rs.units == {}
     close = dict(rtol=1e-14, atol=0)
     assert np.allclose(si.t_pass, rs.t_pass * T, equal_nan=True, **close)
