@@ -13,8 +13,7 @@ solver statistics of both headers side by side.  With --bins, also the
 largest relative errors of t_pass and of T_res = t_pass(k) - t_pass(k-1)
 (computed from t_pass, so values the run wrote as nan count too) in decades
 of T_res / t_pass.  This is how the accuracy tables of docs/benchmarks.md
-("Long chains at looser tolerances") and of docs/design.md (resolution of
-residence times) were made.
+("Long chains at looser tolerances") were made.
 
 Exit status: 0, or 2 for unreadable input or runs of different chains.
 Standard library only.

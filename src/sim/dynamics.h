@@ -27,7 +27,8 @@
  * end, and the state interpolated back to the root carried it: a pulse reflected from a
  * right wall into a free end (t_end) lost 8e-8 of the momentum in one
  * collision (momentum error 1.4e-7, energy 3.0e-7, N = 200, against 2e-12
- * and 4.9e-9 for the whole chain; docs/window.md).
+ * and 4.9e-9 for the whole chain; docs/window.md, "The gap slot pushes
+ * nothing").
  */
 #ifndef TAPER_DYNAMICS_H
 #define TAPER_DYNAMICS_H

@@ -57,9 +57,10 @@
  * carries the pulse's front, no granule behind it moves faster.  The
  * precursor's crossings are far ahead of the pulse, at velocities 1e-17 to
  * 1e-11 of it (forward exponential q = 0.05, N = 60, n = 3/2: from t = 4e-8
- * on, where the pulse arrives at t ~ 10; docs/design.md).  So below n = 2 the pass
+ * on, where the pulse arrives at t ~ 10).  So below n = 2 the pass
  * of k is the first time that v_{k+1} >= v_k >= v_j for every window
- * granule j < k, the zero crossing upward of
+ * granule j < k (docs/design.md, "The pass time below n = 2"), the zero
+ * crossing upward of
  *     g = min(v_{k+1} - v_k, v_k - max_{lo <= j < k} v_j),
  * continuous, never identically zero, and equal to v_{k+1} - v_k near the
  * root wherever the pulse moves granule by granule (its second term is then
@@ -211,7 +212,7 @@ static double peak_function(const taper_sim *sim, const double *y, size_t k)
  * step (three times: signs, activity, the copy of the values) and at every
  * iteration of its search; 17 functions cost it ~1000 instructions per
  * step on monodisperse chains, and the values' sweep another ~500
- * (docs/design.md, "Pulse events"). */
+ * (CHANGELOG.md: six and one per wall instead of 17). */
 enum {
     SLOT_PASS,
     SLOT_PASSES_AHEAD,

@@ -539,7 +539,7 @@ static taper_status integrate(taper_sim *sim, taper_error *err)
  * 200 uround t_pass of root-finding error; T_res is kept while that is
  * below 1 % of it.  The integration error of T_res is relative to T_res
  * itself, not to t_pass: both pass times share the error accumulated
- * before them.  Measured (docs/design.md): forward exponential q = 0.05,
+ * before them (docs/design.md, "Pulse events").  Measured: forward exponential q = 0.05,
  * N = 1000, against rtol 1e-13, the T_res error is ~1e-14 t_pass / T_res
  * (7e-4 at T_res ~ 1e-12 t_pass); monodisperse at rtol 1e-6 to N = 20000,
  * T_res ~ 6e-5 t_pass is good to 7e-5 (twice the t_pass error). */

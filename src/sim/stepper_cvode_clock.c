@@ -16,10 +16,10 @@
 
 /* CVODE advances its time by tn += h, rounded to double at every step.  At
  * a fixed h (the step band keeps h for thousands of steps, docs/design.md
- * "Defaults") and within a binade of t every step rounds by the same
+ * "Tolerances and defaults") and within a binade of t every step rounds by the same
  * amount, so the errors add up instead of averaging out: monodisperse
  * N = 1000 at rtol 1e-14 drifted by -1.2e-9 (1.1e-12 of t) over 90 000
- * steps, the floor of its pass times (docs/benchmarks.md, "Accuracy at
+ * steps, the floor of its pass times (docs/design.md, "Accuracy at
  * tight tolerances").  The state is not affected (the Nordsieck array is
  * scaled by h itself, and the equations do not depend on t), only the
  * time it is labelled with.  Each step's rounding error is recovered

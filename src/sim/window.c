@@ -217,7 +217,7 @@ taper_window_plan taper_window_plan_for(const taper_sim *sim, taper_root_report 
  * that is looser than z_eps (which then decides); at looser tolerances
  * z_eps = 100 rtol z_ref let monodisperse chains leak momentum at
  * 2.7e-8 per granule at rtol 1e-6 while the gap slot pushed the window's
- * first granule alone (docs/window.md).  Never below one error
+ * first granule alone (docs/window.md, "The force bound").  Never below one error
  * unit: smaller compressions are noise, indistinguishable from zero. */
 static double resting_compression(const taper_sim *sim, size_t j, double z_eps)
 {

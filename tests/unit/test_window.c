@@ -11,7 +11,7 @@
  * 100x tighter reference it reaches up to ~380 units for the whole chain
  * (v_peak, backward linear S = 0.5, granule 11) and ~80 for the window
  * (v_peak, forward exponential; ~120 while the window started with one
- * granule, docs/window.md).  Two approximations differ by at most the sum
+ * granule).  Two approximations differ by at most the sum
  * of their errors, so:
  *
  *  - window vs whole chain, same tolerance: <= AGREE error units
