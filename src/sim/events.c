@@ -105,7 +105,7 @@
  * z^(1/2), strong at tiny compressions): the precursor of granule 9
  * overtakes it at t = 0.004 with v ~ 1e-13, long before the pulse passes
  * at t = 25; forward exponential q = 0.05, N = 100 at max order 9: a noise
- * "peak" of granule 6 at v = 2e-38.  Armed at any v > 0 (1559963) these
+ * "peak" of granule 6 at v = 2e-38.  Armed at any v > 0, as they once were, these
  * were taken for the pass and the peak. */
 static double arm_velocity(const taper_sim *sim) { return ARM_FRACTION * sim->pulse.v_ref; }
 
