@@ -12,6 +12,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* A bound as text: 2^53, the largest whole number every double below it
+ * holds exactly (the integers' bound), as "2^53"; any other shortest. */
+static void format_bound(double x, char buf[SCENE_REAL_TEXT])
+{
+    if (x == 0x1p53) snprintf(buf, SCENE_REAL_TEXT, "2^53");
+    else scene_format_real(x, buf);
+}
+
 char *scene_range_text(const scene_var *var)
 {
     char *text = NULL;
@@ -24,8 +32,8 @@ char *scene_range_text(const scene_var *var)
     } else if ((var->type == SCENE_REAL || var->type == SCENE_INTEGER ||
                 var->type == SCENE_REAL_LIST) && !(var->lo == 0 && var->hi == 0)) {
         char lo[SCENE_REAL_TEXT], hi[SCENE_REAL_TEXT];
-        scene_format_real(var->lo, lo);
-        scene_format_real(var->hi, hi);
+        format_bound(var->lo, lo);
+        format_bound(var->hi, hi);
         fprintf(fp, "%s%c%s, %s%c", var->type == SCENE_REAL_LIST ? "each in " : "",
                 (var->flags & SCENE_LO_OPEN) ? '(' : '[', lo, hi,
                 isinf(var->hi) || (var->flags & SCENE_HI_OPEN) ? ')' : ']');
@@ -530,7 +538,7 @@ static void write_doc_outro(FILE *fp)
           "footer that proves it whole and unchanged, a comment line the readers above "
           "skip:\n"
           "\n"
-          "    # end: rows 200, bytes 34567, crc32 1a2b3c4d\n"
+          "    # end: rows 200, bytes 34567, crc32 <8 hex digits>\n"
           "\n"
           "`rows` counts the data rows above it (the lines that are neither the first, the "
           "column names, nor a comment, nor empty), `bytes` every byte above it, and `crc32` is "
@@ -613,13 +621,13 @@ static void write_doc_outro(FILE *fp)
           "\n"          "## Limits\n"
           "\n", fp);
     fprintf(fp,
-            "A scene file holds at most %u bytes (%u MB) and lines of at most %d characters "
+            "A scene file holds at most %u MiB and lines of at most %d characters "
             "(split long lists over several lines); all lists of more than one value together "
             "(custom radii, sweeps, table values) hold at most %d values, so that the echo of "
             "any valid scene fits the same limits and reads back.  Inline custom radii are "
             "therefore at most %d, from a file, the command line or a program (the Python "
             "package) alike; a `radii_file` (echoed as its path) has no such limit.\n",
-            SCENE_MAX_FILE, SCENE_MAX_FILE >> 20, SCENE_MAX_LINE, SCENE_MAX_LIST, SCENE_MAX_LIST);
+            SCENE_MAX_FILE >> 20, SCENE_MAX_LINE, SCENE_MAX_LIST, SCENE_MAX_LIST);
     fputs("\n"
           "Some chains are refused although every value is in its range, before any run, "
           "with status 2 and the key to change (`FILE:LINE: &chain n_granules: ...`): a mass "
