@@ -24,6 +24,9 @@
  *   orders.tsv           observed order: slope of -log err against log steps
  *   pareto.tsv           the non-dominated (seconds, err_t_pass) points
  *   speed-ratios.tsv     time of each method to reach 1e-6, 1e-8, 1e-9, 1e-10, 1e-12
+ *   leaders.tsv          who is fastest to each error, by family (taper's
+ *                        CVODE settings, taper's rk8, each peer), and
+ *                        leaders.md, the same as a table
  *   scaling.tsv          default settings, N = 10^2 .. --scaling-max (10^4; 10^6 to check flat cost per granule)
  *   work-precision.gp    gnuplot script -> work-precision.png
  * Methods: adams (window, the default order; "default" is the shipped
@@ -37,9 +40,9 @@
  * integrator heyoka on the whole chain (peers/peer_heyoka.py, run by the
  * Python of --heyoka-python PATH, default python3; skipped with one line
  * where that Python cannot import heyoka).
- * Wall times are medians of R repetitions (default 3); heyoka's are the
- * CPU seconds of its integration alone (its compilation in the column
- * compile_seconds).
+ * Times are CPU seconds, medians of R repetitions (default 3); heyoka's
+ * are the CPU seconds of its integration alone (its compilation in the
+ * column compile_seconds).
  *
  * --options: the cost of the chains experimenters build (a damping, a drag,
  * a static load, walls) on the monodisperse chain (or --chain NAME), at the
@@ -382,7 +385,11 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Median wall time of reps runs; the first run's observables are kept. */
+/* Median CPU time of reps runs (the process's CPU clock around the run;
+ * heyoka's: its integration's, measured by the script); the first run's
+ * observables are kept.  CPU time, not wall time: on a shared machine a
+ * run's wall time counts the other jobs' time slices, its CPU time only
+ * its own, and heyoka's figure is CPU time too. */
 static taper_status run_median(const taper_chain *chain, int m, double tol, long max_steps,
                                int reps, run *out, double *t_min, double *t_max)
 {
@@ -390,12 +397,13 @@ static taper_status run_median(const taper_chain *chain, int m, double tol, long
     if (reps > 16) reps = 16;
     taper_status status = run_once(chain, m, tol, max_steps, out);
     if (status != TAPER_OK && status != TAPER_ELIMIT) return status;
+    out->seconds = out->cpu;
     times[0] = out->seconds;
     if (out->seconds > 5.0) reps = 1; /* slow points: one run (far off the front) */
     for (int i = 1; i < reps; i++) {
         run again;
         run_once(chain, m, tol, max_steps, &again);
-        times[i] = again.seconds;
+        times[i] = again.cpu;
         run_free(&again);
     }
     qsort(times, (size_t)reps, sizeof(double), cmp_double);
@@ -654,6 +662,110 @@ static FILE *open_out(const char *dir, const char *name)
     return f;
 }
 
+/* The families of the leaders table: every CVODE setting of taper (the
+ * window's Adams at any order, the default, the whole chain, BDF) is one
+ * family, "cvode"; taper's rk8 is "rk8"; each peer is its own. */
+static const char *family_name(int m)
+{
+    switch (m) {
+    case M_ADAMS: case M_DEFAULT: case M_ADAMS_NOWIN: case M_ADAMS_Q4: case M_ADAMS_Q12: case M_BDF:
+        return "cvode";
+    default:
+        return method_names[m];
+    }
+}
+
+static int is_taper(int m) { return !strcmp(family_name(m), "cvode") || m == M_RK8; }
+
+/* The fastest complete row of family `fam` on chain ci with err_t_pass at
+ * or below `level` (NULL if none); *best_err: the family's smallest error. */
+static const row *fastest_at(const study *s, int ci, const char *fam, double level, double *best_err)
+{
+    const row *best = NULL;
+    *best_err = INFINITY;
+    for (size_t i = 0; i < s->n_rows; i++) {
+        const row *r = &s->rows[i];
+        if (r->chain != ci || !r->complete || strcmp(family_name(r->method), fam)) continue;
+        if (r->err_t < *best_err) *best_err = r->err_t;
+        if (r->err_t <= level && (!best || r->seconds < best->seconds)) best = r;
+    }
+    return best;
+}
+
+/* leaders.tsv and leaders.md: for each chain and error level, each family's
+ * fastest complete run at or below it, and its time over the fastest
+ * family's.  A family "not reached" ran but never got that low. */
+static int write_leaders(const study *s, const char *dir)
+{
+    static const double levels[] = {1e-6, 1e-8, 1e-9, 1e-10, 1e-12, 1e-14};
+    const size_t n_levels = sizeof levels / sizeof *levels;
+    const char *families[N_METHODS];
+    size_t n_fam = 0;
+    for (int m = 0; m < N_METHODS; m++) {
+        if (!(s->methods >> m & 1u)) continue;
+        const char *f = family_name(m);
+        size_t j = 0;
+        while (j < n_fam && strcmp(families[j], f)) j++;
+        if (j == n_fam) families[n_fam++] = f;
+    }
+    FILE *tsv = open_out(dir, "leaders.tsv"), *md = tsv ? open_out(dir, "leaders.md") : NULL;
+    if (!tsv || !md) {
+        if (tsv) fclose(tsv);
+        return -1;
+    }
+    fprintf(tsv, "chain\tn_granules\terror\tfamily\tmethod\ttol\terr_t_pass\tseconds\tover_leader\ttaper_leads\n");
+    fprintf(md, "CPU seconds of the fastest run at or below each pass-time error; the others' time over the leader's"
+                " (cvode: taper's CVODE settings; rk8: taper's method rk8; the rest are peers).\n\n| chain |");
+    for (size_t l = 0; l < n_levels; l++) fprintf(md, " %.0e |", levels[l]);
+    fprintf(md, "\n|---|");
+    for (size_t l = 0; l < n_levels; l++) fprintf(md, "---|");
+    fprintf(md, "\n");
+    for (size_t c = 0; c < s->n_chains; c++) {
+        fprintf(md, "| %s N=%zu |", chain_name(&s->chains[c]), s->chains[c].n);
+        for (size_t l = 0; l < n_levels; l++) {
+            const row *best[N_METHODS];
+            double best_err[N_METHODS];
+            const row *lead = NULL, *lead_taper = NULL, *lead_peer = NULL;
+            for (size_t j = 0; j < n_fam; j++) {
+                best[j] = fastest_at(s, (int)c, families[j], levels[l], &best_err[j]);
+                if (!best[j]) continue;
+                if (!lead || best[j]->seconds < lead->seconds) lead = best[j];
+                const row **side = is_taper(best[j]->method) ? &lead_taper : &lead_peer;
+                if (!*side || best[j]->seconds < (*side)->seconds) *side = best[j];
+            }
+            /* taper leads: its fastest family beats every peer that got there */
+            const int taper_leads = lead_taper && (!lead_peer || lead_taper->seconds < lead_peer->seconds);
+            int first = 1;
+            if (lead) fprintf(md, " %s %.2g s;", family_name(lead->method), lead->seconds);
+            for (size_t j = 0; j < n_fam; j++) {
+                if (!best[j]) {
+                    if (isfinite(best_err[j])) {
+                        fprintf(tsv, "%s\t%zu\t%.0e\t%s\tnot reached\tnan\t%.3e\tnan\tnan\t%d\n",
+                                chain_name(&s->chains[c]), s->chains[c].n, levels[l], families[j], best_err[j],
+                                taper_leads);
+                        fprintf(md, "%s %s not (%.1e)", first ? "" : ",", families[j],
+                                best_err[j]);
+                        first = 0;
+                    }
+                    continue;
+                }
+                const row *r = best[j];
+                fprintf(tsv, "%s\t%zu\t%.0e\t%s\t%s\t%.3g\t%.3e\t%.6f\t%.3g\t%d\n", chain_name(&s->chains[c]),
+                        s->chains[c].n, levels[l], families[j], method_names[r->method], r->tol, r->err_t, r->seconds,
+                        r->seconds / lead->seconds, taper_leads);
+                if (r == lead) continue;
+                fprintf(md, "%s %s %.2gx", first ? "" : ",", families[j], r->seconds / lead->seconds);
+                first = 0;
+            }
+            if (!lead && first) fprintf(md, " none");
+            fprintf(md, " |");
+        }
+        fprintf(md, "\n");
+    }
+    fclose(tsv);
+    return fclose(md) == 0 ? 0 : -1;
+}
+
 static int write_results(const study *s, const char *dir)
 {
     FILE *f = open_out(dir, "work-precision.tsv");
@@ -737,6 +849,8 @@ static int write_results(const study *s, const char *dir)
         }
     fclose(f);
 
+    if (write_leaders(s, dir) != 0) return -1;
+
     f = open_out(dir, "work-precision.gp");
     if (!f) return -1;
     fprintf(f, "# gnuplot work-precision.gp  (run in this directory) -> work-precision.png\n"
@@ -745,7 +859,7 @@ static int write_results(const study *s, const char *dir)
                "set datafile separator '\\t'\n"
                "set logscale xy\n"
                "set format x '10^{%%T}'\nset format y '10^{%%T}'\n"
-               "set xlabel 'wall time [s] (median)'\nset ylabel 'max rel. error of t_{pass}'\n"
+               "set xlabel 'CPU time [s] (median)'\nset ylabel 'max rel. error of t_{pass}'\n"
                "set key bottom left font ',8'\nset grid\n"
                "set multiplot layout %zu,3 title 'taper work-precision (error vs time)'\n",
             (int)(480 * ((s->n_chains + 2) / 3)), (s->n_chains + 2) / 3);
