@@ -14,6 +14,8 @@
  *               [--options-limit S]     (the chains with options, below)
  *   taper-bench --goal [--baseline BIN] [--driver BIN] [--goal-n N]
  *               [--reps R] [-o DIR]     (the speed goal, below)
+ *   taper-bench --choosing [--chain TEXT] [--reps R] [--options-limit S]
+ *               [-o DIR]   (docs/choosing.md's measurements: choosing.c)
  *
  * For a fixed set of chains, runs each method over a sweep of tolerances
  * (step sizes for Verlet), measures the error of t_pass and v_peak against
@@ -68,6 +70,7 @@
  * largest relative difference of t_pass between the two builds; writes
  * goal.tsv (every run).
  */
+#include "choosing.h"
 #include "peers/peers.h"
 #include "reference.h"
 #include "taper.h"
@@ -1404,6 +1407,7 @@ static void usage(FILE *out)
           "       taper-bench --write-chain CHAIN N FILE   (masses and contacts for peers/peer_heyoka.py)\n"
           "       taper-bench --options [-o DIR] [--chain NAME] [--options-max N] [--options-limit S]\n"
           "       taper-bench --goal [--baseline BIN] [--driver BIN] [--goal-n N] [--reps R] [-o DIR]\n"
+          "       taper-bench --choosing [--chain TEXT] [--reps R] [--options-limit S] [-o DIR]\n"
           "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
           "Methods:",
           out);
@@ -1501,8 +1505,9 @@ int main(int argc, char **argv)
     const char *only = NULL; /* --chain NAME: just that chain of the set */
     unsigned methods = (1u << N_METHODS) - 1;
     size_t scaling_max = 10000, options_max = 100000;
-    int options = 0, goal = 0, reps_given = 0;
+    int options = 0, goal = 0, choosing = 0, reps_given = 0;
     double options_limit = 120.0;
+    int options_limit_given = 0;
     const char *baseline = NULL, *driver = TAPER_BENCH_DRIVER;
     size_t goal_n = 1000000;
     gsl_set_error_handler_off();
@@ -1544,11 +1549,13 @@ int main(int argc, char **argv)
         }
         else if (!strcmp(argv[i], "--options")) options = 1;
         else if (!strcmp(argv[i], "--goal")) goal = 1;
+        else if (!strcmp(argv[i], "--choosing")) choosing = 1;
         else if (!strcmp(argv[i], "--baseline") && i + 1 < argc) baseline = argv[++i];
         else if (!strcmp(argv[i], "--driver") && i + 1 < argc) driver = argv[++i];
         else if (!strcmp(argv[i], "--goal-n") && i + 1 < argc) goal_n = (size_t)atol(argv[++i]);
         else if (!strcmp(argv[i], "--options-max") && i + 1 < argc) options_max = (size_t)atol(argv[++i]);
-        else if (!strcmp(argv[i], "--options-limit") && i + 1 < argc) options_limit = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--options-limit") && i + 1 < argc)
+            options_limit = atof(argv[++i]), options_limit_given = 1;
         else {
             usage(!strcmp(argv[i], "--help") ? stdout : stderr);
             return !strcmp(argv[i], "--help") ? 0 : 2;
@@ -1566,6 +1573,8 @@ int main(int argc, char **argv)
         }
         return run_goal(dir, driver, baseline, goal_n, reps_given ? reps : 1);
     }
+    if (choosing) /* a run over half a minute is off any front: 30 s unless --options-limit */
+        return taper_bench_choosing(dir, only, reps, options_limit_given ? options_limit : 30.0);
     if ((methods >> M_HEYOKA & 1u) && !heyoka_available()) methods &= ~(1u << M_HEYOKA);
     if (options) {
         double t0 = wall_seconds();
