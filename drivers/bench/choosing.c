@@ -51,6 +51,7 @@ static const choosing_case cases[] = {
     {"forward_exponential q=0.05 N=100", TAPER_FORWARD_EXPONENTIAL, 100, 0, 0.05, 2.5, 0, 0, 0, 0, 0, 0, EXPLICIT, 1,
      TAPER_RK8},
     {"monodisperse N=10000", TAPER_MONODISPERSE, 10000, 0, 0, 2.5, 0, 0, 0, 0, 0, 0, EXPLICIT, 1, TAPER_RK8},
+    {"monodisperse N=100000", TAPER_MONODISPERSE, 100000, 0, 0, 2.5, 0, 0, 0, 0, 0, 0, EXPLICIT, 0, TAPER_RK8},
     {"dimer 1,0.7 N=1000", TAPER_DECORATED, 1000, 0, 0, 2.5, 0.7, 0, 0, 0, 0, 0, EXPLICIT, 0, TAPER_RK8},
     {"decorated 1,0.1 N=100", TAPER_DECORATED, 100, 0, 0, 2.5, 0.1, 0, 0, 0, 0, 0, EXPLICIT, 0, TAPER_RK8},
     {"monodisperse n=1.5 N=100", TAPER_MONODISPERSE, 100, 0, 0, 1.5, 0, 0, 0, 0, 0, 0, EXPLICIT, 0, TAPER_RK8},
@@ -66,7 +67,7 @@ static const choosing_case cases[] = {
      EXPLICIT | M(TAPER_BDF), 0, TAPER_BDF},
 };
 
-static const double rtols[] = {1e-8, 1e-10, 1e-12};
+static const double rtols[] = {1e-6, 1e-8, 1e-10, 1e-12};
 
 static double process_cpu(void)
 {

@@ -864,7 +864,7 @@ static int write_results(const study *s, const char *dir)
                "set format x '10^{%%T}'\nset format y '10^{%%T}'\n"
                "set xlabel 'CPU time [s] (median)'\nset ylabel 'max rel. error of t_{pass}'\n"
                "set key bottom left font ',8'\nset grid\n"
-               "set multiplot layout %zu,3 title 'taper work-precision (error vs time)'\n",
+               "set multiplot layout %zu,3 title 'taper work-precision (pass-time error against CPU time)'\n",
             (int)(480 * ((s->n_chains + 2) / 3)), (s->n_chains + 2) / 3);
     static const char *styles[N_METHODS] = {"lc rgb '#1f77b4' pt 7", "lc rgb '#000000' pt 3 ps 2.5",
                                             "lc rgb '#17becf' pt 5", "lc rgb '#9467bd' pt 9",
