@@ -757,7 +757,8 @@ static int write_leaders(const study *s, const char *dir)
                         s->chains[c].n, levels[l], families[j], method_names[r->method], r->tol, r->err_t, r->seconds,
                         r->seconds / lead->seconds, taper_leads);
                 if (r == lead) continue;
-                fprintf(md, "%s %s %.2gx", first ? "" : ",", families[j], r->seconds / lead->seconds);
+                const double ratio = r->seconds / lead->seconds;
+                fprintf(md, ratio < 100 ? "%s %s %.2gx" : "%s %s %.0fx", first ? "" : ",", families[j], ratio);
                 first = 0;
             }
             if (!lead && first) fprintf(md, " none");
