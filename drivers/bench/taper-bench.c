@@ -11,7 +11,8 @@
  *   taper-bench --write-chain CHAIN N FILE    (the chain file of
  *               peers/peer_heyoka.py: libtaper's masses and contact factors)
  *   taper-bench --options [-o DIR] [--chain NAME] [--options-max N]
- *               [--options-limit S]     (the chains with options, below)
+ *               [--options-sizes N,N,...] [--options-limit S]
+ *               (the chains with options, below)
  *   taper-bench --goal [--baseline BIN] [--driver BIN] [--goal-n N]
  *               [--reps R] [-o DIR]     (the speed goal, below)
  *   taper-bench --choosing [--chain TEXT] [--reps R] [--options-limit S]
@@ -49,8 +50,8 @@
  * --options: the cost of the chains experimenters build (a damping, a drag,
  * a static load, walls) on the monodisperse chain (or --chain NAME), at the
  * default settings: for each option and N = 2000, 16000 and 10^5 (up to
- * --options-max) the CPU time per granule crossed, the steps per granule,
- * the window's mean size (weighted by steps) and its largest, the energy
+ * --options-max; --options-sizes N,N,... for others) the CPU time per
+ * granule crossed, the steps per granule, the window's mean size (weighted by steps) and its largest, the energy
  * error and whether the run completed; a run stops after S seconds of CPU
  * (--options-limit, default 120), and the row says how far it got.  Then,
  * at N = 500, the window against the whole chain: the largest relative
@@ -1071,7 +1072,8 @@ static double options_difference(const taper_sim *a, const taper_sim *b, taper_o
     return e;
 }
 
-static int run_options(const char *dir, const char *only, size_t n_max, double cpu_limit)
+static int run_options(const char *dir, const char *only, size_t n_max, double cpu_limit, const size_t *sizes,
+                       size_t n_sizes)
 {
     const chain_def mono = {TAPER_MONODISPERSE, 0, 0, 0};
     const chain_def *c = only ? find_chain(full_chains, sizeof full_chains / sizeof *full_chains, only) : &mono;
@@ -1083,10 +1085,12 @@ static int run_options(const char *dir, const char *only, size_t n_max, double c
     if (!f) return 1;
     fprintf(f, "chain\toption\tn_granules\tgranules_crossed\tcomplete\tcpu_seconds\tcpu_per_granule\t"
                "steps_per_granule\tmean_window\tmax_window\tenergy_error\n");
-    static const size_t ns[] = {2000, 16000, 100000};
+    static const size_t default_sizes[] = {2000, 16000, 100000};
+    const size_t *ns = n_sizes ? sizes : default_sizes;
+    const size_t n_ns = n_sizes ? n_sizes : sizeof default_sizes / sizeof *default_sizes;
     const size_t n_options = sizeof option_defs / sizeof *option_defs;
     for (size_t o = 0; o < n_options; o++)
-        for (size_t i = 0; i < sizeof ns / sizeof *ns && ns[i] <= n_max; i++) {
+        for (size_t i = 0; i < n_ns && ns[i] <= n_max; i++) {
             taper_chain *chain = make_option_chain(c, &option_defs[o], ns[i]);
             if (!chain) continue;
             window_watch w = {.cpu_limit = cpu_limit};
@@ -1406,7 +1410,8 @@ static void usage(FILE *out)
           "                   [--scaling-max N] [--methods NAME,NAME,...] [--heyoka-python PATH]\n"
           "       taper-bench [--heyoka-python PATH] --single CHAIN METHOD TOL [N [REF]]\n"
           "       taper-bench --write-chain CHAIN N FILE   (masses and contacts for peers/peer_heyoka.py)\n"
-          "       taper-bench --options [-o DIR] [--chain NAME] [--options-max N] [--options-limit S]\n"
+          "       taper-bench --options [-o DIR] [--chain NAME] [--options-max N] [--options-sizes N,N,...]\n"
+          "                   [--options-limit S]\n"
           "       taper-bench --goal [--baseline BIN] [--driver BIN] [--goal-n N] [--reps R] [-o DIR]\n"
           "       taper-bench --choosing [--chain TEXT] [--reps R] [--options-limit S] [-o DIR]\n"
           "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
@@ -1506,6 +1511,7 @@ int main(int argc, char **argv)
     const char *only = NULL; /* --chain NAME: just that chain of the set */
     unsigned methods = (1u << N_METHODS) - 1;
     size_t scaling_max = 10000, options_max = 100000;
+    size_t options_sizes[16], n_options_sizes = 0; /* --options-sizes N,N,...: instead of 2000, 16000, 1e5 */
     int options = 0, goal = 0, choosing = 0, reps_given = 0;
     double options_limit = 120.0;
     int options_limit_given = 0;
@@ -1555,6 +1561,14 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--driver") && i + 1 < argc) driver = argv[++i];
         else if (!strcmp(argv[i], "--goal-n") && i + 1 < argc) goal_n = (size_t)atol(argv[++i]);
         else if (!strcmp(argv[i], "--options-max") && i + 1 < argc) options_max = (size_t)atol(argv[++i]);
+        else if (!strcmp(argv[i], "--options-sizes") && i + 1 < argc) {
+            n_options_sizes = 0;
+            for (char *list = argv[++i], *item; (item = strtok(list, ",")) && n_options_sizes < 16; list = NULL)
+                if ((options_sizes[n_options_sizes++] = (size_t)atol(item)) < 3) {
+                    fprintf(stderr, "taper-bench: --options-sizes: %s is not a chain of 3 or more granules\n", item);
+                    return 2;
+                }
+        }
         else if (!strcmp(argv[i], "--options-limit") && i + 1 < argc)
             options_limit = atof(argv[++i]), options_limit_given = 1;
         else {
@@ -1579,7 +1593,7 @@ int main(int argc, char **argv)
     if ((methods >> M_HEYOKA & 1u) && !heyoka_available()) methods &= ~(1u << M_HEYOKA);
     if (options) {
         double t0 = wall_seconds();
-        int status = run_options(dir, only, options_max, options_limit);
+        int status = run_options(dir, only, options_max, options_limit, options_sizes, n_options_sizes);
         if (!status) fprintf(stderr, "taper-bench: %.1f s; results in %s/options.tsv, options-agreement.tsv\n",
                              wall_seconds() - t0, dir);
         return status;
