@@ -183,6 +183,13 @@ static int cmp(const void *a, const void *b)
 
 int taper_bench_choosing(const char *dir, const char *only, int reps, double cpu_limit)
 {
+    int matched = 0;
+    for (size_t ci = 0; ci < sizeof cases / sizeof *cases; ci++) matched += !only || strstr(cases[ci].name, only);
+    if (!matched) {
+        fprintf(stderr, "taper-bench: --choosing --chain %s: no chain of the set contains it; the set:\n", only);
+        for (size_t ci = 0; ci < sizeof cases / sizeof *cases; ci++) fprintf(stderr, "  %s\n", cases[ci].name);
+        return 2;
+    }
     char path[4096];
     snprintf(path, sizeof path, "%s/choosing.tsv", dir);
     FILE *tsv = fopen(path, "w");

@@ -15,7 +15,7 @@
  * energy error and its CPU time.  Writes DIR/choosing.tsv and prints a
  * table; `only` (NULL: all) runs the cases whose name contains it; a run
  * stops after cpu_limit seconds of CPU and says how far it got.  0, or 1
- * after a message. */
+ * after a message (2: `only` matches no case). */
 int taper_bench_choosing(const char *dir, const char *only, int reps, double cpu_limit);
 
 #endif
