@@ -3,7 +3,8 @@
 """heyoka_rounds.py -- taper against heyoka, paired, in interleaved rounds.
 
     python3 drivers/bench/heyoka_rounds.py BUILD_DIR PYTHON CHAIN N REF
-            [--rounds R] [--taper-tols T,T,...] [--heyoka-tols T,T,...] [--json FILE]
+            [--rounds R] [--taper-tols T,T,...] [--rk8-tols T,T,...]
+            [--heyoka-tols T,T,...] [--json FILE]
 
 Each round runs, in an order shuffled anew every round (so that on a shared
 machine neither side always runs first),
@@ -11,16 +12,19 @@ machine neither side always runs first),
     BUILD_DIR/drivers/bench/taper-bench --heyoka-python PYTHON \\
         --single CHAIN METHOD TOL N REF
 
-for taper's default settings, CVODE Adams (`adams`) at each of --taper-tols
-and heyoka (peers/peer_heyoka.py) at each of --heyoka-tols (both default
-1e-5, 1e-6, ..., 1e-13).  REF is taper-reference's output for the chain
+for taper's default settings, CVODE Adams (`adams`) at each of --taper-tols,
+taper's method rk8 at each of --rk8-tols (default none) and heyoka
+(peers/peer_heyoka.py) at each of --heyoka-tols (--taper-tols and
+--heyoka-tols default to 1e-5, 1e-6, ..., 1e-13).  REF is taper-reference's output for the chain
 (tests/unit/reference/ has the study's chains); the error is the largest
 relative pass-time error over granules 1..N-2.  Times are CPU seconds:
 taper's run, and heyoka's integration alone (its compilation is printed
 apart).  Then, for each error level 1e-6, 1e-8, 1e-9, 1e-10, 1e-12 and
 each round: the fastest complete run of either side at or below it, and
 the ratio heyoka / taper; the summary gives the median ratio and its range
-over the rounds, with the runs that set them.
+over the rounds, with the runs that set them: first against taper's
+fastest run of any method, then (where rk8 ran) against CVODE's alone (the
+default and `adams`, the default method) and rk8's alone.
 """
 import argparse
 import json
@@ -46,13 +50,16 @@ def run_one(bench, python, chain, method, tol, n, ref):
             "steps": int(m.group(2)), "err": float(m.group(3)), "compile": float(c.group(1)) if c else None}
 
 
-def summary(results):
+def summary(results, label="taper", pick=lambda r: r["method"] != "heyoka"):
+    """Per error level and round: the fastest complete run picked by `pick`
+    and heyoka's, their ratio; printed as median and range over the rounds."""
     rounds = sorted({r["round"] for r in results})
+    print(f"heyoka against {label}:")
     for level in LEVELS:
         ratios, taper_cpu, heyoka_cpu, taper_runs, heyoka_runs = [], [], [], set(), set()
         for rd in rounds:
             ok = [r for r in results if r["round"] == rd and r["ok"] and r["err"] <= level]
-            t = [r for r in ok if r["method"] != "heyoka"]
+            t = [r for r in ok if r["method"] != "heyoka" and pick(r)]
             h = [r for r in ok if r["method"] == "heyoka"]
             if not t or not h:
                 continue
@@ -63,12 +70,13 @@ def summary(results):
             taper_runs.add(f"{a['method']} {a['tol']} (err {a['err']:.1e})")
             heyoka_runs.add(f"tol {b['tol']} (err {b['err']:.1e})")
         if not ratios:
-            best = lambda pick: min((r["err"] for r in results if r["ok"] and pick(r)), default=float("nan"))
-            print(f"{level:.0e}: not reached by both (best error: taper {best(lambda r: r['method'] != 'heyoka'):.1e},"
+            best = lambda keep: min((r["err"] for r in results if r["ok"] and keep(r)), default=float("nan"))
+            print(f"{level:.0e}: not reached by both (best error: {label} "
+                  f"{best(lambda r: r['method'] != 'heyoka' and pick(r)):.1e},"
                   f" heyoka {best(lambda r: r['method'] == 'heyoka'):.1e})")
             continue
-        print(f"{level:.0e}: heyoka/taper {statistics.median(ratios):.1f}x (rounds: {min(ratios):.1f}-{max(ratios):.1f}, "
-              f"{len(ratios)} rounds); taper {statistics.median(taper_cpu):.4f} s [{'; '.join(sorted(taper_runs))}], "
+        print(f"{level:.0e}: heyoka/{label} {statistics.median(ratios):.1f}x (rounds: {min(ratios):.1f}-{max(ratios):.1f}, "
+              f"{len(ratios)} rounds); {label} {statistics.median(taper_cpu):.4f} s [{'; '.join(sorted(taper_runs))}], "
               f"heyoka {statistics.median(heyoka_cpu):.3f} s [{'; '.join(sorted(heyoka_runs))}]")
 
 
@@ -81,11 +89,13 @@ def main():
     ap.add_argument("ref")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--taper-tols", default=TOLS)
+    ap.add_argument("--rk8-tols", default="")
     ap.add_argument("--heyoka-tols", default=TOLS)
     ap.add_argument("--json")
     a = ap.parse_args()
     bench = a.build_dir + "/drivers/bench/taper-bench"
     runs = [("default", "0")] + [("adams", t) for t in a.taper_tols.split(",") if t] + \
+           [("rk8", t) for t in a.rk8_tols.split(",") if t] + \
            [("heyoka", t) for t in a.heyoka_tols.split(",") if t]
     shuffle = random.Random(1)
     results = []
@@ -101,6 +111,9 @@ def main():
         with open(a.json, "w") as f:
             json.dump(results, f)
     summary(results)
+    if any(r["method"] == "rk8" for r in results):
+        summary(results, "cvode", lambda r: r["method"] in ("default", "adams"))
+        summary(results, "rk8", lambda r: r["method"] == "rk8")
     return 0
 
 

@@ -11,9 +11,12 @@
  *   taper-bench --write-chain CHAIN N FILE    (the chain file of
  *               peers/peer_heyoka.py: libtaper's masses and contact factors)
  *   taper-bench --options [-o DIR] [--chain NAME] [--options-max N]
- *               [--options-limit S]     (the chains with options, below)
+ *               [--options-sizes N,N,...] [--options-limit S]
+ *               (the chains with options, below)
  *   taper-bench --goal [--baseline BIN] [--driver BIN] [--goal-n N]
  *               [--reps R] [-o DIR]     (the speed goal, below)
+ *   taper-bench --choosing [--chain TEXT] [--reps R] [--options-limit S]
+ *               [-o DIR]   (docs/choosing.md's measurements: choosing.c)
  *
  * For a fixed set of chains, runs each method over a sweep of tolerances
  * (step sizes for Verlet), measures the error of t_pass and v_peak against
@@ -24,6 +27,9 @@
  *   orders.tsv           observed order: slope of -log err against log steps
  *   pareto.tsv           the non-dominated (seconds, err_t_pass) points
  *   speed-ratios.tsv     time of each method to reach 1e-6, 1e-8, 1e-9, 1e-10, 1e-12
+ *   leaders.tsv          who is fastest to each error, by family (taper's
+ *                        CVODE settings, taper's rk8, each peer), and
+ *                        leaders.md, the same as a table
  *   scaling.tsv          default settings, N = 10^2 .. --scaling-max (10^4; 10^6 to check flat cost per granule)
  *   work-precision.gp    gnuplot script -> work-precision.png
  * Methods: adams (window, the default order; "default" is the shipped
@@ -37,15 +43,15 @@
  * integrator heyoka on the whole chain (peers/peer_heyoka.py, run by the
  * Python of --heyoka-python PATH, default python3; skipped with one line
  * where that Python cannot import heyoka).
- * Wall times are medians of R repetitions (default 3); heyoka's are the
- * CPU seconds of its integration alone (its compilation in the column
- * compile_seconds).
+ * Times are CPU seconds, medians of R repetitions (default 3); heyoka's
+ * are the CPU seconds of its integration alone (its compilation in the
+ * column compile_seconds).
  *
  * --options: the cost of the chains experimenters build (a damping, a drag,
  * a static load, walls) on the monodisperse chain (or --chain NAME), at the
  * default settings: for each option and N = 2000, 16000 and 10^5 (up to
- * --options-max) the CPU time per granule crossed, the steps per granule,
- * the window's mean size (weighted by steps) and its largest, the energy
+ * --options-max; --options-sizes N,N,... for others) the CPU time per
+ * granule crossed, the steps per granule, the window's mean size (weighted by steps) and its largest, the energy
  * error and whether the run completed; a run stops after S seconds of CPU
  * (--options-limit, default 120), and the row says how far it got.  Then,
  * at N = 500, the window against the whole chain: the largest relative
@@ -65,6 +71,7 @@
  * largest relative difference of t_pass between the two builds; writes
  * goal.tsv (every run).
  */
+#include "choosing.h"
 #include "peers/peers.h"
 #include "reference.h"
 #include "taper.h"
@@ -382,7 +389,11 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Median wall time of reps runs; the first run's observables are kept. */
+/* Median CPU time of reps runs (the process's CPU clock around the run;
+ * heyoka's: its integration's, measured by the script); the first run's
+ * observables are kept.  CPU time, not wall time: on a shared machine a
+ * run's wall time counts the other jobs' time slices, its CPU time only
+ * its own, and heyoka's figure is CPU time too. */
 static taper_status run_median(const taper_chain *chain, int m, double tol, long max_steps,
                                int reps, run *out, double *t_min, double *t_max)
 {
@@ -390,12 +401,13 @@ static taper_status run_median(const taper_chain *chain, int m, double tol, long
     if (reps > 16) reps = 16;
     taper_status status = run_once(chain, m, tol, max_steps, out);
     if (status != TAPER_OK && status != TAPER_ELIMIT) return status;
+    out->seconds = out->cpu;
     times[0] = out->seconds;
     if (out->seconds > 5.0) reps = 1; /* slow points: one run (far off the front) */
     for (int i = 1; i < reps; i++) {
         run again;
         run_once(chain, m, tol, max_steps, &again);
-        times[i] = again.seconds;
+        times[i] = again.cpu;
         run_free(&again);
     }
     qsort(times, (size_t)reps, sizeof(double), cmp_double);
@@ -654,6 +666,111 @@ static FILE *open_out(const char *dir, const char *name)
     return f;
 }
 
+/* The families of the leaders table: every CVODE setting of taper (the
+ * window's Adams at any order, the default, the whole chain, BDF) is one
+ * family, "cvode"; taper's rk8 is "rk8"; each peer is its own. */
+static const char *family_name(int m)
+{
+    switch (m) {
+    case M_ADAMS: case M_DEFAULT: case M_ADAMS_NOWIN: case M_ADAMS_Q4: case M_ADAMS_Q12: case M_BDF:
+        return "cvode";
+    default:
+        return method_names[m];
+    }
+}
+
+static int is_taper(int m) { return !strcmp(family_name(m), "cvode") || m == M_RK8; }
+
+/* The fastest complete row of family `fam` on chain ci with err_t_pass at
+ * or below `level` (NULL if none); *best_err: the family's smallest error. */
+static const row *fastest_at(const study *s, int ci, const char *fam, double level, double *best_err)
+{
+    const row *best = NULL;
+    *best_err = INFINITY;
+    for (size_t i = 0; i < s->n_rows; i++) {
+        const row *r = &s->rows[i];
+        if (r->chain != ci || !r->complete || strcmp(family_name(r->method), fam)) continue;
+        if (r->err_t < *best_err) *best_err = r->err_t;
+        if (r->err_t <= level && (!best || r->seconds < best->seconds)) best = r;
+    }
+    return best;
+}
+
+/* leaders.tsv and leaders.md: for each chain and error level, each family's
+ * fastest complete run at or below it, and its time over the fastest
+ * family's.  A family "not reached" ran but never got that low. */
+static int write_leaders(const study *s, const char *dir)
+{
+    static const double levels[] = {1e-6, 1e-8, 1e-9, 1e-10, 1e-12, 1e-14};
+    const size_t n_levels = sizeof levels / sizeof *levels;
+    const char *families[N_METHODS];
+    size_t n_fam = 0;
+    for (int m = 0; m < N_METHODS; m++) {
+        if (!(s->methods >> m & 1u)) continue;
+        const char *f = family_name(m);
+        size_t j = 0;
+        while (j < n_fam && strcmp(families[j], f)) j++;
+        if (j == n_fam) families[n_fam++] = f;
+    }
+    FILE *tsv = open_out(dir, "leaders.tsv"), *md = tsv ? open_out(dir, "leaders.md") : NULL;
+    if (!tsv || !md) {
+        if (tsv) fclose(tsv);
+        return -1;
+    }
+    fprintf(tsv, "chain\tn_granules\terror\tfamily\tmethod\ttol\terr_t_pass\tseconds\tover_leader\ttaper_leads\n");
+    fprintf(md, "CPU seconds of the fastest run at or below each pass-time error; the others' time over the leader's"
+                " (cvode: taper's CVODE settings; rk8: taper's method rk8; the rest are peers).\n\n| chain |");
+    for (size_t l = 0; l < n_levels; l++) fprintf(md, " %.0e |", levels[l]);
+    fprintf(md, "\n|---|");
+    for (size_t l = 0; l < n_levels; l++) fprintf(md, "---|");
+    fprintf(md, "\n");
+    for (size_t c = 0; c < s->n_chains; c++) {
+        fprintf(md, "| %s N=%zu |", chain_name(&s->chains[c]), s->chains[c].n);
+        for (size_t l = 0; l < n_levels; l++) {
+            const row *best[N_METHODS];
+            double best_err[N_METHODS];
+            const row *lead = NULL, *lead_taper = NULL, *lead_peer = NULL;
+            for (size_t j = 0; j < n_fam; j++) {
+                best[j] = fastest_at(s, (int)c, families[j], levels[l], &best_err[j]);
+                if (!best[j]) continue;
+                if (!lead || best[j]->seconds < lead->seconds) lead = best[j];
+                const row **side = is_taper(best[j]->method) ? &lead_taper : &lead_peer;
+                if (!*side || best[j]->seconds < (*side)->seconds) *side = best[j];
+            }
+            /* taper leads: its fastest family beats every peer that got there */
+            const int taper_leads = lead_taper && (!lead_peer || lead_taper->seconds < lead_peer->seconds);
+            int first = 1;
+            if (lead) fprintf(md, " %s %.2g s;", family_name(lead->method), lead->seconds);
+            for (size_t j = 0; j < n_fam; j++) {
+                if (!best[j]) {
+                    if (isfinite(best_err[j])) {
+                        fprintf(tsv, "%s\t%zu\t%.0e\t%s\tnot reached\tnan\t%.3e\tnan\tnan\t%d\n",
+                                chain_name(&s->chains[c]), s->chains[c].n, levels[l], families[j], best_err[j],
+                                taper_leads);
+                        fprintf(md, "%s %s not (%.1e)", first ? "" : ",", families[j],
+                                best_err[j]);
+                        first = 0;
+                    }
+                    continue;
+                }
+                const row *r = best[j];
+                fprintf(tsv, "%s\t%zu\t%.0e\t%s\t%s\t%.3g\t%.3e\t%.6f\t%.3g\t%d\n", chain_name(&s->chains[c]),
+                        s->chains[c].n, levels[l], families[j], method_names[r->method], r->tol, r->err_t, r->seconds,
+                        r->seconds / lead->seconds, taper_leads);
+                if (r == lead) continue;
+                const double ratio = r->seconds / lead->seconds;
+                fprintf(md, ratio < 100 ? "%s %s %.2gx" : "%s %s %.0fx", first ? "" : ",", families[j], ratio);
+                first = 0;
+            }
+            if (!lead && first) fprintf(md, " none");
+            fprintf(md, " |");
+        }
+        fprintf(md, "\n");
+    }
+    fclose(tsv);
+    return fclose(md) == 0 ? 0 : -1;
+}
+
 static int write_results(const study *s, const char *dir)
 {
     FILE *f = open_out(dir, "work-precision.tsv");
@@ -737,6 +854,8 @@ static int write_results(const study *s, const char *dir)
         }
     fclose(f);
 
+    if (write_leaders(s, dir) != 0) return -1;
+
     f = open_out(dir, "work-precision.gp");
     if (!f) return -1;
     fprintf(f, "# gnuplot work-precision.gp  (run in this directory) -> work-precision.png\n"
@@ -745,9 +864,9 @@ static int write_results(const study *s, const char *dir)
                "set datafile separator '\\t'\n"
                "set logscale xy\n"
                "set format x '10^{%%T}'\nset format y '10^{%%T}'\n"
-               "set xlabel 'wall time [s] (median)'\nset ylabel 'max rel. error of t_{pass}'\n"
+               "set xlabel 'CPU time [s] (median)'\nset ylabel 'max rel. error of t_{pass}'\n"
                "set key bottom left font ',8'\nset grid\n"
-               "set multiplot layout %zu,3 title 'taper work-precision (error vs time)'\n",
+               "set multiplot layout %zu,3 title 'taper work-precision (pass-time error against CPU time)'\n",
             (int)(480 * ((s->n_chains + 2) / 3)), (s->n_chains + 2) / 3);
     static const char *styles[N_METHODS] = {"lc rgb '#1f77b4' pt 7", "lc rgb '#000000' pt 3 ps 2.5",
                                             "lc rgb '#17becf' pt 5", "lc rgb '#9467bd' pt 9",
@@ -953,7 +1072,8 @@ static double options_difference(const taper_sim *a, const taper_sim *b, taper_o
     return e;
 }
 
-static int run_options(const char *dir, const char *only, size_t n_max, double cpu_limit)
+static int run_options(const char *dir, const char *only, size_t n_max, double cpu_limit, const size_t *sizes,
+                       size_t n_sizes)
 {
     const chain_def mono = {TAPER_MONODISPERSE, 0, 0, 0};
     const chain_def *c = only ? find_chain(full_chains, sizeof full_chains / sizeof *full_chains, only) : &mono;
@@ -965,10 +1085,12 @@ static int run_options(const char *dir, const char *only, size_t n_max, double c
     if (!f) return 1;
     fprintf(f, "chain\toption\tn_granules\tgranules_crossed\tcomplete\tcpu_seconds\tcpu_per_granule\t"
                "steps_per_granule\tmean_window\tmax_window\tenergy_error\n");
-    static const size_t ns[] = {2000, 16000, 100000};
+    static const size_t default_sizes[] = {2000, 16000, 100000};
+    const size_t *ns = n_sizes ? sizes : default_sizes;
+    const size_t n_ns = n_sizes ? n_sizes : sizeof default_sizes / sizeof *default_sizes;
     const size_t n_options = sizeof option_defs / sizeof *option_defs;
     for (size_t o = 0; o < n_options; o++)
-        for (size_t i = 0; i < sizeof ns / sizeof *ns && ns[i] <= n_max; i++) {
+        for (size_t i = 0; i < n_ns && ns[i] <= n_max; i++) {
             taper_chain *chain = make_option_chain(c, &option_defs[o], ns[i]);
             if (!chain) continue;
             window_watch w = {.cpu_limit = cpu_limit};
@@ -1288,8 +1410,10 @@ static void usage(FILE *out)
           "                   [--scaling-max N] [--methods NAME,NAME,...] [--heyoka-python PATH]\n"
           "       taper-bench [--heyoka-python PATH] --single CHAIN METHOD TOL [N [REF]]\n"
           "       taper-bench --write-chain CHAIN N FILE   (masses and contacts for peers/peer_heyoka.py)\n"
-          "       taper-bench --options [-o DIR] [--chain NAME] [--options-max N] [--options-limit S]\n"
+          "       taper-bench --options [-o DIR] [--chain NAME] [--options-max N] [--options-sizes N,N,...]\n"
+          "                   [--options-limit S]\n"
           "       taper-bench --goal [--baseline BIN] [--driver BIN] [--goal-n N] [--reps R] [-o DIR]\n"
+          "       taper-bench --choosing [--chain TEXT] [--reps R] [--options-limit S] [-o DIR]\n"
           "Work-precision study (see docs/benchmarks.md).  DIR defaults to bench-out.\n"
           "Methods:",
           out);
@@ -1387,8 +1511,10 @@ int main(int argc, char **argv)
     const char *only = NULL; /* --chain NAME: just that chain of the set */
     unsigned methods = (1u << N_METHODS) - 1;
     size_t scaling_max = 10000, options_max = 100000;
-    int options = 0, goal = 0, reps_given = 0;
+    size_t options_sizes[16], n_options_sizes = 0; /* --options-sizes N,N,...: instead of 2000, 16000, 1e5 */
+    int options = 0, goal = 0, choosing = 0, reps_given = 0;
     double options_limit = 120.0;
+    int options_limit_given = 0;
     const char *baseline = NULL, *driver = TAPER_BENCH_DRIVER;
     size_t goal_n = 1000000;
     gsl_set_error_handler_off();
@@ -1430,11 +1556,21 @@ int main(int argc, char **argv)
         }
         else if (!strcmp(argv[i], "--options")) options = 1;
         else if (!strcmp(argv[i], "--goal")) goal = 1;
+        else if (!strcmp(argv[i], "--choosing")) choosing = 1;
         else if (!strcmp(argv[i], "--baseline") && i + 1 < argc) baseline = argv[++i];
         else if (!strcmp(argv[i], "--driver") && i + 1 < argc) driver = argv[++i];
         else if (!strcmp(argv[i], "--goal-n") && i + 1 < argc) goal_n = (size_t)atol(argv[++i]);
         else if (!strcmp(argv[i], "--options-max") && i + 1 < argc) options_max = (size_t)atol(argv[++i]);
-        else if (!strcmp(argv[i], "--options-limit") && i + 1 < argc) options_limit = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--options-sizes") && i + 1 < argc) {
+            n_options_sizes = 0;
+            for (char *list = argv[++i], *item; (item = strtok(list, ",")) && n_options_sizes < 16; list = NULL)
+                if ((options_sizes[n_options_sizes++] = (size_t)atol(item)) < 3) {
+                    fprintf(stderr, "taper-bench: --options-sizes: %s is not a chain of 3 or more granules\n", item);
+                    return 2;
+                }
+        }
+        else if (!strcmp(argv[i], "--options-limit") && i + 1 < argc)
+            options_limit = atof(argv[++i]), options_limit_given = 1;
         else {
             usage(!strcmp(argv[i], "--help") ? stdout : stderr);
             return !strcmp(argv[i], "--help") ? 0 : 2;
@@ -1452,10 +1588,12 @@ int main(int argc, char **argv)
         }
         return run_goal(dir, driver, baseline, goal_n, reps_given ? reps : 1);
     }
+    if (choosing) /* a run over half a minute is off any front: 30 s unless --options-limit */
+        return taper_bench_choosing(dir, only, reps, options_limit_given ? options_limit : 30.0);
     if ((methods >> M_HEYOKA & 1u) && !heyoka_available()) methods &= ~(1u << M_HEYOKA);
     if (options) {
         double t0 = wall_seconds();
-        int status = run_options(dir, only, options_max, options_limit);
+        int status = run_options(dir, only, options_max, options_limit, options_sizes, n_options_sizes);
         if (!status) fprintf(stderr, "taper-bench: %.1f s; results in %s/options.tsv, options-agreement.tsv\n",
                              wall_seconds() - t0, dir);
         return status;

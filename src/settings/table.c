@@ -195,17 +195,19 @@ const setting_row taper_setting_rows[] = {
 
     /* ---- the solver ----------------------------------------------------- */
     {.info.name = "method", .info.group = "solver", DIM(NUMBER), .info.default_value = TAPER_ADAMS,
-              .info.description = "integrator: 'adams' (CVODE Adams-Moulton, fixed point), 'bdf' "
-                                  "(CVODE BDF, banded Jacobian: stiff drag) or 'rk8' "
-                                  "(Prince-Dormand 8(7), single-step: faster than adams at errors "
-                                  "of 1e-9 and below on monodisperse and tapered chains, the only "
-                                  "one below 3e-14 (rtol 1e-14); slower where light granules "
-                                  "chatter: dimers, n < 2; docs/benchmarks.md)",
+              .info.description = "integrator: 'adams' (CVODE Adams-Moulton, fixed point; the "
+                                  "default, the faster where light granules chatter), 'bdf' (CVODE "
+                                  "BDF, banded Jacobian: stiff drag) or 'rk8' (Prince-Dormand 8(7), "
+                                  "single-step: the choice for smooth, long chains and tight "
+                                  "tolerances); which one for which chain, with measured errors "
+                                  "and costs: docs/choosing.md",
               .info.bounds_reason = "",
      CHOICE(taper_method_names), SOLVER_AT(method)},
     {.info.name = "rtol", .info.group = "solver", DIM(NUMBER),
               RANGE(TAPER_RTOL_MIN, TAPER_RTOL_MAX), .info.default_value = 1e-10,
-              .info.description = "relative tolerance of the integrator",
+              .info.description = "relative tolerance of the integrator; the pass-time error "
+                                  "and the cost each rtol gives, by method and family of chains: "
+                                  "docs/choosing.md",
               .info.bounds_reason = "below 3e-16 (1.35 rounding units of double precision) "
                                     "CVODE's error test cannot be met; above 0.1 no digit of a "
                                     "result would be right",
