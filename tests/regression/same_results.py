@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""same_results.py TAPER_BINARY [REFERENCE_COMMIT] [--set GROUP.KEY=VALUE]... -- does
-this taper write the same results as a reference commit, for every shipped scene?
+"""same_results.py TAPER_BINARY [REFERENCE_COMMIT] [--set GROUP.KEY=VALUE]...
+[--rtol X] [--ignore NAME]... -- does this taper write the same results as a
+reference commit, for every shipped scene?
 
     python3 tests/regression/same_results.py build/drivers/taper/taper 043b797
     python3 tests/regression/same_results.py build/drivers/taper/taper 043b797 --set "solver.method='rk8'"
+    python3 tests/regression/same_results.py build/drivers/taper/taper 043b797 --rtol 1e-9 --ignore root_evals
 
 The reference is built from the git history of this checkout (git archive,
 meson setup -Dtests=false, the driver target only), against the same
@@ -41,7 +43,14 @@ Each scene gets one line:
     agree    every number within 1e-12 relative (the largest difference is
              given, and where)
     DIFFER   a difference beyond that, a missing file or another status
-and the last line counts them.  Exit status 0 when no scene differs, 1
+and the last line counts them.  `--rtol X` sets the relative difference
+that still agrees (1e-12 by default): a change meant to alter results
+within the integrator's tolerance is checked at that tolerance.  `--ignore
+NAME` (repeatable) leaves out a statistics line or a column of that name
+(without its unit), for counters that measure the work rather than the
+physics (`root_evals`, `steps`) when a change is meant to alter them; the
+ignored names are printed.  A comment line the new file has and the
+reference does not (a note a header gained) is named, not a difference.  Exit status 0 when no scene differs, 1
 otherwise, 2 for a usage or build error.  Standard library only.
 """
 
@@ -209,6 +218,8 @@ def compared_lines(path):
         if re.match(r"# taper \S+ ", line) or line.startswith("# scene file") or \
                 re.match(r"#\s*dir = ", line):
             continue
+        if statistic_name(line) in IGNORED:
+            continue
         keep.append((i, line))
     return keep
 
@@ -227,6 +238,7 @@ def number(text):
 ADDED = {}  # file -> the columns and statistics it has beyond the reference's
 # Columns that measure the machine, not the physics: never compared.
 UNCOMPARED = {"cpu_time[s]"}
+IGNORED = set()  # names given with --ignore: statistics or columns, without unit
 STATISTIC = re.compile(r"#\s*([a-z_0-9]+)(\[[^]]*\])?\s*=\s*\S+$")
 
 
@@ -235,18 +247,36 @@ def statistic_name(line):
     return m.group(1) if m else None
 
 
+def is_note(line):
+    """A comment line that is neither a statistic nor a "name = value"
+    line: prose a header carries (what a column means, how it is
+    measured)."""
+    return line.startswith("#") and not re.match(r"#\s*\S+\s*=", line)
+
+
 def common_statistics(la, lb):
-    """b's lines without the statistics lines ("# name = value") whose name
-    a does not have, and those names."""
+    """Both files' lines without the notes only one of them has (prose a
+    header gained, lost or reworded) and b's without the statistics lines
+    ("# name = value") whose name a does not have; and what was left out:
+    the statistics' names and each note's first words."""
     have = {statistic_name(line) for _, line in la} - {None}
-    kept, added = [], []
+    notes_a = {line for _, line in la if is_note(line)}
+    notes_b = {line for _, line in lb if is_note(line)}
+    left_out = []
+    for _, line in la:
+        if is_note(line) and line not in notes_b:
+            left_out.append("note '" + " ".join(line[1:].split()[:2]) + " ...' reworded or gone")
+    la = [(i, line) for i, line in la if not (is_note(line) and line not in notes_b)]
+    kept = []
     for i, line in lb:
         name = statistic_name(line)
         if name is not None and name not in have:
-            added.append(name)
+            left_out.append(name)
+        elif is_note(line) and line not in notes_a:
+            left_out.append("note '" + " ".join(line[1:].split()[:2]) + " ...'")
         else:
             kept.append((i, line))
-    return kept, added
+    return la, kept, left_out
 
 
 def drop_uncompared(lines):
@@ -255,7 +285,8 @@ def drop_uncompared(lines):
     if not lines or lines[0][1].startswith("#"):
         return lines
     header = lines[0][1].split("\t")
-    drop = {k for k, name in enumerate(header) if name in UNCOMPARED}
+    drop = {k for k, name in enumerate(header)
+            if name in UNCOMPARED or re.sub(r"\[.*\]$", "", name) in IGNORED}
     if not drop:
         return lines
     out = []
@@ -300,7 +331,7 @@ def compare_file(a, b):
     added_uncompared = [name for name in (lb[0][1].split("\t") if lb else [])
                         if name in UNCOMPARED and name not in header_a]
     la, lb = drop_uncompared(la), drop_uncompared(lb)
-    lb, added_statistics = common_statistics(la, lb)
+    la, lb, added_statistics = common_statistics(la, lb)
     la, lb, added = common_columns(la, lb)
     added += added_uncompared + added_statistics
     if len(la) != len(lb):
@@ -332,15 +363,33 @@ def compare_file(a, b):
 
 
 def arguments(argv):
-    """(binary, commit, overrides) from the command line."""
+    """(binary, commit, overrides) from the command line; --rtol and
+    --ignore set RTOL and IGNORED."""
+    global RTOL
     positional, overrides = [], []
     i = 0
     while i < len(argv):
         a = argv[i]
         if a in ("-h", "--help"):
-            print("\n".join(__doc__.strip().splitlines()[3:5]))
+            print("\n".join(__doc__.strip().splitlines()[4:7]))
             sys.exit(0)
-        if a == "--set" or a.startswith("--set="):
+        if a in ("--rtol", "--ignore") or a.startswith(("--rtol=", "--ignore=")):
+            name, _, value = a.partition("=")
+            if not _:
+                i += 1
+                value = argv[i] if i < len(argv) else ""
+            if name == "--rtol":
+                try:
+                    RTOL = float(value)
+                except ValueError:
+                    RTOL = math.nan
+                if not 0 <= RTOL < 1:
+                    die(f"--rtol needs a relative difference in [0, 1), not '{value}'")
+            elif not re.fullmatch(r"[a-z_0-9]+", value):
+                die(f"--ignore needs a statistic's or column's name without its unit (root_evals), not '{value}'")
+            else:
+                IGNORED.add(value)
+        elif a == "--set" or a.startswith("--set="):
             value = a[len("--set="):] if a.startswith("--set=") else None
             if value is None:
                 i += 1
@@ -352,7 +401,7 @@ def arguments(argv):
             positional.append(a)
         i += 1
     if len(positional) not in (1, 2):
-        print("\n".join(__doc__.strip().splitlines()[3:5]), file=sys.stderr)
+        print("\n".join(__doc__.strip().splitlines()[4:7]), file=sys.stderr)
         sys.exit(2)
     return positional[0], positional[1] if len(positional) == 2 else "043b797", overrides
 
@@ -372,7 +421,8 @@ def main():
     if common:
         check_overrides([refbin, binary], os.path.join(top, common[0]), overrides)
     print(f"reference: {full[:7]} ({refbin})\nbinary:    {binary}\nscenes:    {len(common)}")
-    print(f"overrides: {' '.join(overrides) if overrides else 'none'}\n")
+    print(f"overrides: {' '.join(overrides) if overrides else 'none'}")
+    print(f"ignored:   {' '.join(sorted(IGNORED)) if IGNORED else 'none'}\n")
     tally = {"same": 0, "equal": 0, "agree": 0, "differ": 0}
     work = tempfile.mkdtemp(prefix="taper-same-results.")
     keep = False
@@ -399,7 +449,7 @@ def main():
         added = sorted({f"{os.path.basename(f)}: {' '.join(ADDED[rb[f]])}"
                         for f in rb if ADDED.get(rb[f])})
         if added:
-            files += f"; columns or statistics added in {', '.join(added)}"
+            files += f"; not compared (added or reworded): {', '.join(added)}"
         if verdict == "same":
             print(f"same     {scene} ({files})")
         elif verdict == "equal":
