@@ -133,6 +133,16 @@ static void test_strings(void **state)
     sc = load_ok("&output dir = 'has ! no comment, / or = inside' /");
     assert_string_equal(cfg_of(sc)->output.dir, "has ! no comment, / or = inside");
     scene_free(sc);
+    /* A row of names takes a list of strings, as a Fortran namelist gives
+     * a character array, and reads it as the one string of names. */
+    sc = load_ok("&output columns = 'v_peak', 'theory_v' /");
+    assert_string_equal(cfg_of(sc)->output.columns, "v_peak, theory_v");
+    assert_int_equal(cfg_of(sc)->output.column_set, 1u << 0 | 1u << 6 | 1u << 9);
+    scene_free(sc);
+    sc = load_ok("&calibrate data = 'x.tsv', free = 'material.young',\n 'losses.damping' /");
+    assert_string_equal(cfg_of(sc)->calibrate.free, "material.young, losses.damping");
+    scene_free(sc);
+    /* (A string that is one value, a path, takes one: bad_cases.) */
 }
 
 static void test_lists_and_continuation(void **state)
@@ -451,6 +461,7 @@ static const bad_case bad_cases[] = {
     {"&output progress = 1 /", 1, "output", "progress", "logical"},
     {"&output progress = yes /", 1, "output", "progress", "not a value"},
     {"&solver window = .true., .false. /", 1, "solver", "window", "one value"},
+    {"&output dir = 'a', 'b' /", 1, "output", "dir", "one value"},
     {"&chain exponent = 2, 3, 4\n n_granules = 10, 20 /\n&sweep mode = 'zip' /", 1, "chain",
      "exponent", "same length"},
     {"&chain\n\n n_granules = 10,\n n_granules = 3 /", 4, "chain", "n_granules", "line 3"},

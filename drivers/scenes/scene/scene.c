@@ -225,9 +225,10 @@ static const scene_var own[] = {
      .def = "0", .lib = SCENE_OWN, .lo = 0, .hi = 256,
      .doc = "runs of a sweep, or of a calibration's or a design's batch, computed at once "
             "(results identical to one at a time); 0: one per core"},
-    {.group = "output", .keyword = "columns", .type = SCENE_STRING, .offset = AT(output.columns),
-     .def = "''", .lib = SCENE_OWN,
-     .doc = "columns of granules.tsv and sweep.tsv, names separated by blanks or commas, "
+    {.group = "output", .keyword = "columns", .type = SCENE_STRING, .flags = SCENE_WORDS,
+     .offset = AT(output.columns), .def = "''", .lib = SCENE_OWN,
+     .doc = "columns of granules.tsv and sweep.tsv, names separated by blanks or commas in "
+            "one string or a list of strings, "
             "written in the file's order with k always first (e.g. 'v_peak theory_v'); empty: "
             "every column the run has (without numerics: k R m X0 theory_v theory_T theory_t)"},
     {.group = "output", .keyword = "every", .type = SCENE_INTEGER, .offset = AT(output.every),
@@ -363,13 +364,17 @@ static const scene_var own[] = {
             "writes them with &material (t[s], force[N]; none: rescaled units), '#' comments; "
             "given: the scene is a calibration (DIR/calibration.tsv, docs/calibration.md)"},
     {.group = "calibrate", .keyword = "calibrate_columns", .type = SCENE_STRING,
-     .flags = SCENE_EXTRA, .offset = AT(calibrate.columns), .def = "''", .lib = SCENE_OWN,
-     .doc = "the measured columns fitted, names separated by blanks or commas (e.g. 'force'); "
+     .flags = SCENE_EXTRA | SCENE_WORDS, .offset = AT(calibrate.columns), .def = "''",
+     .lib = SCENE_OWN,
+     .doc = "the measured columns fitted, names separated by blanks or commas in one string or "
+            "a list of strings (e.g. 'force'); "
             "empty: every measured column of the data"},
     {.group = "calibrate", .keyword = "calibrate_free", .type = SCENE_STRING,
-     .flags = SCENE_EXTRA, .offset = AT(calibrate.free), .def = "''", .lib = SCENE_OWN,
-     .doc = "the settings fitted, names separated by blanks or commas: any real variable by its "
-            "name or GROUP.KEY ('young damping', 'material.young, losses.damping'), an element "
+     .flags = SCENE_EXTRA | SCENE_WORDS, .offset = AT(calibrate.free), .def = "''",
+     .lib = SCENE_OWN,
+     .doc = "the settings fitted, names separated by blanks or commas in one string or a list "
+            "of strings: any real variable by its name or GROUP.KEY ('young damping', "
+            "'material.young', 'losses.damping'), an element "
             "of a real list as NAME(i) ('pattern(2)')"},
     {.group = "calibrate", .keyword = "calibrate_start", .type = SCENE_REAL_LIST,
      .flags = SCENE_EXTRA, .offset = AT(calibrate.start), .lib = SCENE_OWN,
@@ -412,8 +417,8 @@ static const scene_var own[] = {
     {.group = "design", .keyword = "design_goal", .type = SCENE_CHOICE, .flags = SCENE_EXTRA,
      .offset = AT(design.goal), .def = "'minimise'", .lib = SCENE_OWN, .choices = design_goals,
      .doc = "'minimise' or 'maximise' the objective"},
-    {.group = "design", .keyword = "design_free", .type = SCENE_STRING, .flags = SCENE_EXTRA,
-     .offset = AT(design.free), .def = "''", .lib = SCENE_OWN,
+    {.group = "design", .keyword = "design_free", .type = SCENE_STRING,
+     .flags = SCENE_EXTRA | SCENE_WORDS, .offset = AT(design.free), .def = "''", .lib = SCENE_OWN,
      .doc = "the settings varied, names as for &calibrate free; an integer setting "
             "(n_granules) is scanned over every value from lower to upper, the others "
             "optimised at each"},

@@ -33,6 +33,9 @@
                                  echo as before                                 */
 #define SCENE_HI_OPEN 0x40u   /* upper bound excluded                           */
 #define SCENE_TIME 0x80u      /* own rows: a time (seconds with &material)      */
+#define SCENE_WORDS 0x100u    /* STRING of names separated by blanks or commas:
+                                 a list of strings is joined into one, as a
+                                 Fortran namelist gives a character array      */
 
 /* One row of the variable table: the scene's own variables (scene.c), and
  * one row per setting of the library's table (taper_setting_at), built

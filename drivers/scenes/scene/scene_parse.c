@@ -309,6 +309,29 @@ static char *string_value(const token *t)
     return s;
 }
 
+/* The strings of a list given to a SCENE_WORDS row ('young', 'damping'),
+ * as one string of names separated by commas ("young, damping"), the form
+ * the row also takes and the echo writes. */
+static char *joined_words(const element *el, size_t n)
+{
+    size_t len = 1;
+    for (size_t i = 0; i < n; i++) len += el[i].tok.len + 2;
+    char *s = malloc(len);
+    if (!s) return NULL;
+    s[0] = '\0';
+    for (size_t i = 0; i < n; i++) {
+        char *word = string_value(&el[i].tok);
+        if (!word) {
+            free(s);
+            return NULL;
+        }
+        if (i) strcat(s, ", ");
+        strcat(s, word);
+        free(word);
+    }
+    return s;
+}
+
 /* A string for a CHOICE row: one of its names (any case), or an error
  * listing them. */
 static int choice_value(parser *p, const scene_var *var, const element *e, int line, int *value)
@@ -337,7 +360,8 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
 {
     const scene_var *var = scene_var_at((size_t)vi);
     scene_config *cfg = &p->sc->cfg;
-    int multi_ok = scene_var_is_list(var) || (var->flags & SCENE_SWEEP);
+    int words = var->type == SCENE_STRING && (var->flags & SCENE_WORDS);
+    int multi_ok = scene_var_is_list(var) || (var->flags & SCENE_SWEEP) || words;
     if (n > 1 && !multi_ok) {
         scene_error(p->sc, line, var->group, var->name,
                     "expects one value, got %zu (lists sweep reals and integers of &chain and "
@@ -381,7 +405,7 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
         r->n = n;
         return 0;
     }
-    if (n > 1) {
+    if (n > 1 && !words) {
         /* A sweep of a one-value field: the list aside (scene_sweep.c), the
          * first value in the field.  Integers are stored as doubles. */
         scene_reals *r = &cfg->sweep.lists[vi];
@@ -400,7 +424,7 @@ static int assign(parser *p, int vi, const element *el, size_t n, int line)
     }
     switch (var->type) {
     case SCENE_STRING:
-        if (!(*(char **)f = string_value(&el[0].tok))) goto nomem;
+        if (!(*(char **)f = n > 1 ? joined_words(el, n) : string_value(&el[0].tok))) goto nomem;
         break;
     case SCENE_CHOICE: memcpy(f, &choice, sizeof choice); break;
     case SCENE_LOGICAL: memcpy(f, &el[0].b, sizeof el[0].b); break;
