@@ -45,8 +45,12 @@ printf "&chain n_granules = 200000 /\n" > long.nml
 printf "&chain n_granules = 2000000 /\n" > huge.nml
 
 signals() {
+    # Each signal at its default disposition in the run, whatever this
+    # script inherited: under nohup SIGHUP arrives ignored, and the driver
+    # rightly keeps an ignored SIGHUP ignored (the last case below); a
+    # shell cannot reset an ignored signal, env --default-signal can.
     for sig in TERM HUP XCPU INT; do
-        "$TAPER" long.nml -o "s_$sig" > /dev/null 2> "s_$sig.err" &
+        env --default-signal="$sig" "$TAPER" long.nml -o "s_$sig" > /dev/null 2> "s_$sig.err" &
         pid=$!
         sleep 1
         kill -s "$sig" "$pid"
