@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * _core.h -- what _core.c (libtaper's runs, fits and laws; the exceptions;
- * Python values in and out) gives the other C files of the extension:
+ * Python values in and out) and _numpy.c (numpy's C API, on demand) give
+ * the other C files of the extension:
  * _scene.c (the driver's scene module: keywords, validation, units,
  * settings) and _module.c (the module's table and init).
  *
- * All use the numpy C API: one table of its functions (_module.c defines
+ * All use the numpy C API: one table of its functions (_numpy.c defines
  * TAPER_CORE_IMPORTS_NUMPY), imported by core_numpy() on the first call that
  * needs it, not when the module is imported: `import taper` does not import
  * numpy (docs/python.md, "Overheads").
@@ -28,8 +29,8 @@
 #include <stddef.h>
 
 /* numpy's C API ready (imported once, the GIL held): 0, or -1 with the
- * exception set.  Every function of the module that touches a numpy object
- * or type calls it first (_module.c). */
+ * exception set (_numpy.c).  Every function of the module that touches a
+ * numpy object or type calls it first. */
 int core_numpy(void);
 
 /* taper.TaperError(Exception), taper.InvalidArgumentError(TaperError,

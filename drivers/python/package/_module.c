@@ -4,65 +4,14 @@
  * exceptions and the names it exports.  The scenes (simulate, theory,
  * chain, run_scene, variables, scene_text) are _scene.c's; the calls that
  * are not scenes (fit, the asymptotic laws, collision_time, version,
- * statuses) and the exceptions' objects are _core.c's.  This file owns
- * numpy's C-API table, imported by the first function that needs it
- * (core_numpy), so that `import taper` costs no numpy import.
+ * statuses) and the exceptions' objects are _core.c's; numpy's C-API
+ * table, imported by the first function that needs it (core_numpy), is
+ * _numpy.c's.
  */
-#define TAPER_CORE_IMPORTS_NUMPY
 #include "_core.h"
 
 #include "_optimise.h"
 #include "_scene.h"
-
-#include <signal.h>
-
-/* SIGINT while numpy is imported, noted (a signal handler's flag). */
-static volatile sig_atomic_t sigint_noted;
-static void note_sigint(int sig)
-{
-    (void)sig;
-    sigint_noted = 1;
-}
-
-/* numpy's import, whole.  Ctrl-C during it (the first call that needs
- * numpy: 0.1 s and more) raised KeyboardInterrupt inside numpy's
- * initialisation, or an ImportError numpy made of it, and left numpy half
- * loaded: its extension cannot be loaded twice in a process, so every later
- * call failed ("cannot load module more than once per process") until the
- * interpreter was restarted.  So during the import SIGINT is only noted
- * (where Python's handler would act on it), and handed to Python once
- * numpy is whole: KeyboardInterrupt then, as always. */
-static int import_numpy(void)
-{
-    static int importing; /* another thread's import is under way: the
-                             import lock serialises them, its handler notes */
-    PyOS_sighandler_t python_handler = PyOS_getsig(SIGINT);
-    const int watch = !importing && python_handler != SIG_IGN && python_handler != SIG_DFL;
-    if (watch) {
-        importing = 1;
-        sigint_noted = 0;
-        PyOS_setsig(SIGINT, note_sigint);
-    }
-    int rc = _import_array();
-    if (watch) {
-        PyOS_setsig(SIGINT, python_handler);
-        importing = 0;
-        if (sigint_noted) PyErr_SetInterruptEx(SIGINT); /* as if it came now */
-    }
-    return rc;
-}
-
-int core_numpy(void)
-{
-    static int ready; /* written with the GIL held */
-    if (ready) return 0;
-    if (import_numpy() < 0) {
-        if (!PyErr_Occurred()) PyErr_SetString(PyExc_ImportError, "numpy's C API did not load");
-        return -1;
-    }
-    ready = 1;
-    return PyErr_CheckSignals(); /* a Ctrl-C noted during the import */
-}
 
 /* Every function below that may meet a numpy object or type (the Python
  * values of a scene's keywords, results as arrays) imports numpy first. */
