@@ -260,11 +260,6 @@ cli() {
 
 # Seconds from $1 (date +%s.%N) to now.
 since() { awk -v a="$1" -v b="$(date +%s.%N)" 'BEGIN { printf "%.3f", b - a }'; }
-# Fails unless $1 seconds <= 0.5.
-prompt() {
-    echo "$2: $1 s from SIGTERM to the exit"
-    awk -v t="$1" 'BEGIN { exit !(t <= 0.5) }' || fail "$2: $1 s from the signal to the exit, over 0.5 s"
-}
 
 # SIGTERM to $pid (started with stdout to $1.out, stderr to $1.err) once
 # $2 (a test command) holds; waits, and sets status and took.
@@ -278,9 +273,28 @@ term_when() {
     took=$(since "$sent")
 }
 
-phases() {
-    # The theory of 10^7 granules (numerics off): ~1 s, stopped at once,
-    # nothing written.
+# Runs the phase $1 (a function below: it starts the driver, signals it
+# through term_when and checks what is on disk) and fails unless the exit
+# came within 0.5 s of the signal.  That is wall time, and on a shared
+# machine a process that needs 0.05 s of CPU after the signal can wait for
+# a core, or run slowly beside a build, for longer: a phase over the bound
+# is run once more, and fails only if it is over again (a phase that does
+# not look at its signal is over every time).
+prompt() {
+    rm -rf "p_$1"
+    "phase_$1"
+    echo "$1: $took s from SIGTERM to the exit"
+    awk -v t="$took" 'BEGIN { exit !(t <= 0.5) }' && return
+    echo "note: $1: $took s, over 0.5 s at a load average of $(cut -d' ' -f1 /proc/loadavg): once more" >&2
+    rm -rf "p_$1"
+    "phase_$1"
+    echo "$1: $took s from SIGTERM to the exit"
+    awk -v t="$took" 'BEGIN { exit !(t <= 0.5) }' || fail "$1: $took s from the signal to the exit, over 0.5 s twice"
+}
+
+# The theory of 10^7 granules (numerics off): ~1 s, stopped at once,
+# nothing written.
+phase_theory() {
     printf "&chain n_granules = 10000000 /\n&solver numerics = .false. /\n" > theory.nml
     "$TAPER" theory.nml -o p_theory > p_theory.out 2> p_theory.err &
     pid=$!
@@ -291,9 +305,11 @@ phases() {
     grep -q "interrupted by SIGTERM .*nothing of this run is written" p_theory.err ||
         fail "theory: $(cat p_theory.err)"
     [ -e p_theory/granules.tsv ] || [ -e p_theory/granules.partial.tsv ] && fail "theory: a result file"
-    prompt "$took" theory
-    # A loaded chain after the pulse: 800 granules in the window, no event
-    # (20000 steps of it, the integrator's old limit per call, take ~1 s).
+}
+
+# A loaded chain after the pulse: 800 granules in the window, no event
+# (20000 steps of it, the integrator's old limit per call, take ~1 s).
+phase_wide() {
     printf "&chain n_granules = 800, load = 1e-3 /\n&solver t_end = 1e6 /\n" > wide.nml
     "$TAPER" wide.nml -o p_wide > p_wide.out 2> p_wide.err &
     pid=$!
@@ -304,9 +320,11 @@ phases() {
         echo "note: wide window: the pulse had not left the chain yet (a loaded machine): $(cat p_wide.err)" >&2
     grep -q '^# PARTIAL result (interrupted)' p_wide/granules.partial.tsv 2> /dev/null ||
         fail "wide window: no partial file"
-    prompt "$took" "wide window"
-    # The same sampled (issue 36, item 1): the integrator returns at every
-    # sample, never at its steps' limit, long after the last event.
+}
+
+# The same sampled (issue 36, item 1): the integrator returns at every
+# sample, never at its steps' limit, long after the last event.
+phase_sampled() {
     printf "&chain n_granules = 400, load = 1e-3 /\n&solver t_end = 2e5 /\n&sensors interval = 20.0, granules = 1, 200, 400 /\n" > sampled.nml
     "$TAPER" sampled.nml -o p_sampled > p_sampled.out 2> p_sampled.err &
     pid=$!
@@ -317,9 +335,11 @@ phases() {
         echo "note: sampled: the pulse had not left the chain yet (a loaded machine): $(cat p_sampled.err)" >&2
     [ -e p_sampled/granules.tsv ] && fail "sampled: granules.tsv of an interrupted run"
     [ -f p_sampled/sensors.tsv ] || fail "sampled: the samples found are not written"
-    prompt "$took" sampled
-    # The write of a complete result (item 2): the file being written is
-    # removed, nothing after it starts, and the message says so.
+}
+
+# The write of a complete result (item 2): the file being written is
+# removed, nothing after it starts, and the message says so.
+phase_write() {
     printf "&chain n_granules = 2000000 /\n&solver numerics = .false. /\n" > write.nml
     "$TAPER" write.nml -o p_write > p_write.out 2> p_write.err &
     pid=$!
@@ -329,9 +349,11 @@ phases() {
         fail "writing: $(cat p_write.err)"
     [ -e p_write/granules.tsv ] && fail "writing: granules.tsv written after the signal said it is not"
     no_temp p_write writing
-    prompt "$took" writing
-    # A complete sampled run whose sensors.tsv is being written: granules.tsv
-    # (written before the signal) stays, whole; sensors.tsv is not written.
+}
+
+# A complete sampled run whose sensors.tsv is being written: granules.tsv
+# (written before the signal) stays, whole; sensors.tsv is not written.
+phase_sens() {
     printf "&chain n_granules = 100 /\n&solver t_end = 4e5 /\n&sensors interval = 1.0, granules = 1, 50, 100 /\n" > sens.nml
     "$TAPER" sens.nml -o p_sens > p_sens.out 2> p_sens.err &
     pid=$!
@@ -340,9 +362,11 @@ phases() {
     grep -q "while writing p_sens/sensors.tsv: it is not written" p_sens.err || fail "sensors: $(cat p_sens.err)"
     tail -n 1 p_sens/granules.tsv | grep -q '^# end: rows 100,' || fail "sensors: granules.tsv not whole"
     [ -e p_sens/sensors.tsv ] && fail "sensors: sensors.tsv written after the signal said it is not"
-    prompt "$took" "writing sensors.tsv"
-    # A sweep on two threads: the runs in progress stop and write what they
-    # found, no run starts after the signal, the next command resumes.
+}
+
+# A sweep on two threads: the runs in progress stop and write what they
+# found, no run starts after the signal, the next command resumes.
+phase_sweep() {
     printf "&chain n_granules = 40000, 40001, 40002, 40003 /\n&output threads = 2 /\n" > sw.nml
     "$TAPER" sw.nml -o p_sweep > p_sweep.out 2> p_sweep.err &
     pid=$!
@@ -350,8 +374,10 @@ phases() {
     [ "$status" -eq 3 ] && grep -q "interrupted: [0-9] of 4 runs complete; run the same command to resume" p_sweep.err ||
         fail "sweep: exit status $status: $(cat p_sweep.err)"
     [ -e p_sweep/sweep.tsv ] && fail "sweep: sweep.tsv of an interrupted sweep"
-    prompt "$took" "sweep (2 threads)"
-    # gnuplot drawing: stopped with the run, no picture left.
+}
+
+# gnuplot drawing: stopped with the run, no picture left.
+phase_fig() {
     printf '#!/bin/sh\n: > figure.png\nexec sleep 30\n' > slowplot
     chmod +x slowplot
     printf "&chain profile = 'backward_linear', s = 0.1, 0.2, n_granules = 20 /\n&solver numerics = .false. /\n&fit model = 'power', y = 'v', k_min = 3 /\n&figure name = 'f', y = 'v' /\n" > fig.nml
@@ -361,7 +387,10 @@ phases() {
     [ "$status" -eq 3 ] || fail "gnuplot: exit status $status ($(cat p_fig.err))"
     grep -q "while writing p_fig/figure.png: it is not written" p_fig.err || fail "gnuplot: $(cat p_fig.err)"
     [ -e p_fig/figure.png ] && fail "gnuplot: a picture left under the result's name"
-    prompt "$took" gnuplot
+}
+
+phases() {
+    for phase in theory wide sampled write sens sweep fig; do prompt "$phase"; done
 }
 
 results() {
