@@ -806,7 +806,7 @@ TAPER_API taper_dimension taper_observable_dimension(taper_observable which);
 #define TAPER_STATISTIC_LIST(X)                                                        \
     X(TAPER_STAT_STEPS, "steps", NUMBER)                   /* accepted steps (CVODE, rk8)   */ \
     X(TAPER_STAT_RHS_EVALS, "rhs_evals", NUMBER)           /* right-hand sides (rk8: with
-                                                               its events' trial steps)     */ \
+                                                               its dense output's stages)   */ \
     X(TAPER_STAT_ROOT_EVALS, "root_evals", NUMBER)         /* root function evaluations     */ \
     X(TAPER_STAT_JAC_EVALS, "jac_evals", NUMBER)           /* Jacobian evaluations (BDF)    */ \
     X(TAPER_STAT_NONLIN_ITERS, "nonlin_iters", NUMBER)     /* nonlinear solver iterations   */ \
