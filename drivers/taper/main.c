@@ -129,12 +129,19 @@ static scene *load_scene(const options *o, const char *path)
 
 static int one_scene(const options *o, scene *sc);
 
+/* 1: one_scene will run sc as a calibration or design (every rank asks
+ * alike: under MPI the ranks serve such a scene together). */
+static int will_optimise(const options *o, const scene *sc)
+{
+    return sc && !o->get && !(o->parts && !scene_cfg(sc)->runs.swept) && optimise_wanted(sc);
+}
+
 static int run_one(const options *o, const char *path)
 {
     scene *sc = load_scene(o, path);
+    int optimising = will_optimise(o, sc);
 #ifdef TAPER_MPI
     if (mpi_rank() > 0) { /* the runs rank 0 hands out, nothing printed */
-        int optimising = sc && !o->get && optimise_wanted(sc);
         if (optimising) optimise_mpi_serve(sc);
         int worker_rc = mpi_worker(o->get || optimising ? NULL : sc);
         scene_free(sc);
@@ -143,7 +150,10 @@ static int run_one(const options *o, const char *path)
 #endif
     int rc = one_scene(o, sc);
 #ifdef TAPER_MPI
+    if (optimising) optimise_mpi_scene_end(); /* the other ranks' share is over */
     mpi_scene_end(); /* the other ranks are done with this scene too */
+#else
+    (void)optimising;
 #endif
     return rc;
 }
@@ -181,9 +191,6 @@ static int one_scene(const options *o, scene *sc)
             rc = sweep_run(sc, &sweep_opts);
         else
             rc = run_scene(sc);
-#ifdef TAPER_MPI
-        if (optimise_wanted(sc)) optimise_mpi_scene_end(); /* the other ranks' share is over */
-#endif
     }
     scene_free(sc);
     return rc;
