@@ -9,7 +9,8 @@
 #            profile.tsv, evaluations.tsv, the scene at the optimum) are
 #            byte-identical, and rank 1 made runs: the line "! runs on 2
 #            ranks: A on rank 0, B on rank 1" has B > 0 and A + B = the runs
-#            the result file counts (runs, and a design's profile_runs)
+#            the result file counts (runs, and a design's profile_runs); and
+#            --part on the calibration refused (not a sweep) on every rank
 #   signals  the calibration, its chain lengthened to 400 beads followed for
 #            2 ms so that it lasts seconds, stopped by SIGTERM to the ranks
 #            (exit status 3, as serial), by SIGINT to rank 1 alone (which
@@ -70,6 +71,14 @@ one() {
 same() {
     one calibrate calibrate_sensor.nml calibration.tsv residuals.tsv evaluations.tsv fitted.nml
     one design design_taper.nml design.tsv profile.tsv evaluations.tsv optimum.nml
+    # Refused by rank 0 before it starts: every rank leaves the scene (no
+    # worker left waiting for its end), exit status 2.
+    timeout 60 "$MPIRUN" --oversubscribe -np 2 "$TAPER" "$SCENES/calibrate_sensor.nml" --part 1/2 \
+        -o part > part.out 2> part.err
+    status=$?
+    [ "$status" -ne 124 ] || fail "--part on a calibration under mpirun: the ranks hang"
+    [ "$status" -ne 0 ] || fail "--part on a calibration under mpirun: exit status 0"
+    grep -q "is not a sweep" part.err || fail "--part on a calibration: $(cat part.err)"
 }
 
 # The ranks still running this test's calibration.
