@@ -23,7 +23,8 @@
  * Sweeps: `--part I/N` computes part I of N of a sweep's runs (a job array;
  * the same command without it merges them), and `mpirun -np K taper ...`
  * spreads the runs over K ranks when taper is built with MPI (sweep_mpi.h,
- * docs/cluster.md).
+ * docs/cluster.md), as it spreads each batch of a calibration's or design's
+ * runs (optimise_mpi.h).
  */
 #include "optimise/optimise.h"
 #include "run/interrupt.h"
@@ -39,6 +40,7 @@
 #include <string.h>
 
 #ifdef TAPER_MPI
+#include "optimise_mpi.h" /* and a calibration's or design's batches of runs */
 #include "sweep_mpi.h" /* mpirun -np K taper SCENE.nml: a sweep's runs on K ranks */
 #endif
 
@@ -127,19 +129,31 @@ static scene *load_scene(const options *o, const char *path)
 
 static int one_scene(const options *o, scene *sc);
 
+/* 1: one_scene will run sc as a calibration or design (every rank asks
+ * alike: under MPI the ranks serve such a scene together). */
+static int will_optimise(const options *o, const scene *sc)
+{
+    return sc && !o->get && !(o->parts && !scene_cfg(sc)->runs.swept) && optimise_wanted(sc);
+}
+
 static int run_one(const options *o, const char *path)
 {
     scene *sc = load_scene(o, path);
+    int optimising = will_optimise(o, sc);
 #ifdef TAPER_MPI
     if (mpi_rank() > 0) { /* the runs rank 0 hands out, nothing printed */
-        int worker_rc = mpi_worker(o->get ? NULL : sc);
+        if (optimising) optimise_mpi_serve(sc);
+        int worker_rc = mpi_worker(o->get || optimising ? NULL : sc);
         scene_free(sc);
         return sc ? worker_rc : RUN_INPUT;
     }
 #endif
     int rc = one_scene(o, sc);
 #ifdef TAPER_MPI
+    if (optimising) optimise_mpi_scene_end(); /* the other ranks' share is over */
     mpi_scene_end(); /* the other ranks are done with this scene too */
+#else
+    (void)optimising;
 #endif
     return rc;
 }
@@ -154,8 +168,10 @@ static int one_scene(const options *o, scene *sc)
         return RUN_INPUT;
     }
     sweep_options sweep_opts = {.part = o->part, .parts = o->parts};
+    const opt_runner *opt_runs = NULL; /* a calibration's or design's: this process's threads */
 #ifdef TAPER_MPI
     sweep_opts.remote = mpi_remote(); /* NULL but on rank 0 of several */
+    opt_runs = optimise_mpi_runner();  /* likewise */
 #endif
     int rc;
     if (o->get) {
@@ -170,7 +186,7 @@ static int one_scene(const options *o, scene *sc)
         if (check_stdout() != 0)
             rc = RUN_FAILED;
         else if (optimise_wanted(sc)) /* &calibrate data or &design objective */
-            rc = optimise_scene(sc);
+            rc = optimise_scene(sc, opt_runs);
         else if (scene_cfg(sc)->runs.swept)
             rc = sweep_run(sc, &sweep_opts);
         else

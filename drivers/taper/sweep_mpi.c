@@ -411,6 +411,16 @@ int mpi_start(int *argc, char ***argv)
     return rank;
 }
 
+static mpi_link link_state;
+
+mpi_link *mpi_link_get(void)
+{
+    if (!active || size < 2 || !bell) return NULL;
+    link_state = (mpi_link){.rank = rank, .size = size, .threads_per_rank = threads_per_rank,
+                            .bell = bell, .rung = rung, .got = got};
+    return &link_state;
+}
+
 int mpi_stop(int rc)
 {
     if (!active) return rc;

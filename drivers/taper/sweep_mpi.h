@@ -39,6 +39,21 @@ void mpi_scene_end(void);
  * the scenes of the command line in step (rank 0 collects the goodbyes,
  * the others say it). */
 void mpi_scene_skip(void);
+/* What a calibration's or design's runs on the ranks (optimise_mpi.c)
+ * share with a sweep's: the job, the threads a rank computes on when the
+ * scene says &output threads = 0, and the bells (bell.h), set up once for
+ * the whole command line.  On rank 0, bell[r] is rank r's bell, rung[r]
+ * its rings heard and got[r] its messages received, which every protocol
+ * keeps counting (a ring, then one message); on the others, bell[0] is
+ * rank 0's.  A rank's own slot, bell[rank], is -1: free for a wake-up of
+ * its own threads while it waits.  NULL without MPI or on a single rank. */
+typedef struct mpi_link {
+    int rank, size;
+    unsigned threads_per_rank;
+    int *bell;
+    unsigned long *rung, *got;
+} mpi_link;
+mpi_link *mpi_link_get(void);
 /* Finalises MPI.  Returns rc. */
 int mpi_stop(int rc);
 

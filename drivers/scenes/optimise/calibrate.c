@@ -481,6 +481,7 @@ opt_outcome calibration_run(calibration *c, const opt_options *o)
     const scene_calibrate_config *k = &scene_cfg(c->sc)->calibrate;
     fit f = {.c = c, .o = o, .n = n, .p = p};
     f.pb = (opt_problem){.space = c->space, .plan = &c->plan, .threads = o->threads,
+                         .runner = o->runner,
                          .stop = o->stop, .stop_user = o->stop_user, .summary = summary,
                          .summary_user = c};
     gsl_multifit_nlinear_workspace *w = NULL;

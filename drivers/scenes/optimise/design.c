@@ -394,6 +394,7 @@ opt_outcome design_run(design_problem *d, const opt_options *o)
     char *msg = NULL, *key = NULL, *echo = NULL;
     size_t resumed = 0, echo_len = 0;
     d->pb.threads = o->threads;
+    d->pb.runner = o->runner;
     d->pb.stop = o->stop;
     d->pb.stop_user = o->stop_user;
     d->pb.summary = summary;
@@ -540,6 +541,7 @@ opt_outcome design_profiles(design_problem *d, const opt_options *o)
     const size_t p = d->space->n;
     const size_t points = (size_t)scene_cfg(d->sc)->design.profile_points;
     d->pb.threads = o->threads;
+    d->pb.runner = o->runner;
     d->pb.stop = o->stop;
     d->pb.stop_user = o->stop_user;
     if (points == 0) return OPT_CONVERGED;

@@ -373,6 +373,27 @@ static void compute(size_t i, void *data)
     opt_evaluate(b->pb, b->values + k * b->p, &b->r[k]);
 }
 
+/* The m points todo of values, by pb->runner: gathered into rows of their
+ * own, and their results put back in place. */
+static void run_elsewhere(const opt_problem *pb, size_t m, const double *values, const size_t *todo,
+                          opt_result *r)
+{
+    const size_t p = pb->space->n;
+    double *rows = malloc(m * (p ? p : 1) * sizeof *rows);
+    opt_result *got = calloc(m, sizeof *got);
+    if (!rows || !got) {
+        for (size_t t = 0; t < m; t++) fail(&r[todo[t]], OPT_RUN_FAILED, "out of memory");
+        free(rows);
+        free(got);
+        return;
+    }
+    for (size_t t = 0; t < m; t++) memcpy(rows + t * p, values + todo[t] * p, p * sizeof *rows);
+    pb->runner.run(pb, m, rows, got, pb->runner.user);
+    for (size_t t = 0; t < m; t++) r[todo[t]] = got[t]; /* moved, not copied */
+    free(rows);
+    free(got);
+}
+
 int opt_evaluate_batch(opt_problem *pb, size_t n, const double *values, opt_result *r)
 {
     const size_t p = pb->space->n;
@@ -401,7 +422,10 @@ int opt_evaluate_batch(opt_problem *pb, size_t n, const double *values, opt_resu
         }
     }
     batch b = {.pb = pb, .values = values, .p = p, .todo = todo, .r = r};
-    if (m) parallel_for(m, pb->threads, compute, &b);
+    if (m && pb->runner.run)
+        run_elsewhere(pb, m, values, todo, r);
+    else if (m)
+        parallel_for(m, pb->threads, compute, &b);
     for (size_t t = 0; t < m; t++) {
         opt_result *res = &r[todo[t]];
         if (res->status == OPT_RUN_INTERRUPTED) {

@@ -31,6 +31,7 @@
 
 #include "optimise/journal.h"
 #include "optimise/measurements.h"
+#include "optimise/options.h"
 #include "optimise/space.h"
 
 #include <stddef.h>
@@ -76,6 +77,7 @@ typedef struct opt_problem {
     const opt_plan *plan;           /* a calibration's, or NULL               */
     const opt_objective *objective; /* a design's, or NULL                    */
     unsigned threads;               /* runs of a batch at once; 0: per core   */
+    opt_runner runner;              /* where a batch runs; {NULL}: threads    */
     /* Polled during every run (its monitor and sampler): non-zero stops the
      * runs, which end OPT_RUN_INTERRUPTED.  NULL: never. */
     int (*stop)(void *user);
@@ -96,7 +98,8 @@ typedef struct opt_problem {
 void opt_evaluate(const opt_problem *pb, const double *values, opt_result *r);
 
 /* The runs at n points (values: n rows of space->n), those the journal
- * does not have computed on threads and recorded.  r[i] is point i's.
+ * does not have computed (on threads, or by pb->runner) and recorded in
+ * the order of the points, wherever they ran.  r[i] is point i's.
  * Returns 1 if a run was interrupted (its r is OPT_RUN_INTERRUPTED), else
  * 0. */
 int opt_evaluate_batch(opt_problem *pb, size_t n, const double *values, opt_result *r);

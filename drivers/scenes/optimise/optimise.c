@@ -95,11 +95,12 @@ static int remove_earlier(const scene *sc)
     return 0;
 }
 
-static opt_options options_of(const scene_config *cfg, const char *what)
+static opt_options options_of(const scene_config *cfg, const char *what, const opt_runner *runner)
 {
     return (opt_options){.threads = (unsigned)cfg->output.threads, .stop = stop,
                          .dir = cfg->output.dir, .progress = progress,
-                         .progress_user = (void *)what};
+                         .progress_user = (void *)what,
+                         .runner = runner ? *runner : (opt_runner){0}};
 }
 
 /* How an optimisation's outcome becomes the exit status, said on stderr. */
@@ -119,7 +120,7 @@ static int status_of(const scene *sc, opt_outcome outcome, const char *what, con
     return RUN_FAILED;
 }
 
-static int calibrate(const scene *sc)
+static int calibrate(const scene *sc, const opt_runner *runner)
 {
     const scene_config *cfg = scene_cfg(sc);
     opt_error e;
@@ -136,7 +137,7 @@ static int calibrate(const scene *sc)
     printf("! calibrate: %zu measurements of %s, %zu free settings\n", c->data->n, c->data_path,
            c->space->n);
     fflush(stdout);
-    opt_options o = options_of(cfg, "calibrate");
+    opt_options o = options_of(cfg, "calibrate", runner);
     opt_outcome outcome = calibration_run(c, &o);
     int rc = status_of(sc, outcome, "calibration", c->reason);
     if (outcome == OPT_CONVERGED || outcome == OPT_NOT_CONVERGED) {
@@ -153,7 +154,7 @@ static int calibrate(const scene *sc)
     return rc;
 }
 
-static int design(const scene *sc)
+static int design(const scene *sc, const opt_runner *runner)
 {
     const scene_config *cfg = scene_cfg(sc);
     opt_error e;
@@ -171,7 +172,7 @@ static int design(const scene *sc)
            cfg->design.goal == SCENE_MAXIMISE ? "maximise" : "minimise", d->objective.name,
            d->space->n);
     fflush(stdout);
-    opt_options o = options_of(cfg, "design");
+    opt_options o = options_of(cfg, "design", runner);
     opt_outcome outcome = design_run(d, &o);
     int rc = status_of(sc, outcome, "design", d->reason);
     if (outcome == OPT_CONVERGED || outcome == OPT_NOT_CONVERGED) {
@@ -192,7 +193,7 @@ static int design(const scene *sc)
     return rc;
 }
 
-int optimise_scene(const scene *sc)
+int optimise_scene(const scene *sc, const opt_runner *runner)
 {
     const scene_config *cfg = scene_cfg(sc);
     if (cfg->calibrate.data[0] && cfg->design.objective[0]) {
@@ -203,5 +204,49 @@ int optimise_scene(const scene *sc)
         opt_error_clear(&e);
         return RUN_INPUT;
     }
-    return cfg->calibrate.data[0] ? calibrate(sc) : design(sc);
+    return cfg->calibrate.data[0] ? calibrate(sc, runner) : design(sc, runner);
+}
+
+/* ---- another process's share of the runs ------------------------------------------------ */
+
+struct optimise_remote {
+    calibration *c;         /* one of the two */
+    design_problem *d;
+    opt_problem pb;         /* no journal: the optimising process keeps it */
+};
+
+optimise_remote *optimise_remote_new(const scene *sc)
+{
+    const scene_config *cfg = scene_cfg(sc);
+    optimise_remote *w = calloc(1, sizeof *w);
+    opt_error e = {0};
+    if (!w || (cfg->calibrate.data[0] && cfg->design.objective[0])) goto fail;
+    if (cfg->calibrate.data[0]) {
+        if (!(w->c = calibration_new(sc, &e))) goto fail;
+        w->pb = (opt_problem){.space = w->c->space, .plan = &w->c->plan};
+    } else {
+        if (!(w->d = design_new(sc, &e))) goto fail;
+        w->pb = (opt_problem){.space = w->d->space, .objective = &w->d->objective};
+    }
+    w->pb.stop = stop;
+    return w;
+fail:
+    opt_error_clear(&e);
+    optimise_remote_free(w);
+    return NULL;
+}
+
+size_t optimise_remote_size(const optimise_remote *w) { return w->pb.space->n; }
+
+void optimise_remote_evaluate(const optimise_remote *w, const double *values, opt_result *r)
+{
+    opt_evaluate(&w->pb, values, r);
+}
+
+void optimise_remote_free(optimise_remote *w)
+{
+    if (!w) return;
+    calibration_free(w->c);
+    design_free(w->d);
+    free(w);
 }

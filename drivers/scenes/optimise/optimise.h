@@ -24,13 +24,32 @@
 #ifndef TAPER_OPTIMISE_H
 #define TAPER_OPTIMISE_H
 
+#include "optimise/evaluate.h"
+#include "optimise/options.h"
 #include "scene/scene.h"
 
 /* 1: the scene is a calibration or a design (optimise_scene runs it). */
 int optimise_wanted(const scene *sc);
 
-/* Runs the calibration or design of a validated scene.  Returns a
- * run_status. */
-int optimise_scene(const scene *sc);
+/* Runs the calibration or design of a validated scene.  runner: where
+ * the batches' runs are computed (options.h; the driver's MPI ranks), NULL
+ * for this process's threads (&output threads).  Returns a run_status. */
+int optimise_scene(const scene *sc, const opt_runner *runner);
+
+/* The runs of a scene's calibration or design as another process computes
+ * them for the one that optimises (an MPI rank other than 0,
+ * drivers/taper/optimise_mpi.c): the problem optimise_scene builds, from
+ * the same scene and data, without journal, progress or files.  A run is a
+ * pure function of its point, so both give the same to the last bit.  NULL
+ * if the scene's &calibrate or &design is not valid (optimise_scene says
+ * why, where it runs). */
+typedef struct optimise_remote optimise_remote;
+optimise_remote *optimise_remote_new(const scene *sc);
+/* The free settings: values per point. */
+size_t optimise_remote_size(const optimise_remote *w);
+/* The run at values (opt_evaluate; a signal to this process stops it,
+ * OPT_RUN_INTERRUPTED).  Thread-safe. */
+void optimise_remote_evaluate(const optimise_remote *w, const double *values, opt_result *r);
+void optimise_remote_free(optimise_remote *w);
 
 #endif

@@ -8,6 +8,23 @@
 #ifndef TAPER_OPT_OPTIONS_H
 #define TAPER_OPT_OPTIONS_H
 
+#include <stddef.h>
+
+struct opt_problem;
+struct opt_result;
+
+/* Where the runs of a batch are computed when not on this process's
+ * threads alone: run(pb, n, values, r, user) fills r[i] with the run at
+ * point i (values: n rows of the space's size) exactly as opt_evaluate
+ * would (evaluate.h), wherever it computes it.  The driver's MPI ranks
+ * (drivers/taper/optimise_mpi.c) are one; run NULL: this process's
+ * threads. */
+typedef struct opt_runner {
+    void (*run)(const struct opt_problem *pb, size_t n, const double *values,
+                struct opt_result *r, void *user);
+    void *user;
+} opt_runner;
+
 /* How an optimisation is run: threads, interruption, journal, progress. */
 typedef struct opt_options {
     unsigned threads;                 /* runs at once; 0: one per core         */
@@ -18,6 +35,7 @@ typedef struct opt_options {
     /* One line per iteration, without '\n'; NULL: quiet. */
     void (*progress)(const char *line, void *user);
     void *progress_user;
+    opt_runner runner;                /* the batches' runs; {NULL}: threads    */
 } opt_options;
 
 /* How an optimisation ended. */
