@@ -12,7 +12,7 @@ targets of the package:
   taper.simulate(n_granules=10) CPU per call, the integration included; and
                                 theory(n_granules=10), the same call without
                                 the run, to show which part is the
-                                library's
+                                library's; and the same with method rk8
 
 Each per-call figure is the CPU time of a batch of calls divided by its
 size, R batches: the smallest (what the code costs) and the median (what a
@@ -95,6 +95,10 @@ def main():
     print(f"{'  and the run (the library)':34s} {(min(sim) - min(th10)) * 1e6:9.3g} us "
           f"(the difference: taper_sim_alloc, {steps} CVODE steps of method adams at rtol "
           f"1e-10, the run's columns and statistics)")
+    rk8 = per_call(lambda: taper.simulate(n_granules=10, method="rk8"), args.repeat)
+    rk8_steps = taper.simulate(n_granules=10, method="rk8").stats["steps"]
+    line('  simulate(..., method="rk8")', rk8, TARGETS["simulate10"], 1e6, "us")
+    print(f"{'':34s} ({rk8_steps} steps of rk8 at rtol 1e-10: docs/choosing.md)")
 
 
 if __name__ == "__main__":
