@@ -414,8 +414,9 @@ static int study(int reps, const char *taper_sensors)
            refscale[0], refscale[1], column_error(cen, ref, m, 0), column_error(cen, ref, m, 1));
     printf("# err_E, err_A: a column's largest |J - J_ref| over its largest |entry|; f_err: the\n"
            "# run's largest error in the force itself over the peak force (fd: its unstepped run);\n"
-           "# cpu: median of n repetitions (fewer past 10 s), seconds (getrusage); runs: cpu over one\n"
-           "# plain run's at that rtol (the machine is shared: read ratios within one run);\n"
+           "# cpu: median of n repetitions taken in turn with the other methods' (none more past 10 s),\n"
+           "# seconds (getrusage); runs: cpu over one plain run's (a third of fd's) at that rtol\n"
+           "# (the machine is shared: read ratios within one run);\n"
            "# rhs: right-hand sides; sens_rhs: CVODES' count of sensitivity right-hand sides\n"
            "# (by its difference quotients each costs 1-2 right-hand sides); errcon: the\n"
            "# sensitivities in the error test (CVodeSetSensErrCon) or not\n");
@@ -435,36 +436,45 @@ static int study(int reps, const char *taper_sensors)
     };
     const double rtols[] = {1e-10, 1e-8, 1e-6};
     const int n_methods = (int)(sizeof methods / sizeof methods[0]);
-    double *cpus = malloc((size_t)reps * sizeof *cpus), *f = malloc(m * sizeof *f);
+    double *cpus = malloc((size_t)reps * n_methods * sizeof *cpus), *f = malloc(m * sizeof *f);
     if (!cpus || !f) return 1;
     double peak = 0.0;
     for (int j = 0; j < m; j++) peak = fmax(peak, fabs(force[j]));
     memcpy(ref_force, force, m * sizeof *force);
+    /* The repetitions go round the methods, so that the load of the shared
+     * machine falls on all of them alike; a method past 10 s of CPU is
+     * not repeated. */
+    enum { MAX_METHODS = 16 };
     for (size_t r = 0; r < sizeof rtols / sizeof rtols[0]; r++) {
+        run_stats s[MAX_METHODS] = {{0}};
+        double spent[MAX_METHODS] = {0}, ferr[MAX_METHODS] = {0}, err[MAX_METHODS][N_PARAMS];
+        int done[MAX_METHODS] = {0};
+        for (int k = 0; k < reps; k++) {
+            for (int q = 0; q < n_methods; q++) {
+                if (spent[q] >= 10.0) continue;
+                int rc = methods[q].kind == PLAIN
+                             ? jacobian_fd(&ch, rtols[r], atol, times, m, f, jac, &s[q])
+                             : run(&ch, rtols[r], atol, methods[q].kind, methods[q].staggered,
+                                   methods[q].errcon, times, m, f, jac, &s[q]);
+                if (rc != 0) return 1;
+                cpus[q * reps + done[q]++] = s[q].cpu;
+                spent[q] += s[q].cpu;
+                ferr[q] = 0.0;
+                for (int j = 0; j < m; j++) ferr[q] = fmax(ferr[q], fabs(f[j] - ref_force[j]));
+                for (int i = 0; i < N_PARAMS; i++) err[q][i] = column_error(jac, ref, m, i);
+            }
+        }
         double run_cpu = 0.0; /* one plain run: a third of fd's 1 + p */
         for (int q = 0; q < n_methods; q++) {
-            run_stats s = {0};
-            int k = 0;
-            double spent = 0.0;
-            for (; k < reps && spent < 10.0; k++) {
-                int rc = methods[q].kind == PLAIN
-                             ? jacobian_fd(&ch, rtols[r], atol, times, m, f, jac, &s)
-                             : run(&ch, rtols[r], atol, methods[q].kind, methods[q].staggered,
-                                   methods[q].errcon, times, m, f, jac, &s);
-                if (rc != 0) return 1;
-                cpus[k] = s.cpu;
-                spent += s.cpu;
-            }
-            qsort(cpus, (size_t)k, sizeof *cpus, compare_double);
-            const double cpu = cpus[k / 2];
+            double *c = cpus + q * reps;
+            qsort(c, (size_t)done[q], sizeof *c, compare_double);
+            const double cpu = c[done[q] / 2];
             if (q == 0) run_cpu = cpu / (1 + N_PARAMS);
-            double ferr = 0.0;
-            for (int j = 0; j < m; j++) ferr = fmax(ferr, fabs(f[j] - ref_force[j]));
             printf("%-30s %6.0e %9.2e %9.2e %9.2e %10.3e %7.2f %8ld %9ld %9ld %2d\n", methods[q].name,
-                   rtols[r], column_error(jac, ref, m, 0), column_error(jac, ref, m, 1), ferr / peak,
-                   cpu, cpu / run_cpu, s.steps, s.rhs, s.sens_rhs, k);
-            fflush(stdout);
+                   rtols[r], err[q][0], err[q][1], ferr[q] / peak, cpu, cpu / run_cpu, s[q].steps,
+                   s[q].rhs, s[q].sens_rhs, done[q]);
         }
+        fflush(stdout);
     }
     free(cpus);
     free(f);
@@ -510,7 +520,7 @@ static int check(void)
 
 int main(int argc, char **argv)
 {
-    int reps = 5;
+    int reps = 11;
     const char *taper_sensors = NULL;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--check")) return check();
