@@ -5,6 +5,7 @@
  *
  *   taper-sensitivities [--reps K] [--check-taper SENSORS.TSV]
  *   taper-sensitivities --check
+ *   taper-sensitivities --one fd|analytic|analytic-errcon|dq|dq-errcon RTOL
  *
  * The problem is share/scenes/optimise/calibrate_sensor.nml written out in
  * SI with its two free settings explicit: a striker and 8 steel beads
@@ -518,12 +519,41 @@ static int check(void)
     return failed;
 }
 
+/* --one KIND RTOL: one Jacobian of the study's, once, for an instruction
+ * count (valgrind --tool=callgrind) that the machine's load cannot move. */
+static int one_jacobian(const char *kind, double rtol)
+{
+    static const struct { const char *name; run_kind kind; int errcon; } kinds[] = {
+        {"fd", PLAIN, 0}, {"analytic", SENS_ANALYTIC, 0}, {"analytic-errcon", SENS_ANALYTIC, 1},
+        {"dq", SENS_DQ, 0}, {"dq-errcon", SENS_DQ, 1},
+    };
+    static double times[MAX_TIMES], jac[MAX_TIMES * N_PARAMS], force[MAX_TIMES];
+    const int m = 121;
+    for (int j = 0; j < m; j++) times[j] = 1e-6 * j;
+    chain ch;
+    chain_init(&ch, 8, 150e9, 2e-7);
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        if (strcmp(kind, kinds[k].name)) continue;
+        run_stats st;
+        int rc = kinds[k].kind == PLAIN
+                     ? jacobian_fd(&ch, rtol, 1e-13, times, m, force, jac, &st)
+                     : run(&ch, rtol, 1e-13, kinds[k].kind, 1, kinds[k].errcon, times, m, force, jac, &st);
+        if (rc == 0)
+            printf("%s rtol %g: steps %ld, rhs %ld, sens_rhs %ld\n", kind, rtol, st.steps, st.rhs,
+                   st.sens_rhs);
+        return rc ? 1 : 0;
+    }
+    fprintf(stderr, "taper-sensitivities: --one wants fd, analytic, analytic-errcon, dq or dq-errcon\n");
+    return 2;
+}
+
 int main(int argc, char **argv)
 {
     int reps = 11;
     const char *taper_sensors = NULL;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--check")) return check();
+        if (!strcmp(argv[i], "--one") && i + 2 < argc) return one_jacobian(argv[i + 1], atof(argv[i + 2]));
         if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
             reps = atoi(argv[++i]);
             if (reps < 1) {
@@ -533,7 +563,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--check-taper") && i + 1 < argc) {
             taper_sensors = argv[++i];
         } else {
-            fprintf(stderr, "usage: taper-sensitivities [--reps K] [--check-taper SENSORS.TSV] | --check\n");
+            fprintf(stderr, "usage: taper-sensitivities [--reps K] [--check-taper SENSORS.TSV] | --check | --one KIND RTOL\n");
             return 2;
         }
     }
