@@ -237,14 +237,7 @@ int calibration_report(const calibration *c, const char *dir, FILE *out, char **
     free(order);
     if (rc != 0) return -1;
     fprintf(out, "! wrote %s/residuals.tsv and %s/calibration.gp\n", dir, dir);
-    int rendered = plot_render_script(dir, "calibration.gp", msg);
-    if (rendered == 0) fprintf(out, "! wrote %s/calibration.png\n", dir);
-    if (rendered == 1) fprintf(out, "! note: %s\n", *msg ? *msg : "calibration.png not rendered");
-    if (rendered >= 0) {
-        free(*msg);
-        *msg = NULL;
-    }
-    return rendered < 0 ? -1 : 0;
+    return plot_render_reported(dir, "calibration.gp", out, msg);
 }
 
 void calibration_print(const calibration *c, FILE *out)

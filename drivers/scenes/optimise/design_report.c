@@ -174,14 +174,7 @@ int design_report(const design_problem *d, const char *dir, FILE *out, char **ms
     if (!d->profile_points) return 0;
     if (write_profiles(d, dir, msg) != 0 || write_script(d, dir, msg) != 0) return -1;
     fprintf(out, "! wrote %s/profile.tsv and %s/design.gp\n", dir, dir);
-    int rendered = plot_render_script(dir, "design.gp", msg);
-    if (rendered == 0) fprintf(out, "! wrote %s/design.png\n", dir);
-    if (rendered == 1) fprintf(out, "! note: %s\n", *msg ? *msg : "design.png not rendered");
-    if (rendered >= 0) {
-        free(*msg);
-        *msg = NULL;
-    }
-    return rendered < 0 ? -1 : 0;
+    return plot_render_reported(dir, "design.gp", out, msg);
 }
 
 void design_print(const design_problem *d, FILE *out)

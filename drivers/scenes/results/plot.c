@@ -440,6 +440,22 @@ static char *image_path(const char *dir, const char *script)
     return text_printf("%s/%.*s.png", dir, (int)n, script);
 }
 
+int plot_render_reported(const char *dir, const char *script, FILE *out, char **msg)
+{
+    int rendered = plot_render_script(dir, script, msg);
+    if (rendered < 0) return -1;
+    if (rendered == 0) {
+        char *image = image_path(dir, script);
+        fprintf(out, "! wrote %s\n", image ? image : script);
+        free(image);
+    } else {
+        fprintf(out, "! note: %s\n", *msg ? *msg : "figure not rendered");
+    }
+    free(*msg);
+    *msg = NULL;
+    return 0;
+}
+
 int plot_render_script(const char *dir, const char *script, char **msg)
 {
     *msg = NULL;

@@ -30,6 +30,11 @@ int plot_write(const report *r, char **msg);
 int plot_render(const char *dir, char **msg);
 /* The same for another script of DIR (spacetime.gp). */
 int plot_render_script(const char *dir, const char *script, char **msg);
+/* plot_render_script, and what became of the picture said on out: "!
+ * wrote DIR/NAME.png", or a note when gnuplot is not available (not an
+ * error: the script stays to render later).  0, or -1 with *msg
+ * (malloc'd) when gnuplot failed or a signal stopped it. */
+int plot_render_reported(const char *dir, const char *script, FILE *out, char **msg);
 /* A gnuplot string literal in double quotes ("enhanced" text kept). */
 void plot_gp_string(FILE *fp, const char *s);
 

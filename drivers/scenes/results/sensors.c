@@ -425,14 +425,7 @@ static int write_spacetime(const sensors *s, const char *partial, const char *di
                 s->st_t.n + (s->pending_n > 0), s->st_cols);
         return 0;
     }
-    int rendered = plot_render_script(dir, "spacetime.gp", msg);
-    if (rendered == 0) fprintf(out, "! wrote %s/spacetime.png\n", dir);
-    if (rendered == 1) {
-        fprintf(out, "! note: %s\n", *msg ? *msg : "spacetime.png not rendered");
-        free(*msg);
-        *msg = NULL;
-    }
-    return rendered < 0 ? -1 : 0;
+    return plot_render_reported(dir, "spacetime.gp", out, msg);
 }
 
 int sensors_write(const sensors *s, const taper_sim *sim, const char *partial, const char *dir,
